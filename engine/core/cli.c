@@ -1,0 +1,162 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+
+static const vg_opt *find(const vg_cmd *cmd, const char *name, size_t len)
+{
+    for (int i = 0; i < cmd->opt_count; i++)
+        if (strlen(cmd->opts[i].name) == len && !strncmp(cmd->opts[i].name, name, len))
+            return &cmd->opts[i];
+    return NULL;
+}
+
+static bool in_range(const vg_opt *o, double v)
+{
+    return !(o->min < o->max) || (v >= o->min && v <= o->max);
+}
+
+static vg_status bad(const vg_cmd *cmd, const vg_opt *o, const char *val, const char *why)
+{
+    vg_error("%s %s: '%s' %s (see 'vergence %s --help')", cmd->name, o->name, val, why, cmd->name);
+    return VG_ERR_ARG;
+}
+
+static vg_status set_value(const vg_cmd *cmd, const vg_opt *o, const char *val)
+{
+    char *end;
+    switch (o->kind) {
+    case VG_OPT_INT: {
+        errno = 0;
+        long v = strtol(val, &end, 10);
+        if (!*val || *end || errno || v < -2147483647L || v > 2147483647L)
+            return bad(cmd, o, val, "is not an integer");
+        if (!in_range(o, (double)v)) {
+            char why[96];
+            snprintf(why, sizeof why, "is out of range [%g, %g]", o->min, o->max);
+            return bad(cmd, o, val, why);
+        }
+        *(int *)o->dest = (int)v;
+        return VG_OK;
+    }
+    case VG_OPT_FLOAT: {
+        errno = 0;
+        double v = strtod(val, &end);
+        if (!*val || *end || errno || !isfinite(v))
+            return bad(cmd, o, val, "is not a number");
+        if (!in_range(o, v)) {
+            char why[96];
+            snprintf(why, sizeof why, "is out of range [%g, %g]", o->min, o->max);
+            return bad(cmd, o, val, why);
+        }
+        *(double *)o->dest = v;
+        return VG_OK;
+    }
+    case VG_OPT_STRING:
+        if (!*val)
+            return bad(cmd, o, val, "is empty");
+        *(const char **)o->dest = val;
+        return VG_OK;
+    case VG_OPT_SIZE: {
+        long w = strtol(val, &end, 10), h = 0;
+        if (*end == 'x' || *end == 'X')
+            h = strtol(end + 1, &end, 10);
+        if (*end || w < 16 || h < 16 || w > 8192 || h > 8192)
+            return bad(cmd, o, val, "is not a size WxH between 16x16 and 8192x8192");
+        ((int *)o->dest)[0] = (int)w;
+        ((int *)o->dest)[1] = (int)h;
+        return VG_OK;
+    }
+    case VG_OPT_CHOICE:
+        for (int i = 0; o->choices[i]; i++)
+            if (!strcmp(o->choices[i], val)) {
+                *(int *)o->dest = i;
+                return VG_OK;
+            }
+        {
+            char why[256] = "is not one of:";
+            for (int i = 0; o->choices[i]; i++) {
+                strncat(why, " ", sizeof why - strlen(why) - 1);
+                strncat(why, o->choices[i], sizeof why - strlen(why) - 1);
+            }
+            return bad(cmd, o, val, why);
+        }
+    default:
+        return VG_ERR_ARG;
+    }
+}
+
+vg_status vg_cli_parse(const vg_cmd *cmd, int argc, char **argv, bool *help)
+{
+    *help = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            vg_cli_print_help(cmd, stdout);
+            *help = true;
+            return VG_OK;
+        }
+        if (strncmp(a, "--", 2) != 0) {
+            vg_error("%s: unexpected argument '%s' (see 'vergence %s --help')", cmd->name, a, cmd->name);
+            return VG_ERR_ARG;
+        }
+        const char *eq = strchr(a, '=');
+        size_t len = eq ? (size_t)(eq - a) : strlen(a);
+        const vg_opt *o = find(cmd, a, len);
+        if (!o) {
+            vg_error("%s: unknown option '%.*s' (see 'vergence %s --help')", cmd->name, (int)len, a, cmd->name);
+            return VG_ERR_ARG;
+        }
+        if (o->kind == VG_OPT_FLAG) {
+            if (eq) {
+                vg_error("%s: %s takes no value", cmd->name, o->name);
+                return VG_ERR_ARG;
+            }
+            *(bool *)o->dest = true;
+            continue;
+        }
+        const char *val = eq ? eq + 1 : (i + 1 < argc ? argv[++i] : NULL);
+        if (!val) {
+            vg_error("%s: %s needs a value %s", cmd->name, o->name, o->metavar ? o->metavar : "");
+            return VG_ERR_ARG;
+        }
+        vg_status st = set_value(cmd, o, val);
+        if (st != VG_OK)
+            return st;
+    }
+    return VG_OK;
+}
+
+vg_status vg_cli_require(const vg_cmd *cmd, const char *name, const void *value_set)
+{
+    if (value_set)
+        return VG_OK;
+    vg_error("%s: %s is required (see 'vergence %s --help')", cmd->name, name, cmd->name);
+    return VG_ERR_ARG;
+}
+
+void vg_cli_print_help(const vg_cmd *cmd, FILE *out)
+{
+    fprintf(out, "usage: %s\n\n%s\n", cmd->usage, cmd->summary);
+    if (cmd->details)
+        fprintf(out, "\n%s\n", cmd->details);
+    fprintf(out, "\noptions:\n");
+    for (int i = 0; i < cmd->opt_count; i++) {
+        const vg_opt *o = &cmd->opts[i];
+        char left[64];
+        snprintf(left, sizeof left, "%s%s%s", o->name, o->metavar ? " " : "", o->metavar ? o->metavar : "");
+        fprintf(out, "  %-24s %s", left, o->help);
+        if (o->kind == VG_OPT_CHOICE) {
+            fprintf(out, " (");
+            for (int c = 0; o->choices[c]; c++)
+                fprintf(out, "%s%s", c ? ", " : "", o->choices[c]);
+            fprintf(out, ")");
+        }
+        fputc('\n', out);
+    }
+    fprintf(out, "  %-24s %s\n", "--help", "show this help");
+}

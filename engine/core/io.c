@@ -1,0 +1,420 @@
+#include "io.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "log.h"
+
+/* Images larger than this are rejected as garbled headers, not allocated. */
+#define VG_MAX_PIXELS (1 << 28)
+
+/* ------------------------------------------------------------------------- */
+/* Images                                                                    */
+/* ------------------------------------------------------------------------- */
+
+vg_status vg_imagef_alloc(vg_imagef *img, int width, int height, int channels)
+{
+    *img = (vg_imagef){0};
+    if (width <= 0 || height <= 0 || channels <= 0 || (long)width * height > VG_MAX_PIXELS)
+        return VG_ERR_ARG;
+    img->data = calloc((size_t)width * (size_t)height * (size_t)channels, sizeof(float));
+    if (!img->data)
+        return VG_ERR_NOMEM;
+    img->width = width;
+    img->height = height;
+    img->channels = channels;
+    return VG_OK;
+}
+
+void vg_imagef_free(vg_imagef *img)
+{
+    if (!img)
+        return;
+    free(img->data);
+    *img = (vg_imagef){0};
+}
+
+/* ------------------------------------------------------------------------- */
+/* Files                                                                     */
+/* ------------------------------------------------------------------------- */
+
+vg_status vg_file_read(const char *path, uint8_t **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        vg_error("%s: cannot open: %s", path, strerror(errno));
+        return VG_ERR_IO;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        vg_error("%s: not a regular file", path);
+        fclose(f);
+        return VG_ERR_IO;
+    }
+    size_t n = (size_t)st.st_size;
+    uint8_t *buf = malloc(n + 1);
+    if (!buf) {
+        fclose(f);
+        vg_error("%s: out of memory reading %zu bytes", path, n);
+        return VG_ERR_NOMEM;
+    }
+    size_t got = fread(buf, 1, n, f);
+    fclose(f);
+    if (got != n) {
+        free(buf);
+        vg_error("%s: read %zu of %zu bytes", path, got, n);
+        return VG_ERR_IO;
+    }
+    buf[n] = 0;
+    *data = buf;
+    *size = n;
+    return VG_OK;
+}
+
+vg_status vg_file_write_atomic(const char *path, const void *data, size_t size)
+{
+    char tmp[4096];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid()) >= (int)sizeof tmp) {
+        vg_error("%s: path too long", path);
+        return VG_ERR_ARG;
+    }
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) {
+        vg_error("%s: cannot write: %s", path, strerror(errno));
+        return VG_ERR_IO;
+    }
+    const uint8_t *p = data;
+    size_t left = size;
+    while (left > 0) {
+        ssize_t w = write(fd, p, left);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            vg_error("%s: write failed: %s", path, strerror(errno));
+            close(fd);
+            unlink(tmp);
+            return VG_ERR_IO;
+        }
+        p += w;
+        left -= (size_t)w;
+    }
+    if (close(fd) != 0 || rename(tmp, path) != 0) {
+        vg_error("%s: cannot finish writing: %s", path, strerror(errno));
+        unlink(tmp);
+        return VG_ERR_IO;
+    }
+    return VG_OK;
+}
+
+vg_status vg_path_join(char *out, size_t cap, const char *dir, const char *name)
+{
+    int n = snprintf(out, cap, "%s/%s", dir, name);
+    if (n < 0 || (size_t)n >= cap) {
+        vg_error("%s/%s: path too long", dir, name);
+        return VG_ERR_ARG;
+    }
+    return VG_OK;
+}
+
+vg_status vg_dir_prepare(const char *path)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf || !path[0]) {
+        vg_error("'%s': bad output folder path", path);
+        return VG_ERR_ARG;
+    }
+    /* mkdir -p: create each prefix in turn. */
+    for (char *p = buf + 1;; p++) {
+        if (*p == '/' || *p == 0) {
+            char c = *p;
+            *p = 0;
+            if (mkdir(buf, 0755) != 0 && errno != EEXIST) {
+                vg_error("%s: cannot create folder: %s", buf, strerror(errno));
+                return VG_ERR_IO;
+            }
+            *p = c;
+            if (!c)
+                break;
+        }
+    }
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        vg_error("%s: not a folder", path);
+        return VG_ERR_IO;
+    }
+    char probe[4096];
+    if (vg_path_join(probe, sizeof probe, path, ".vergence-probe") != VG_OK)
+        return VG_ERR_ARG;
+    int fd = open(probe, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) {
+        vg_error("%s: output folder is not writable: %s", path, strerror(errno));
+        return VG_ERR_IO;
+    }
+    close(fd);
+    unlink(probe);
+    return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* PFM                                                                       */
+/* ------------------------------------------------------------------------- */
+
+/* Reads one whitespace-delimited header token; returns bytes consumed or 0. */
+static size_t pfm_token(const uint8_t *p, size_t n, char *tok, size_t cap)
+{
+    size_t i = 0, k = 0;
+    while (i < n && (p[i] == ' ' || p[i] == '\t' || p[i] == '\n' || p[i] == '\r'))
+        i++;
+    while (i < n && k + 1 < cap && p[i] > ' ' && p[i] < 127)
+        tok[k++] = (char)p[i++];
+    tok[k] = 0;
+    if (k == 0 || k + 1 >= cap || i >= n)
+        return 0;
+    return i;
+}
+
+static int host_is_little_endian(void)
+{
+    const uint16_t one = 1;
+    return *(const uint8_t *)&one == 1;
+}
+
+static void swap4(void *data, size_t count)
+{
+    uint8_t *b = data;
+    for (size_t i = 0; i < count; i++, b += 4) {
+        uint8_t t0 = b[0], t1 = b[1];
+        b[0] = b[3];
+        b[1] = b[2];
+        b[2] = t1;
+        b[3] = t0;
+    }
+}
+
+vg_status vg_pfm_read(const char *path, vg_imagef *out)
+{
+    *out = (vg_imagef){0};
+    uint8_t *buf;
+    size_t size;
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st != VG_OK)
+        return st;
+
+    char magic[8], sw[32], sh[32], ss[64];
+    size_t off = 0, used;
+    if (!(used = pfm_token(buf, size, magic, sizeof magic)) || (strcmp(magic, "Pf") && strcmp(magic, "PF"))) {
+        vg_error("%s: not a PFM file (magic must be 'Pf' or 'PF')", path);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    off += used;
+    char *end;
+    long w = 0, h = 0;
+    double scale = 0;
+    if ((used = pfm_token(buf + off, size - off, sw, sizeof sw)))
+        off += used, w = strtol(sw, &end, 10);
+    if (used && *end == 0 && (used = pfm_token(buf + off, size - off, sh, sizeof sh)))
+        off += used, h = strtol(sh, &end, 10);
+    if (used && *end == 0 && (used = pfm_token(buf + off, size - off, ss, sizeof ss)))
+        off += used, scale = strtod(ss, &end);
+    if (!used || *end != 0 || w <= 0 || h <= 0 || w * h > VG_MAX_PIXELS || scale == 0 || !isfinite(scale)) {
+        vg_error("%s: bad PFM header (width, height and a non-zero scale expected)", path);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    off += 1; /* exactly one whitespace byte ends the header */
+    int channels = magic[1] == 'F' ? 3 : 1;
+    size_t need = (size_t)w * (size_t)h * (size_t)channels * sizeof(float);
+    if (size - off < need) {
+        vg_error("%s: truncated PFM: %ldx%ld needs %zu bytes of pixels, file has %zu", path, w, h,
+                 need, size - off);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    st = vg_imagef_alloc(out, (int)w, (int)h, channels);
+    if (st != VG_OK) {
+        free(buf);
+        return st;
+    }
+    /* PFM rows run bottom to top. */
+    size_t row = (size_t)w * (size_t)channels;
+    for (long y = 0; y < h; y++)
+        memcpy(out->data + (size_t)(h - 1 - y) * row, buf + off + (size_t)y * row * 4, row * 4);
+    free(buf);
+    int file_le = scale < 0;
+    if (file_le != host_is_little_endian())
+        swap4(out->data, row * (size_t)h);
+    return VG_OK;
+}
+
+vg_status vg_pfm_write(const char *path, const vg_imagef *img)
+{
+    if (img->channels != 1 && img->channels != 3) {
+        vg_error("%s: PFM holds 1 or 3 channels, not %d", path, img->channels);
+        return VG_ERR_ARG;
+    }
+    char header[64];
+    int hn = snprintf(header, sizeof header, "%s\n%d %d\n%s\n", img->channels == 3 ? "PF" : "Pf",
+                      img->width, img->height, host_is_little_endian() ? "-1.0" : "1.0");
+    size_t row = (size_t)img->width * (size_t)img->channels * 4;
+    size_t total = (size_t)hn + row * (size_t)img->height;
+    uint8_t *buf = malloc(total);
+    if (!buf)
+        return VG_ERR_NOMEM;
+    memcpy(buf, header, (size_t)hn);
+    for (int y = 0; y < img->height; y++)
+        memcpy(buf + hn + (size_t)y * row,
+               (const uint8_t *)img->data + (size_t)(img->height - 1 - y) * row, row);
+    vg_status st = vg_file_write_atomic(path, buf, total);
+    free(buf);
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Middlebury .flo                                                           */
+/* ------------------------------------------------------------------------- */
+
+#define FLO_MAGIC 202021.25f
+
+vg_status vg_flo_read(const char *path, vg_imagef *out)
+{
+    *out = (vg_imagef){0};
+    uint8_t *buf;
+    size_t size;
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st != VG_OK)
+        return st;
+    float magic;
+    int32_t wh[2];
+    if (size < 12) {
+        vg_error("%s: truncated .flo: %zu bytes, the header alone needs 12", path, size);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    memcpy(&magic, buf, 4);
+    memcpy(wh, buf + 4, 8);
+    if (!host_is_little_endian()) {
+        swap4(&magic, 1);
+        swap4(wh, 2);
+    }
+    if (magic != FLO_MAGIC) {
+        vg_error("%s: not a Middlebury .flo file (magic is not 202021.25)", path);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    if (wh[0] <= 0 || wh[1] <= 0 || (long)wh[0] * wh[1] > VG_MAX_PIXELS) {
+        vg_error("%s: bad .flo size %dx%d", path, wh[0], wh[1]);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    size_t need = (size_t)wh[0] * (size_t)wh[1] * 8;
+    if (size - 12 < need) {
+        vg_error("%s: truncated .flo: %dx%d needs %zu bytes of flow, file has %zu", path, wh[0],
+                 wh[1], need, size - 12);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    st = vg_imagef_alloc(out, wh[0], wh[1], 2);
+    if (st == VG_OK) {
+        memcpy(out->data, buf + 12, need);
+        if (!host_is_little_endian())
+            swap4(out->data, need / 4);
+    }
+    free(buf);
+    return st;
+}
+
+vg_status vg_flo_write(const char *path, const vg_imagef *img)
+{
+    if (img->channels != 2) {
+        vg_error("%s: .flo holds 2 channels, not %d", path, img->channels);
+        return VG_ERR_ARG;
+    }
+    size_t n = (size_t)img->width * (size_t)img->height * 2;
+    uint8_t *buf = malloc(12 + n * 4);
+    if (!buf)
+        return VG_ERR_NOMEM;
+    float magic = FLO_MAGIC;
+    int32_t wh[2] = {img->width, img->height};
+    memcpy(buf, &magic, 4);
+    memcpy(buf + 4, wh, 8);
+    memcpy(buf + 12, img->data, n * 4);
+    if (!host_is_little_endian())
+        swap4(buf, 3 + n);
+    vg_status st = vg_file_write_atomic(path, buf, 12 + n * 4);
+    free(buf);
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* PNG                                                                       */
+/* ------------------------------------------------------------------------- */
+
+typedef struct png_sink {
+    uint8_t *data;
+    size_t size, cap;
+    int failed;
+} png_sink;
+
+static void png_sink_write(void *ctx, void *data, int size)
+{
+    png_sink *s = ctx;
+    if (s->failed || size <= 0)
+        return;
+    if (s->size + (size_t)size > s->cap) {
+        size_t cap = s->cap ? s->cap * 2 : 65536;
+        while (cap < s->size + (size_t)size)
+            cap *= 2;
+        uint8_t *p = realloc(s->data, cap);
+        if (!p) {
+            s->failed = 1;
+            return;
+        }
+        s->data = p;
+        s->cap = cap;
+    }
+    memcpy(s->data + s->size, data, (size_t)size);
+    s->size += (size_t)size;
+}
+
+vg_status vg_png_write(const char *path, int width, int height, int comp, const uint8_t *pixels)
+{
+    png_sink sink = {0};
+    int ok = stbi_write_png_to_func(png_sink_write, &sink, width, height, comp, pixels, width * comp);
+    vg_status st = VG_ERR_NOMEM;
+    if (ok && !sink.failed)
+        st = vg_file_write_atomic(path, sink.data, sink.size);
+    else
+        vg_error("%s: PNG encoding failed", path);
+    free(sink.data);
+    return st;
+}
+
+vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels)
+{
+    uint8_t *buf;
+    size_t size;
+    *pixels = NULL;
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st != VG_OK)
+        return st;
+    int n;
+    *pixels = size <= 0x7fffffff ? stbi_load_from_memory(buf, (int)size, width, height, &n, comp) : NULL;
+    free(buf);
+    if (!*pixels) {
+        vg_error("%s: cannot decode image: %s", path, stbi_failure_reason());
+        return VG_ERR_FORMAT;
+    }
+    return VG_OK;
+}

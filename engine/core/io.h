@@ -1,0 +1,41 @@
+/* vergence — files: whole-file reads, atomic writes, PFM, Middlebury .flo, PNG.
+ *
+ * Every reader checks sizes before it touches memory and logs one error line
+ * that names the file and the problem. Every writer writes to a temporary
+ * file and renames it into place, so a crash never leaves a half-written file
+ * under the final name. Images are row-major with the top row first. */
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "status.h"
+
+typedef struct vg_imagef {
+    int width, height, channels; /* channels: 1 or 3 (PFM), 2 (flow) */
+    float *data;                 /* width * height * channels floats, top row first */
+} vg_imagef;
+
+vg_status vg_imagef_alloc(vg_imagef *img, int width, int height, int channels);
+void vg_imagef_free(vg_imagef *img);
+
+/* Reads a whole file; *data is NUL-terminated (not counted in *size). */
+vg_status vg_file_read(const char *path, uint8_t **data, size_t *size);
+/* Writes data to path.tmp then renames it to path. */
+vg_status vg_file_write_atomic(const char *path, const void *data, size_t size);
+/* mkdir -p, then proves the folder is writable by creating a probe file. */
+vg_status vg_dir_prepare(const char *path);
+/* Joins dir and name into out (size cap); returns VG_ERR_ARG when too long. */
+vg_status vg_path_join(char *out, size_t cap, const char *dir, const char *name);
+
+/* Portable Float Map: "Pf" (1 channel) or "PF" (3 channels), either endianness. */
+vg_status vg_pfm_read(const char *path, vg_imagef *out);
+vg_status vg_pfm_write(const char *path, const vg_imagef *img);
+
+/* Middlebury .flo: magic 202021.25, int32 width, int32 height, (u, v) floats. */
+vg_status vg_flo_read(const char *path, vg_imagef *out);
+vg_status vg_flo_write(const char *path, const vg_imagef *img);
+
+/* 8-bit PNG (1 grey, 2 grey+alpha, 3 RGB, 4 RGBA). The pixel buffer from
+ * vg_png_read is freed with free(). */
+vg_status vg_png_write(const char *path, int width, int height, int comp, const uint8_t *pixels);
+vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels);

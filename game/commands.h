@@ -1,0 +1,8 @@
+/* vergence — the subcommands of the one executable. */
+#pragma once
+#include "core/cli.h"
+
+/* Each command module defines one of these (game/cmd_*.c). */
+extern const vg_cmd vg_cmd_info;
+extern const vg_cmd vg_cmd_capture;
+extern const vg_cmd vg_cmd_optimize;
