@@ -1,0 +1,140 @@
+/* vergence — the Vulkan 1.3 context: instance, device, queue, validation.
+ *
+ * One graphics+compute queue, dynamic rendering and synchronization2 (core
+ * 1.3), push descriptors. Picks a discrete GPU when there is one, else the
+ * best other device (lavapipe on CI); desc.device_index overrides. Every
+ * feature the engine needs is checked up front and a missing one is named
+ * in the error. With validation on, every WARNING/ERROR message of the
+ * validation layer is printed and counted; callers turn a count > 0 into a
+ * failure (tests always run with validation). */
+#pragma once
+#include <stdbool.h>
+#include <stdint.h>
+
+#include <vulkan/vulkan.h>
+
+#include "core/status.h"
+
+typedef struct gpu_desc {
+    bool validate;          /* Khronos validation layer (also env VERGENCE_VALIDATE=1) */
+    bool sync_validation;   /* synchronization validation (default on with validation;
+                               env VERGENCE_SYNC_VALIDATION=0 turns it off) */
+    int device_index;       /* -1 or unset-with-auto_device: automatic choice */
+    bool auto_device;       /* ignore device_index (zero-initialised desc = auto) */
+    const char *const *instance_extensions; /* e.g. from glfwGetRequiredInstanceExtensions */
+    uint32_t instance_extension_count;
+    bool need_swapchain;    /* enable VK_KHR_swapchain on the device */
+} gpu_desc;
+
+/* Optional features: used when present, reported by `vergence info`. */
+typedef struct gpu_features {
+    bool tessellation;          /* tessellationShader (required by warp.stereo) */
+    bool multiview;             /* multiview */
+    bool multiview_tessellation;/* multiviewTessellationShader */
+    bool timestamps;            /* timestampComputeAndGraphics */
+    bool fill_mode_non_solid;   /* wireframe debug views */
+} gpu_features;
+
+typedef struct gpu {
+    VkInstance instance;
+    VkDebugUtilsMessengerEXT messenger;
+    VkPhysicalDevice phys;
+    VkPhysicalDeviceProperties props;
+    VkPhysicalDeviceMemoryProperties mem;
+    VkDevice device;
+    VkQueue queue;
+    uint32_t queue_family;
+    VkCommandPool pool;
+    gpu_features features;
+    bool is_cpu;                /* a CPU rasteriser (lavapipe): pick cheaper settings */
+    bool validation;
+    bool sync_validation;
+    bool debug_utils;           /* object names available */
+    uint32_t device_index;
+    PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set;
+    PFN_vkSetDebugUtilsObjectNameEXT set_object_name;
+} gpu;
+
+vg_status gpu_create(const gpu_desc *desc, gpu **out);
+void gpu_destroy(gpu *g);
+
+/* Validation WARNING/ERROR messages so far in this process, including those
+ * raised while a context was destroyed (leaked objects). */
+int gpu_validation_messages(void);
+
+/* Debug name for any Vulkan object (no-op without VK_EXT_debug_utils). */
+void gpu_set_name(const gpu *g, VkObjectType type, uint64_t handle, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+#define GPU_NAME(g, type, handle, ...) gpu_set_name((g), (type), (uint64_t)(handle), __VA_ARGS__)
+
+const char *gpu_result_text(VkResult r);
+const char *gpu_device_type_text(VkPhysicalDeviceType t);
+
+/* Runs the call; on failure logs file:line, the call and the VkResult, and
+ * returns VG_ERR_VULKAN from the enclosing function (which returns vg_status).
+ * VK_ERROR_DEVICE_LOST gets its own clear message. */
+#define VK_TRY(call)                                                              \
+    do {                                                                          \
+        VkResult vk_try_r_ = (call);                                              \
+        if (vk_try_r_ != VK_SUCCESS) {                                            \
+            gpu_report_failure(__FILE__, __LINE__, #call, vk_try_r_);             \
+            return VG_ERR_VULKAN;                                                 \
+        }                                                                         \
+    } while (0)
+
+void gpu_report_failure(const char *file, int line, const char *call, VkResult r);
+
+/* ------------------------------------------------------------------------- */
+/* Resources                                                                 */
+/* ------------------------------------------------------------------------- */
+
+typedef struct gpu_buffer_desc {
+    const char *name;
+    VkDeviceSize size;
+    VkBufferUsageFlags usage;
+    bool host_visible;          /* mapped for the buffer's life */
+} gpu_buffer_desc;
+
+typedef struct gpu_buffer {
+    VkBuffer buffer;
+    VkDeviceMemory memory;
+    VkDeviceSize size;
+    void *mapped;
+} gpu_buffer;
+
+typedef struct gpu_image_desc {
+    const char *name;
+    VkFormat format;
+    uint32_t width, height;
+    uint32_t layers;            /* 0 = 1 */
+    VkImageUsageFlags usage;
+} gpu_image_desc;
+
+typedef struct gpu_image {
+    VkImage image;
+    VkImageView view;
+    VkDeviceMemory memory;
+    VkFormat format;
+    uint32_t width, height, layers;
+} gpu_image;
+
+vg_status gpu_buffer_create(gpu *g, const gpu_buffer_desc *desc, gpu_buffer *out);
+void gpu_buffer_destroy(gpu *g, gpu_buffer *b);
+vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out);
+void gpu_image_destroy(gpu *g, gpu_image *img);
+VkImageAspectFlags gpu_format_aspect(VkFormat f);
+uint32_t gpu_format_size(VkFormat f); /* bytes per texel of the formats the engine uses */
+
+/* One-shot command buffer: begin, record, submit and wait. */
+vg_status gpu_oneshot_begin(gpu *g, VkCommandBuffer *cmd);
+vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd);
+
+/* Uploads pixels into a sampled image (layout SHADER_READ_ONLY_OPTIMAL after). */
+vg_status gpu_image_upload(gpu *g, gpu_image *img, const void *pixels, size_t size);
+
+/* ------------------------------------------------------------------------- */
+/* Shaders and pipelines                                                     */
+/* ------------------------------------------------------------------------- */
+
+vg_status gpu_shader_create(gpu *g, const uint32_t *code, size_t size, const char *name,
+                            VkShaderModule *out);
