@@ -1,0 +1,647 @@
+#include "gltf.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/io.h"
+#include "core/json.h"
+#include "core/log.h"
+
+/* Table sizes: generous for the handful of objects a sample scene has. */
+#define MAX_VIEWS 512
+#define MAX_ACCESSORS 512
+#define MAX_MESHES 64
+#define MAX_PRIMS 8
+#define MAX_MATERIALS 64
+#define MAX_TEXTURES 8
+#define MAX_NODES 128
+#define MAX_CAMERAS 4
+#define MAX_ANIMATIONS 8
+#define MAX_CHANNELS 8
+#define NAME_MAX_LEN 64
+
+/* glTF enumerations. */
+enum {
+    GL_FLOAT = 5126,
+    GL_UNSIGNED_SHORT = 5123,
+    GL_UNSIGNED_INT = 5125,
+    GL_ARRAY_BUFFER = 34962,
+    GL_ELEMENT_ARRAY_BUFFER = 34963,
+    GL_LINEAR = 9729,
+    GL_LINEAR_MIPMAP_LINEAR = 9987,
+    GL_REPEAT = 10497,
+};
+
+typedef struct view {
+    size_t offset, length;
+    int target; /* 0: none */
+} view;
+
+typedef struct accessor {
+    int view, component, count, comps;
+    bool minmax;
+    float min[4], max[4];
+} accessor;
+
+typedef struct prim {
+    int position, normal, texcoord, indices; /* accessor indices, texcoord -1 when absent */
+    int material;                            /* material index */
+} prim;
+
+typedef struct gmesh {
+    char name[NAME_MAX_LEN];
+    prim prims[MAX_PRIMS];
+    int prim_count;
+} gmesh;
+
+typedef struct material {
+    char name[NAME_MAX_LEN];
+    float color[4];
+    int texture; /* index, -1 none */
+    double roughness;
+} material;
+
+typedef struct image {
+    char name[NAME_MAX_LEN];
+    int view;
+} image;
+
+typedef struct node {
+    char name[NAME_MAX_LEN];
+    int mesh, camera; /* indices, -1 none */
+    float t[3], r[4];
+    float saliency;
+} node;
+
+typedef struct camera {
+    char name[NAME_MAX_LEN];
+    double yfov, znear, zfar;
+} camera;
+
+typedef struct channel {
+    int node, input, output;
+    gltf_path path;
+    gltf_interp interp;
+} channel;
+
+typedef struct animation {
+    char name[NAME_MAX_LEN];
+    channel channels[MAX_CHANNELS];
+    int channel_count;
+} animation;
+
+struct gltf {
+    char scene_name[NAME_MAX_LEN];
+    char description[512];
+    uint8_t *bin;
+    size_t bin_len, bin_cap;
+    view views[MAX_VIEWS];
+    accessor accessors[MAX_ACCESSORS];
+    gmesh meshes[MAX_MESHES];
+    material materials[MAX_MATERIALS];
+    image images[MAX_TEXTURES];
+    node nodes[MAX_NODES];
+    camera cameras[MAX_CAMERAS];
+    animation animations[MAX_ANIMATIONS];
+    int view_count, accessor_count, mesh_count, material_count, image_count;
+    int node_count, camera_count, animation_count;
+    uint32_t triangles;
+    bool failed;
+};
+
+/* ------------------------------------------------------------------------- */
+/* Building                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static void fail(gltf *g, const char *what)
+{
+    if (!g->failed)
+        vg_error("%s: %s", g->scene_name, what);
+    g->failed = true;
+}
+
+static void copy_name(char *dst, const char *src)
+{
+    snprintf(dst, NAME_MAX_LEN, "%s", src ? src : "");
+}
+
+gltf *gltf_create(const char *scene_name, const char *description)
+{
+    gltf *g = calloc(1, sizeof *g);
+    if (!g)
+        return NULL;
+    copy_name(g->scene_name, scene_name);
+    snprintf(g->description, sizeof g->description, "%s", description ? description : "");
+    return g;
+}
+
+void gltf_destroy(gltf *g)
+{
+    if (!g)
+        return;
+    free(g->bin);
+    free(g);
+}
+
+/* Appends bytes to the binary buffer at a 4-byte boundary; returns a view index. */
+static int add_view(gltf *g, const void *data, size_t size, int target)
+{
+    if (g->failed)
+        return -1;
+    if (g->view_count >= MAX_VIEWS) {
+        fail(g, "too many buffer views");
+        return -1;
+    }
+    size_t offset = (g->bin_len + 3) & ~(size_t)3, end = offset + size;
+    if (end > g->bin_cap) {
+        size_t cap = g->bin_cap ? g->bin_cap : 65536;
+        while (cap < end)
+            cap *= 2;
+        uint8_t *p = realloc(g->bin, cap);
+        if (!p) {
+            fail(g, "out of memory for the binary buffer");
+            return -1;
+        }
+        g->bin = p;
+        g->bin_cap = cap;
+    }
+    memset(g->bin + g->bin_len, 0, offset - g->bin_len); /* padding is zero, not garbage */
+    memcpy(g->bin + offset, data, size);
+    g->bin_len = end;
+    g->views[g->view_count] = (view){.offset = offset, .length = size, .target = target};
+    return g->view_count++;
+}
+
+/* A float accessor of count elements of comps components, with min/max
+ * (glTF requires them for POSITION and animation inputs). */
+static int add_float_accessor(gltf *g, const float *data, int count, int comps, int target, bool minmax)
+{
+    int v = add_view(g, data, sizeof(float) * (size_t)count * (size_t)comps, target);
+    if (v < 0)
+        return -1;
+    if (g->accessor_count >= MAX_ACCESSORS) {
+        fail(g, "too many accessors");
+        return -1;
+    }
+    accessor *a = &g->accessors[g->accessor_count];
+    *a = (accessor){.view = v, .component = GL_FLOAT, .count = count, .comps = comps, .minmax = minmax};
+    for (int c = 0; c < comps && minmax; c++) {
+        a->min[c] = a->max[c] = data[c];
+        for (int i = 1; i < count; i++) {
+            float x = data[(size_t)i * (size_t)comps + (size_t)c];
+            a->min[c] = fminf(a->min[c], x);
+            a->max[c] = fmaxf(a->max[c], x);
+        }
+    }
+    return g->accessor_count++;
+}
+
+/* Indices as unsigned short when they fit (65535 is the restart value, so
+ * it must stay unused), else unsigned int. */
+static int add_index_accessor(gltf *g, const uint32_t *idx, uint32_t count, uint32_t vertex_count)
+{
+    int v;
+    bool shorts = vertex_count < 65535;
+    if (shorts) {
+        uint16_t *s = malloc(sizeof(uint16_t) * count);
+        if (!s) {
+            fail(g, "out of memory for indices");
+            return -1;
+        }
+        for (uint32_t i = 0; i < count; i++)
+            s[i] = (uint16_t)idx[i];
+        v = add_view(g, s, sizeof(uint16_t) * count, GL_ELEMENT_ARRAY_BUFFER);
+        free(s);
+    } else {
+        v = add_view(g, idx, sizeof(uint32_t) * count, GL_ELEMENT_ARRAY_BUFFER);
+    }
+    if (v < 0)
+        return -1;
+    if (g->accessor_count >= MAX_ACCESSORS) {
+        fail(g, "too many accessors");
+        return -1;
+    }
+    g->accessors[g->accessor_count] = (accessor){
+        .view = v, .component = shorts ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT, .count = (int)count, .comps = 1};
+    return g->accessor_count++;
+}
+
+int gltf_texture_add_png(gltf *g, const char *name, const uint8_t *png, size_t size)
+{
+    if (g->image_count >= MAX_TEXTURES) {
+        fail(g, "too many textures");
+        return 0;
+    }
+    int v = add_view(g, png, size, 0);
+    if (v < 0)
+        return 0;
+    image *im = &g->images[g->image_count];
+    copy_name(im->name, name);
+    im->view = v;
+    return ++g->image_count;
+}
+
+static float srgb_to_linear(uint8_t c)
+{
+    double x = c / 255.0;
+    return (float)(x <= 0.04045 ? x / 12.92 : pow((x + 0.055) / 1.055, 2.4));
+}
+
+int gltf_material_add(gltf *g, const gltf_material_desc *d)
+{
+    if (g->material_count >= MAX_MATERIALS) {
+        fail(g, "too many materials");
+        return 0;
+    }
+    if (d->texture < 0 || d->texture > g->image_count) {
+        fail(g, "material refers to an unknown texture");
+        return 0;
+    }
+    material *m = &g->materials[g->material_count];
+    copy_name(m->name, d->name);
+    m->texture = d->texture - 1;
+    for (int c = 0; c < 3; c++)
+        m->color[c] = d->texture ? 1.0f : srgb_to_linear(d->srgb[c]);
+    m->color[3] = 1.0f;
+    m->roughness = d->roughness > 0 ? d->roughness : 0.9;
+    return ++g->material_count;
+}
+
+int gltf_mesh_add(gltf *g, const char *name)
+{
+    if (g->mesh_count >= MAX_MESHES) {
+        fail(g, "too many meshes");
+        return 0;
+    }
+    copy_name(g->meshes[g->mesh_count].name, name);
+    return ++g->mesh_count;
+}
+
+void gltf_mesh_primitive(gltf *g, int mesh_h, const mesh *geo, int material_h)
+{
+    if (mesh_h < 1 || mesh_h > g->mesh_count || material_h < 1 || material_h > g->material_count) {
+        fail(g, "primitive refers to an unknown mesh or material");
+        return;
+    }
+    if (geo->failed || geo->icount == 0) {
+        fail(g, geo->failed ? "out of memory building a mesh" : "empty mesh primitive");
+        return;
+    }
+    gmesh *m = &g->meshes[mesh_h - 1];
+    if (m->prim_count >= MAX_PRIMS) {
+        fail(g, "too many primitives in one mesh");
+        return;
+    }
+    const material *mat = &g->materials[material_h - 1];
+    int n = (int)geo->vcount;
+    prim p = {
+        .position = add_float_accessor(g, geo->pos, n, 3, GL_ARRAY_BUFFER, true),
+        .normal = add_float_accessor(g, geo->nrm, n, 3, GL_ARRAY_BUFFER, false),
+        .texcoord = mat->texture >= 0 ? add_float_accessor(g, geo->uv, n, 2, GL_ARRAY_BUFFER, false) : -1,
+        .indices = add_index_accessor(g, geo->idx, geo->icount, geo->vcount),
+        .material = material_h - 1,
+    };
+    m->prims[m->prim_count++] = p;
+    g->triangles += geo->icount / 3;
+}
+
+int gltf_camera_add(gltf *g, const char *name, double yfov, double znear, double zfar)
+{
+    if (g->camera_count >= MAX_CAMERAS) {
+        fail(g, "too many cameras");
+        return 0;
+    }
+    camera *c = &g->cameras[g->camera_count];
+    copy_name(c->name, name);
+    c->yfov = yfov;
+    c->znear = znear;
+    c->zfar = zfar;
+    return ++g->camera_count;
+}
+
+int gltf_node_add(gltf *g, const gltf_node_desc *d)
+{
+    if (g->node_count >= MAX_NODES) {
+        fail(g, "too many nodes");
+        return 0;
+    }
+    if (d->mesh < 0 || d->mesh > g->mesh_count || d->camera < 0 || d->camera > g->camera_count) {
+        fail(g, "node refers to an unknown mesh or camera");
+        return 0;
+    }
+    node *n = &g->nodes[g->node_count];
+    copy_name(n->name, d->name);
+    n->mesh = d->mesh - 1;
+    n->camera = d->camera - 1;
+    memcpy(n->t, d->translation, sizeof n->t);
+    memcpy(n->r, d->rotation, sizeof n->r);
+    if (!n->r[0] && !n->r[1] && !n->r[2] && !n->r[3])
+        n->r[3] = 1;
+    n->saliency = d->saliency;
+    return ++g->node_count;
+}
+
+int gltf_animation_add(gltf *g, const char *name)
+{
+    if (g->animation_count >= MAX_ANIMATIONS) {
+        fail(g, "too many animations");
+        return 0;
+    }
+    copy_name(g->animations[g->animation_count].name, name);
+    return ++g->animation_count;
+}
+
+void gltf_animation_channel(gltf *g, int anim_h, int node_h, gltf_path path, gltf_interp interp,
+                            const float *times, int n, const float *values)
+{
+    if (anim_h < 1 || anim_h > g->animation_count || node_h < 1 || node_h > g->node_count || n < 2) {
+        fail(g, "animation channel refers to an unknown animation or node, or has < 2 keys");
+        return;
+    }
+    animation *a = &g->animations[anim_h - 1];
+    if (a->channel_count >= MAX_CHANNELS) {
+        fail(g, "too many channels in one animation");
+        return;
+    }
+    for (int i = 1; i < n; i++)
+        if (!(times[i] > times[i - 1])) {
+            fail(g, "animation key times are not strictly increasing");
+            return;
+        }
+    int comps = path == GLTF_PATH_ROTATION ? 4 : 3, per_key = interp == GLTF_INTERP_CUBIC ? 3 : 1;
+    channel c = {
+        .node = node_h - 1,
+        .input = add_float_accessor(g, times, n, 1, 0, true),
+        .output = add_float_accessor(g, values, n * per_key, comps, 0, false),
+        .path = path,
+        .interp = interp,
+    };
+    a->channels[a->channel_count++] = c;
+}
+
+uint32_t gltf_triangles(const gltf *g)
+{
+    return g->triangles;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Writing                                                                   */
+/* ------------------------------------------------------------------------- */
+
+static const char *type_name(int comps)
+{
+    static const char *const names[] = {"", "SCALAR", "VEC2", "VEC3", "VEC4"};
+    return names[comps];
+}
+
+static void write_nodes(const gltf *g, vg_json *j)
+{
+    vg_json_array_begin(j, "nodes");
+    for (int i = 0; i < g->node_count; i++) {
+        const node *n = &g->nodes[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", n->name);
+        if (n->mesh >= 0)
+            vg_json_int(j, "mesh", n->mesh);
+        if (n->camera >= 0)
+            vg_json_int(j, "camera", n->camera);
+        if (n->t[0] || n->t[1] || n->t[2])
+            vg_json_nums(j, "translation", n->t, 3);
+        if (n->r[0] || n->r[1] || n->r[2] || n->r[3] != 1)
+            vg_json_nums(j, "rotation", n->r, 4);
+        if (n->mesh >= 0) {
+            vg_json_object_begin(j, "extras");
+            vg_json_num(j, "saliency", n->saliency);
+            vg_json_object_end(j);
+        }
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+}
+
+static void write_meshes(const gltf *g, vg_json *j)
+{
+    vg_json_array_begin(j, "meshes");
+    for (int i = 0; i < g->mesh_count; i++) {
+        const gmesh *m = &g->meshes[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", m->name);
+        vg_json_array_begin(j, "primitives");
+        for (int k = 0; k < m->prim_count; k++) {
+            const prim *p = &m->prims[k];
+            vg_json_object_begin(j, NULL);
+            vg_json_object_begin(j, "attributes");
+            vg_json_int(j, "POSITION", p->position);
+            vg_json_int(j, "NORMAL", p->normal);
+            if (p->texcoord >= 0)
+                vg_json_int(j, "TEXCOORD_0", p->texcoord);
+            vg_json_object_end(j);
+            vg_json_int(j, "indices", p->indices);
+            vg_json_int(j, "material", p->material);
+            vg_json_object_end(j);
+        }
+        vg_json_array_end(j);
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+}
+
+static void write_materials(const gltf *g, vg_json *j)
+{
+    vg_json_array_begin(j, "materials");
+    for (int i = 0; i < g->material_count; i++) {
+        const material *m = &g->materials[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", m->name);
+        vg_json_object_begin(j, "pbrMetallicRoughness");
+        vg_json_nums(j, "baseColorFactor", m->color, 4);
+        if (m->texture >= 0) {
+            vg_json_object_begin(j, "baseColorTexture");
+            vg_json_int(j, "index", m->texture);
+            vg_json_object_end(j);
+        }
+        vg_json_num(j, "metallicFactor", 0);
+        vg_json_num(j, "roughnessFactor", m->roughness);
+        vg_json_object_end(j);
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+}
+
+/* One texture per image, all sharing one trilinear repeating sampler. */
+static void write_textures(const gltf *g, vg_json *j)
+{
+    if (!g->image_count)
+        return;
+    vg_json_array_begin(j, "textures");
+    for (int i = 0; i < g->image_count; i++) {
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", g->images[i].name);
+        vg_json_int(j, "sampler", 0);
+        vg_json_int(j, "source", i);
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+    vg_json_array_begin(j, "images");
+    for (int i = 0; i < g->image_count; i++) {
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", g->images[i].name);
+        vg_json_int(j, "bufferView", g->images[i].view);
+        vg_json_str(j, "mimeType", "image/png");
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+    vg_json_array_begin(j, "samplers");
+    vg_json_object_begin(j, NULL);
+    vg_json_int(j, "magFilter", GL_LINEAR);
+    vg_json_int(j, "minFilter", GL_LINEAR_MIPMAP_LINEAR);
+    vg_json_int(j, "wrapS", GL_REPEAT);
+    vg_json_int(j, "wrapT", GL_REPEAT);
+    vg_json_object_end(j);
+    vg_json_array_end(j);
+}
+
+static void write_cameras(const gltf *g, vg_json *j)
+{
+    vg_json_array_begin(j, "cameras");
+    for (int i = 0; i < g->camera_count; i++) {
+        const camera *c = &g->cameras[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", c->name);
+        vg_json_str(j, "type", "perspective");
+        vg_json_object_begin(j, "perspective");
+        vg_json_num(j, "yfov", c->yfov);
+        vg_json_num(j, "znear", c->znear);
+        vg_json_num(j, "zfar", c->zfar);
+        vg_json_object_end(j);
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+}
+
+static void write_animations(const gltf *g, vg_json *j)
+{
+    if (!g->animation_count)
+        return;
+    static const char *const paths[] = {"translation", "translation", "rotation", "scale"};
+    vg_json_array_begin(j, "animations");
+    for (int i = 0; i < g->animation_count; i++) {
+        const animation *a = &g->animations[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_str(j, "name", a->name);
+        vg_json_array_begin(j, "channels");
+        for (int k = 0; k < a->channel_count; k++) {
+            vg_json_object_begin(j, NULL);
+            vg_json_int(j, "sampler", k);
+            vg_json_object_begin(j, "target");
+            vg_json_int(j, "node", a->channels[k].node);
+            vg_json_str(j, "path", paths[a->channels[k].path]);
+            vg_json_object_end(j);
+            vg_json_object_end(j);
+        }
+        vg_json_array_end(j);
+        vg_json_array_begin(j, "samplers");
+        for (int k = 0; k < a->channel_count; k++) {
+            vg_json_object_begin(j, NULL);
+            vg_json_int(j, "input", a->channels[k].input);
+            vg_json_str(j, "interpolation", a->channels[k].interp == GLTF_INTERP_CUBIC ? "CUBICSPLINE" : "LINEAR");
+            vg_json_int(j, "output", a->channels[k].output);
+            vg_json_object_end(j);
+        }
+        vg_json_array_end(j);
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+}
+
+static void write_buffers(const gltf *g, vg_json *j, const char *bin_name)
+{
+    vg_json_array_begin(j, "accessors");
+    for (int i = 0; i < g->accessor_count; i++) {
+        const accessor *a = &g->accessors[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_int(j, "bufferView", a->view);
+        vg_json_int(j, "componentType", a->component);
+        vg_json_int(j, "count", a->count);
+        vg_json_str(j, "type", type_name(a->comps));
+        if (a->minmax) {
+            vg_json_nums(j, "min", a->min, a->comps);
+            vg_json_nums(j, "max", a->max, a->comps);
+        }
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+    vg_json_array_begin(j, "bufferViews");
+    for (int i = 0; i < g->view_count; i++) {
+        const view *v = &g->views[i];
+        vg_json_object_begin(j, NULL);
+        vg_json_int(j, "buffer", 0);
+        vg_json_int(j, "byteOffset", (long long)v->offset);
+        vg_json_int(j, "byteLength", (long long)v->length);
+        if (v->target)
+            vg_json_int(j, "target", v->target);
+        vg_json_object_end(j);
+    }
+    vg_json_array_end(j);
+    vg_json_array_begin(j, "buffers");
+    vg_json_object_begin(j, NULL);
+    vg_json_str(j, "uri", bin_name);
+    vg_json_int(j, "byteLength", (long long)g->bin_len);
+    vg_json_object_end(j);
+    vg_json_array_end(j);
+}
+
+vg_status gltf_write(gltf *g, const char *dir, size_t *gltf_bytes, size_t *bin_bytes)
+{
+    if (g->failed)
+        return VG_ERR_NOMEM;
+    if (g->camera_count == 0 || g->node_count == 0) {
+        fail(g, "a scene needs a camera and at least one node");
+        return VG_ERR_ARG;
+    }
+    char bin_name[NAME_MAX_LEN + 8], gltf_name[NAME_MAX_LEN + 8], path[4096];
+    snprintf(bin_name, sizeof bin_name, "%s.bin", g->scene_name);
+    snprintf(gltf_name, sizeof gltf_name, "%s.gltf", g->scene_name);
+
+    vg_json j = {0};
+    vg_json_object_begin(&j, NULL);
+    vg_json_object_begin(&j, "asset");
+    vg_json_str(&j, "version", "2.0");
+    vg_json_str(&j, "generator", "vergence-content");
+    vg_json_object_end(&j);
+    vg_json_int(&j, "scene", 0);
+    vg_json_array_begin(&j, "scenes");
+    vg_json_object_begin(&j, NULL);
+    vg_json_str(&j, "name", g->scene_name);
+    vg_json_array_begin(&j, "nodes");
+    for (int i = 0; i < g->node_count; i++)
+        vg_json_int(&j, NULL, i);
+    vg_json_array_end(&j);
+    vg_json_object_begin(&j, "extras");
+    vg_json_str(&j, "description", g->description);
+    vg_json_object_end(&j);
+    vg_json_object_end(&j);
+    vg_json_array_end(&j);
+    write_nodes(g, &j);
+    write_cameras(g, &j);
+    write_meshes(g, &j);
+    write_materials(g, &j);
+    write_textures(g, &j);
+    write_animations(g, &j);
+    write_buffers(g, &j, bin_name);
+    vg_json_object_end(&j);
+
+    vg_status st = vg_path_join(path, sizeof path, dir, bin_name);
+    if (st == VG_OK)
+        st = vg_file_write_atomic(path, g->bin, g->bin_len);
+    if (st == VG_OK)
+        st = vg_path_join(path, sizeof path, dir, gltf_name);
+    if (st == VG_OK)
+        st = vg_json_write_file(&j, path);
+    *gltf_bytes = j.len;
+    *bin_bytes = g->bin_len;
+    vg_json_free(&j);
+    return st;
+}
