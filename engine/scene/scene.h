@@ -155,6 +155,8 @@ typedef struct scene {
     scene_channel *channels;
     scene_sampler *samplers;
     int *roots;              /* root nodes of the default scene */
+    int *node_order;         /* node_count: every node after its parent (evaluation order);
+                              * added by the scene module */
 
     int instance_count;
     scene_instance *instances;
@@ -174,6 +176,13 @@ typedef struct scene_state {
     float *positions;        /* 3 * scene.vertex_count, world space */
     float *normals;          /* 3 * scene.vertex_count, world space, unit length */
     float bounds_min[3], bounds_max[3]; /* of all positions */
+
+    /* Added by the scene module: what scene_evaluate computes on the way,
+     * kept so it never allocates. Read-only for callers. */
+    float *local;            /* node_count * 10: local T (3), R (4, x y z w), S (3) at t */
+    float *morph_weights;    /* morph weights of node n at morph_weights + morph_offset[n] */
+    int *morph_offset;       /* node_count + 1 offsets; node n has morph_offset[n+1] - morph_offset[n] weights */
+    float *joint_matrices;   /* per skin, in skin order: joint_count * 16, world(joint) * inverseBind */
 } scene_state;
 
 /* Loads a .gltf or .glb. On failure logs one line naming the file and the
@@ -183,6 +192,8 @@ void scene_destroy(scene *s);
 
 vg_status scene_state_init(const scene *s, scene_state *st);
 void scene_state_free(scene_state *st);
+/* Never allocates; t outside [0, duration] holds the first/last keys; a
+ * non-finite t is treated as 0. */
 void scene_evaluate(const scene *s, float t, scene_state *st);
 
 /* ------------------------------------------------------------------------- */
@@ -198,6 +209,8 @@ typedef struct vg_camera {
     float forward[3], right[3], up[3]; /* unit axes in world space */
     float yfov, aspect, znear, zfar; /* zfar is always finite here */
     int source_node;         /* camera node, -1 for the automatic framing */
+    bool orthographic;       /* added by the scene module: proj is orthographic (yfov 0) */
+    float ymag;              /* orthographic half height in world units (0 for perspective) */
 } vg_camera;
 
 /* The view for an evaluated state: the scene's camera node number `index`

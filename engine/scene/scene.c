@@ -1,0 +1,284 @@
+/* vergence — scene evaluation at time t: animation, hierarchy, morph
+ * targets, skins, world-space vertices.
+ *
+ * Order (glTF 2.0 spec 3.5 "Nodes and hierarchy", 3.7.2.2 "Morph targets",
+ * 3.7.3 "Skins", 3.11 "Animations"):
+ *   1. every node's local TRS and morph weights at rest (node weights
+ *      override mesh weights);
+ *   2. every animation channel overwrites its node's T, R, S or weights;
+ *   3. world matrices in parent-before-child order;
+ *   4. joint matrices world(joint) * inverseBind per skin;
+ *   5. per instance: base + sum of weighted target deltas (object space),
+ *      then the skin blend or the node's world matrix; normals by the
+ *      cofactor matrix (the inverse transpose up to a positive factor);
+ *   6. bounds.
+ * Nothing is allocated here: the state holds all scratch memory. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene_internal.h"
+
+/* ------------------------------------------------------------------------- */
+/* State                                                                     */
+/* ------------------------------------------------------------------------- */
+
+static void *zalloc(size_t count, size_t size)
+{
+    return calloc(count ? count : 1, size);
+}
+
+vg_status scene_state_init(const scene *s, scene_state *st)
+{
+    memset(st, 0, sizeof *st);
+    size_t nc = (size_t)s->node_count, vc = s->vertex_count, joints = 0;
+    for (int i = 0; i < s->skin_count; i++)
+        joints += (size_t)s->skins[i].joint_count;
+    st->world = zalloc(nc * 16, sizeof(float));
+    st->local = zalloc(nc * 10, sizeof(float));
+    st->positions = zalloc(vc * 3, sizeof(float));
+    st->normals = zalloc(vc * 3, sizeof(float));
+    st->morph_offset = zalloc(nc + 1, sizeof(int));
+    st->joint_matrices = zalloc(joints * 16, sizeof(float));
+    if (!st->world || !st->local || !st->positions || !st->normals || !st->morph_offset || !st->joint_matrices) {
+        scene_state_free(st);
+        return VG_ERR_NOMEM;
+    }
+    int total = 0;
+    for (int i = 0; i < s->node_count; i++) {
+        st->morph_offset[i] = total;
+        if (s->nodes[i].mesh >= 0)
+            total += s->meshes[s->nodes[i].mesh].weight_count;
+    }
+    st->morph_offset[nc] = total;
+    if (!(st->morph_weights = zalloc((size_t)total, sizeof(float)))) {
+        scene_state_free(st);
+        return VG_ERR_NOMEM;
+    }
+    return VG_OK;
+}
+
+void scene_state_free(scene_state *st)
+{
+    if (!st)
+        return;
+    free(st->world), free(st->local), free(st->positions), free(st->normals);
+    free(st->morph_weights), free(st->morph_offset), free(st->joint_matrices);
+    memset(st, 0, sizeof *st);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Steps 1-4: nodes                                                          */
+/* ------------------------------------------------------------------------- */
+
+static void pose_rest(const scene *s, scene_state *st)
+{
+    for (int i = 0; i < s->node_count; i++) {
+        const scene_node *n = &s->nodes[i];
+        float *l = st->local + (size_t)i * 10;
+        memcpy(l, n->translation, 3 * sizeof(float));
+        memcpy(l + 3, n->rotation, 4 * sizeof(float));
+        memcpy(l + 7, n->scale, 3 * sizeof(float));
+        int count = st->morph_offset[i + 1] - st->morph_offset[i];
+        if (count > 0) {
+            const float *w = n->weights ? n->weights : s->meshes[n->mesh].weights;
+            memcpy(st->morph_weights + st->morph_offset[i], w, (size_t)count * sizeof(float));
+        }
+    }
+}
+
+static void pose_animate(const scene *s, float t, scene_state *st)
+{
+    for (int c = 0; c < s->channel_count; c++) {
+        const scene_channel *ch = &s->channels[c];
+        const scene_sampler *smp = &s->samplers[ch->sampler];
+        float *l = st->local + (size_t)ch->node * 10;
+        switch (ch->path) {
+        case SCENE_PATH_TRANSLATION: scene_sampler_sample(smp, t, false, l); break;
+        case SCENE_PATH_ROTATION:
+            scene_sampler_sample(smp, t, true, l + 3);
+            scene_quat_normalize(l + 3); /* STEP keys are taken as stored */
+            break;
+        case SCENE_PATH_SCALE: scene_sampler_sample(smp, t, false, l + 7); break;
+        case SCENE_PATH_WEIGHTS:
+            /* gltf.cpp checked components == the node's weight count. */
+            scene_sampler_sample(smp, t, false, st->morph_weights + st->morph_offset[ch->node]);
+            break;
+        default: break;
+        }
+    }
+}
+
+static void pose_world(const scene *s, scene_state *st)
+{
+    for (int k = 0; k < s->node_count; k++) {
+        int i = s->node_order[k];
+        const scene_node *n = &s->nodes[i];
+        float local[16], *w = st->world + (size_t)i * 16;
+        const float *l = st->local + (size_t)i * 10;
+        /* Matrix nodes are never animated: gltf.cpp drops such channels. */
+        if (n->has_matrix)
+            memcpy(local, n->matrix, sizeof local);
+        else
+            scene_mat4_from_trs(local, l, l + 3, l + 7);
+        if (n->parent >= 0)
+            scene_mat4_mul(w, st->world + (size_t)n->parent * 16, local);
+        else
+            memcpy(w, local, sizeof local);
+    }
+}
+
+/* Spec 3.7.3.2: jointMatrix = inverse(world(mesh node)) * world(joint) *
+ * inverseBind, then the mesh node's world transform is applied; the two
+ * mesh-node factors cancel, so the world-space skin matrix is
+ * world(joint) * inverseBind (and no inverse is needed). */
+static void pose_joints(const scene *s, scene_state *st)
+{
+    float *out = st->joint_matrices;
+    for (int i = 0; i < s->skin_count; i++) {
+        const scene_skin *sk = &s->skins[i];
+        for (int j = 0; j < sk->joint_count; j++, out += 16)
+            scene_mat4_mul(out, st->world + (size_t)sk->joints[j] * 16, sk->inverse_bind + (size_t)j * 16);
+    }
+}
+
+/* ------------------------------------------------------------------------- */
+/* Step 5: vertices                                                          */
+/* ------------------------------------------------------------------------- */
+
+/* Normal matrix of an affine 3x3 part: the cofactor matrix equals
+ * det * inverse-transpose, so multiplying by sign(det) gives the direction
+ * of the inverse transpose without a division (and survives det = 0). */
+static void normal_matrix(const float *m, float out[9])
+{
+    const float *a = m, *b = m + 4, *c = m + 8; /* columns */
+    float bc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0]};
+    float ca[3] = {c[1] * a[2] - c[2] * a[1], c[2] * a[0] - c[0] * a[2], c[0] * a[1] - c[1] * a[0]};
+    float ab[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    float sign = a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2] < 0.0f ? -1.0f : 1.0f;
+    for (int k = 0; k < 3; k++)
+        out[k] = bc[k] * sign, out[3 + k] = ca[k] * sign, out[6 + k] = ab[k] * sign;
+}
+
+static void transform(const float *m, const float nm[9], const float *p, const float *n, float *op, float *on)
+{
+    float x = p[0], y = p[1], z = p[2];
+    op[0] = m[0] * x + m[4] * y + m[8] * z + m[12];
+    op[1] = m[1] * x + m[5] * y + m[9] * z + m[13];
+    op[2] = m[2] * x + m[6] * y + m[10] * z + m[14];
+    float a = n[0], b = n[1], c = n[2];
+    float nx = nm[0] * a + nm[3] * b + nm[6] * c;
+    float ny = nm[1] * a + nm[4] * b + nm[7] * c;
+    float nz = nm[2] * a + nm[5] * b + nm[8] * c;
+    float len2 = nx * nx + ny * ny + nz * nz;
+    if (len2 > 1e-30f && isfinite(len2)) {
+        float inv = 1.0f / sqrtf(len2);
+        on[0] = nx * inv, on[1] = ny * inv, on[2] = nz * inv;
+    } else {
+        on[0] = 0.0f, on[1] = 0.0f, on[2] = 1.0f; /* promised unit length */
+    }
+}
+
+/* Object-space vertices with morph targets applied (spec 3.7.2.2). */
+static void morph(const scene_primitive *p, const float *w, int wc, float *pos, float *nrm)
+{
+    size_t n3 = (size_t)p->vertex_count * 3;
+    memcpy(pos, p->positions, n3 * sizeof(float));
+    memcpy(nrm, p->normals, n3 * sizeof(float));
+    int tc = p->target_count < wc ? p->target_count : wc;
+    for (int k = 0; k < tc; k++) {
+        float wk = w[k];
+        if (wk == 0.0f)
+            continue;
+        const float *tp = p->target_positions + (size_t)k * n3;
+        for (size_t i = 0; i < n3; i++)
+            pos[i] += wk * tp[i];
+        if (p->target_normals) {
+            const float *tn = p->target_normals + (size_t)k * n3;
+            for (size_t i = 0; i < n3; i++)
+                nrm[i] += wk * tn[i];
+        }
+    }
+}
+
+static void skin_vertices(const scene_primitive *p, const float *joints, const float *world, float *pos, float *nrm)
+{
+    float rigid_nm[9];
+    normal_matrix(world, rigid_nm);
+    for (uint32_t v = 0; v < p->vertex_count; v++) {
+        const uint16_t *j = p->joints + (size_t)v * 4;
+        const float *w = p->weights + (size_t)v * 4;
+        float m[16] = {0}, nm[9];
+        float sum = w[0] + w[1] + w[2] + w[3];
+        float *vp = pos + (size_t)v * 3, *vn = nrm + (size_t)v * 3;
+        if (!(sum > 0.0f)) {
+            /* No influence at all (invalid, but seen in exports): keep the
+             * vertex rigidly on its node instead of collapsing it to 0. */
+            transform(world, rigid_nm, vp, vn, vp, vn);
+            continue;
+        }
+        for (int k = 0; k < 4; k++) {
+            if (w[k] == 0.0f)
+                continue;
+            const float *jm = joints + (size_t)j[k] * 16;
+            for (int e = 0; e < 16; e++)
+                m[e] += w[k] * jm[e];
+        }
+        normal_matrix(m, nm);
+        transform(m, nm, vp, vn, vp, vn);
+    }
+}
+
+static void place_instances(const scene *s, scene_state *st)
+{
+    for (int i = 0; i < s->instance_count; i++) {
+        const scene_instance *in = &s->instances[i];
+        const scene_node *n = &s->nodes[in->node];
+        const scene_primitive *p = &s->primitives[in->primitive];
+        const float *world = st->world + (size_t)in->node * 16;
+        float *pos = st->positions + (size_t)in->first_vertex * 3;
+        float *nrm = st->normals + (size_t)in->first_vertex * 3;
+        int wc = st->morph_offset[in->node + 1] - st->morph_offset[in->node];
+        morph(p, st->morph_weights + st->morph_offset[in->node], wc, pos, nrm);
+        if (n->skin >= 0 && p->joints && p->weights) {
+            size_t first = 0;
+            for (int k = 0; k < n->skin; k++)
+                first += (size_t)s->skins[k].joint_count;
+            skin_vertices(p, st->joint_matrices + first * 16, world, pos, nrm);
+        } else {
+            float nm[9];
+            normal_matrix(world, nm);
+            for (uint32_t v = 0; v < p->vertex_count; v++)
+                transform(world, nm, pos + (size_t)v * 3, nrm + (size_t)v * 3, pos + (size_t)v * 3,
+                          nrm + (size_t)v * 3);
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------- */
+/* Evaluate                                                                  */
+/* ------------------------------------------------------------------------- */
+
+void scene_evaluate(const scene *s, float t, scene_state *st)
+{
+    if (!isfinite(t))
+        t = 0.0f;
+    st->t = t;
+    pose_rest(s, st);
+    pose_animate(s, t, st);
+    pose_world(s, st);
+    pose_joints(s, st);
+    place_instances(s, st);
+
+    size_t n = (size_t)s->vertex_count;
+    for (int k = 0; k < 3; k++) {
+        st->bounds_min[k] = n ? INFINITY : 0.0f;
+        st->bounds_max[k] = n ? -INFINITY : 0.0f;
+    }
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            float v = st->positions[i * 3 + (size_t)k];
+            st->bounds_min[k] = fminf(st->bounds_min[k], v);
+            st->bounds_max[k] = fmaxf(st->bounds_max[k], v);
+        }
+}
