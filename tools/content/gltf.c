@@ -115,7 +115,7 @@ struct gltf {
 /* Building                                                                  */
 /* ------------------------------------------------------------------------- */
 
-static void fail(gltf *g, const char *what)
+void gltf_fail(gltf *g, const char *what)
 {
     if (!g->failed)
         vg_error("%s: %s", g->scene_name, what);
@@ -151,7 +151,7 @@ static int add_view(gltf *g, const void *data, size_t size, int target)
     if (g->failed)
         return -1;
     if (g->view_count >= MAX_VIEWS) {
-        fail(g, "too many buffer views");
+        gltf_fail(g, "too many buffer views");
         return -1;
     }
     size_t offset = (g->bin_len + 3) & ~(size_t)3, end = offset + size;
@@ -161,7 +161,7 @@ static int add_view(gltf *g, const void *data, size_t size, int target)
             cap *= 2;
         uint8_t *p = realloc(g->bin, cap);
         if (!p) {
-            fail(g, "out of memory for the binary buffer");
+            gltf_fail(g, "out of memory for the binary buffer");
             return -1;
         }
         g->bin = p;
@@ -182,7 +182,7 @@ static int add_float_accessor(gltf *g, const float *data, int count, int comps, 
     if (v < 0)
         return -1;
     if (g->accessor_count >= MAX_ACCESSORS) {
-        fail(g, "too many accessors");
+        gltf_fail(g, "too many accessors");
         return -1;
     }
     accessor *a = &g->accessors[g->accessor_count];
@@ -207,7 +207,7 @@ static int add_index_accessor(gltf *g, const uint32_t *idx, uint32_t count, uint
     if (shorts) {
         uint16_t *s = malloc(sizeof(uint16_t) * count);
         if (!s) {
-            fail(g, "out of memory for indices");
+            gltf_fail(g, "out of memory for indices");
             return -1;
         }
         for (uint32_t i = 0; i < count; i++)
@@ -220,7 +220,7 @@ static int add_index_accessor(gltf *g, const uint32_t *idx, uint32_t count, uint
     if (v < 0)
         return -1;
     if (g->accessor_count >= MAX_ACCESSORS) {
-        fail(g, "too many accessors");
+        gltf_fail(g, "too many accessors");
         return -1;
     }
     g->accessors[g->accessor_count] = (accessor){
@@ -231,7 +231,7 @@ static int add_index_accessor(gltf *g, const uint32_t *idx, uint32_t count, uint
 int gltf_texture_add_png(gltf *g, const char *name, const uint8_t *png, size_t size)
 {
     if (g->image_count >= MAX_TEXTURES) {
-        fail(g, "too many textures");
+        gltf_fail(g, "too many textures");
         return 0;
     }
     int v = add_view(g, png, size, 0);
@@ -252,11 +252,11 @@ static float srgb_to_linear(uint8_t c)
 int gltf_material_add(gltf *g, const gltf_material_desc *d)
 {
     if (g->material_count >= MAX_MATERIALS) {
-        fail(g, "too many materials");
+        gltf_fail(g, "too many materials");
         return 0;
     }
     if (d->texture < 0 || d->texture > g->image_count) {
-        fail(g, "material refers to an unknown texture");
+        gltf_fail(g, "material refers to an unknown texture");
         return 0;
     }
     material *m = &g->materials[g->material_count];
@@ -272,7 +272,7 @@ int gltf_material_add(gltf *g, const gltf_material_desc *d)
 int gltf_mesh_add(gltf *g, const char *name)
 {
     if (g->mesh_count >= MAX_MESHES) {
-        fail(g, "too many meshes");
+        gltf_fail(g, "too many meshes");
         return 0;
     }
     copy_name(g->meshes[g->mesh_count].name, name);
@@ -282,16 +282,16 @@ int gltf_mesh_add(gltf *g, const char *name)
 void gltf_mesh_primitive(gltf *g, int mesh_h, const mesh *geo, int material_h)
 {
     if (mesh_h < 1 || mesh_h > g->mesh_count || material_h < 1 || material_h > g->material_count) {
-        fail(g, "primitive refers to an unknown mesh or material");
+        gltf_fail(g, "primitive refers to an unknown mesh or material");
         return;
     }
     if (geo->failed || geo->icount == 0) {
-        fail(g, geo->failed ? "out of memory building a mesh" : "empty mesh primitive");
+        gltf_fail(g, geo->failed ? "out of memory building a mesh" : "empty mesh primitive");
         return;
     }
     gmesh *m = &g->meshes[mesh_h - 1];
     if (m->prim_count >= MAX_PRIMS) {
-        fail(g, "too many primitives in one mesh");
+        gltf_fail(g, "too many primitives in one mesh");
         return;
     }
     const material *mat = &g->materials[material_h - 1];
@@ -310,7 +310,7 @@ void gltf_mesh_primitive(gltf *g, int mesh_h, const mesh *geo, int material_h)
 int gltf_camera_add(gltf *g, const char *name, double yfov, double znear, double zfar)
 {
     if (g->camera_count >= MAX_CAMERAS) {
-        fail(g, "too many cameras");
+        gltf_fail(g, "too many cameras");
         return 0;
     }
     camera *c = &g->cameras[g->camera_count];
@@ -324,11 +324,11 @@ int gltf_camera_add(gltf *g, const char *name, double yfov, double znear, double
 int gltf_node_add(gltf *g, const gltf_node_desc *d)
 {
     if (g->node_count >= MAX_NODES) {
-        fail(g, "too many nodes");
+        gltf_fail(g, "too many nodes");
         return 0;
     }
     if (d->mesh < 0 || d->mesh > g->mesh_count || d->camera < 0 || d->camera > g->camera_count) {
-        fail(g, "node refers to an unknown mesh or camera");
+        gltf_fail(g, "node refers to an unknown mesh or camera");
         return 0;
     }
     node *n = &g->nodes[g->node_count];
@@ -346,7 +346,7 @@ int gltf_node_add(gltf *g, const gltf_node_desc *d)
 int gltf_animation_add(gltf *g, const char *name)
 {
     if (g->animation_count >= MAX_ANIMATIONS) {
-        fail(g, "too many animations");
+        gltf_fail(g, "too many animations");
         return 0;
     }
     copy_name(g->animations[g->animation_count].name, name);
@@ -357,17 +357,17 @@ void gltf_animation_channel(gltf *g, int anim_h, int node_h, gltf_path path, glt
                             const float *times, int n, const float *values)
 {
     if (anim_h < 1 || anim_h > g->animation_count || node_h < 1 || node_h > g->node_count || n < 2) {
-        fail(g, "animation channel refers to an unknown animation or node, or has < 2 keys");
+        gltf_fail(g, "animation channel refers to an unknown animation or node, or has < 2 keys");
         return;
     }
     animation *a = &g->animations[anim_h - 1];
     if (a->channel_count >= MAX_CHANNELS) {
-        fail(g, "too many channels in one animation");
+        gltf_fail(g, "too many channels in one animation");
         return;
     }
     for (int i = 1; i < n; i++)
         if (!(times[i] > times[i - 1])) {
-            fail(g, "animation key times are not strictly increasing");
+            gltf_fail(g, "animation key times are not strictly increasing");
             return;
         }
     int comps = path == GLTF_PATH_ROTATION ? 4 : 3, per_key = interp == GLTF_INTERP_CUBIC ? 3 : 1;
@@ -598,7 +598,7 @@ vg_status gltf_write(gltf *g, const char *dir, size_t *gltf_bytes, size_t *bin_b
     if (g->failed)
         return VG_ERR_NOMEM;
     if (g->camera_count == 0 || g->node_count == 0) {
-        fail(g, "a scene needs a camera and at least one node");
+        gltf_fail(g, "a scene needs a camera and at least one node");
         return VG_ERR_ARG;
     }
     char bin_name[NAME_MAX_LEN + 8], gltf_name[NAME_MAX_LEN + 8], path[4096];

@@ -64,7 +64,10 @@ int gltf_animation_add(gltf *g, const char *name);
 void gltf_animation_channel(gltf *g, int animation, int node, gltf_path path, gltf_interp interp,
                             const float *times, int n, const float *values);
 
-/* Triangle and vertex totals so far (for the summary line). */
+/* Records a failure (logged once); gltf_write then refuses to write. */
+void gltf_fail(gltf *g, const char *what);
+
+/* Triangle total so far (for the summary line). */
 uint32_t gltf_triangles(const gltf *g);
 
 /* Writes DIR/NAME.gltf and DIR/NAME.bin. Logs and returns an error when any

@@ -32,7 +32,9 @@ void object_free(object *o)
 int object_emit(gltf *g, object *o, const gltf_node_desc *d)
 {
     int node = 0;
-    if (!o->failed) {
+    if (o->failed)
+        gltf_fail(g, "an object has more materials than OBJECT_MAX_PARTS");
+    else {
         int m = gltf_mesh_add(g, d->name);
         for (int i = 0; i < o->part_count; i++)
             gltf_mesh_primitive(g, m, &o->parts[i].geo, o->parts[i].material);
@@ -211,7 +213,7 @@ void anim_translation(gltf *g, int anim, int node, path_fn f, double duration, i
     if (!times || !values) {
         free(times);
         free(values);
-        gltf_animation_channel(g, 0, 0, GLTF_PATH_TRANSLATION, interp, NULL, 0, NULL); /* records the failure */
+        gltf_fail(g, "out of memory for animation keys");
         return;
     }
     for (int i = 0; i < keys; i++) {
@@ -248,7 +250,7 @@ void anim_rotation(gltf *g, int anim, int node, orient_fn f, double duration, in
     if (!times || !values) {
         free(times);
         free(values);
-        gltf_animation_channel(g, 0, 0, GLTF_PATH_ROTATION, GLTF_INTERP_LINEAR, NULL, 0, NULL);
+        gltf_fail(g, "out of memory for animation keys");
         return;
     }
     for (int i = 0; i < keys; i++) {

@@ -26,9 +26,10 @@ static int mat(gltf *g, const char *name, uint8_t r, uint8_t gr, uint8_t b, doub
 }
 
 /* Default throw: launched 3.5 m in front of the player at 1 m height, lands
- * 30 m away, a little to the left, after 2 s; the apex (about 5.5 m high at
- * 16 m, 16 degrees above the eye) stays inside the camera's view. Pure
- * ballistics: cubic keys with exact tangents reproduce the parabola exactly. */
+ * 30 m away, a little to the left, after 2 s. The apex is 5.5 m high at 16 m
+ * and the ball never rises more than 16 degrees above the eye, so it stays in
+ * the camera's view (22 degrees up). Pure ballistics: cubic keys with exact
+ * tangents reproduce the parabola exactly. */
 static void ball_path(double t, double p[3])
 {
     static const double from[3] = {0.4, 1.0, -3.5}, to[3] = {-2.5, BALL_R, -30.0};
