@@ -375,8 +375,6 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
             g->instance, "vkSetDebugUtilsObjectNameEXT");
     GPU_NAME(g, VK_OBJECT_TYPE_DEVICE, g->device, "vergence device");
     GPU_NAME(g, VK_OBJECT_TYPE_QUEUE, g->queue, "main queue");
-    GPU_NAME(g, VK_OBJECT_TYPE_INSTANCE, g->instance, "vergence instance");
-    GPU_NAME(g, VK_OBJECT_TYPE_PHYSICAL_DEVICE, g->phys, "%s", g->props.deviceName);
 
     VkCommandPoolCreateInfo pool = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,

@@ -1,0 +1,122 @@
+/* vergence — graphics and compute pipelines. */
+#include "pipeline.h"
+
+vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *d, VkPipeline *out)
+{
+    VkPipelineShaderStageCreateInfo stages[4];
+    uint32_t n = 0;
+    const struct { VkShaderModule m; VkShaderStageFlagBits s; } mods[] = {
+        {d->vert, VK_SHADER_STAGE_VERTEX_BIT},
+        {d->tesc, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT},
+        {d->tese, VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT},
+        {d->frag, VK_SHADER_STAGE_FRAGMENT_BIT},
+    };
+    for (int i = 0; i < 4; i++)
+        if (mods[i].m)
+            stages[n++] = (VkPipelineShaderStageCreateInfo){
+                .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                .stage = mods[i].s,
+                .module = mods[i].m,
+                .pName = "main",
+            };
+    bool tess = d->tesc && d->tese;
+    VkPipelineVertexInputStateCreateInfo vertex = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+        .vertexBindingDescriptionCount = d->binding_count,
+        .pVertexBindingDescriptions = d->bindings,
+        .vertexAttributeDescriptionCount = d->attribute_count,
+        .pVertexAttributeDescriptions = d->attributes,
+    };
+    VkPipelineInputAssemblyStateCreateInfo assembly = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+        .topology = tess ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+    };
+    VkPipelineTessellationStateCreateInfo tessellation = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO,
+        .patchControlPoints = d->patch_control_points ? d->patch_control_points : 3,
+    };
+    VkPipelineViewportStateCreateInfo viewport = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+        .viewportCount = 1,
+        .scissorCount = 1,
+    };
+    VkPipelineRasterizationStateCreateInfo raster = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+        .polygonMode = d->wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL,
+        .cullMode = d->cull,
+        .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE, /* glTF winding; y-flip keeps it */
+        .depthBiasEnable = d->depth_bias,
+        .lineWidth = 1.0f,
+    };
+    VkPipelineMultisampleStateCreateInfo multisample = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+        .rasterizationSamples = VK_SAMPLE_COUNT_1_BIT,
+    };
+    VkPipelineDepthStencilStateCreateInfo depth = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+        .depthTestEnable = d->depth_test,
+        .depthWriteEnable = d->depth_write,
+        .depthCompareOp = d->depth_compare ? d->depth_compare : VK_COMPARE_OP_LESS,
+    };
+    VkPipelineColorBlendAttachmentState blend[8];
+    for (uint32_t i = 0; i < 8; i++)
+        blend[i] = (VkPipelineColorBlendAttachmentState){
+            .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT,
+        };
+    VkPipelineColorBlendStateCreateInfo color = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+        .attachmentCount = d->color_count,
+        .pAttachments = blend,
+    };
+    VkDynamicState dyn[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_DEPTH_BIAS};
+    VkPipelineDynamicStateCreateInfo dynamic = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO,
+        .dynamicStateCount = d->depth_bias ? 3 : 2,
+        .pDynamicStates = dyn,
+    };
+    VkPipelineRenderingCreateInfo rendering = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO,
+        .viewMask = d->view_mask,
+        .colorAttachmentCount = d->color_count,
+        .pColorAttachmentFormats = d->color_formats,
+        .depthAttachmentFormat = d->depth_format,
+    };
+    VkGraphicsPipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+        .pNext = &rendering,
+        .stageCount = n,
+        .pStages = stages,
+        .pVertexInputState = &vertex,
+        .pInputAssemblyState = &assembly,
+        .pTessellationState = tess ? &tessellation : NULL,
+        .pViewportState = &viewport,
+        .pRasterizationState = &raster,
+        .pMultisampleState = &multisample,
+        .pDepthStencilState = &depth,
+        .pColorBlendState = &color,
+        .pDynamicState = &dynamic,
+        .layout = d->layout,
+    };
+    VK_TRY(vkCreateGraphicsPipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out));
+    GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s", d->name ? d->name : "graphics pipeline");
+    return VG_OK;
+}
+
+vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderModule module,
+                                      const char *name, VkPipeline *out)
+{
+    VkComputePipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+        .stage = {
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+            .stage = VK_SHADER_STAGE_COMPUTE_BIT,
+            .module = module,
+            .pName = "main",
+        },
+        .layout = layout,
+    };
+    VK_TRY(vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out));
+    GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s", name ? name : "compute pipeline");
+    return VG_OK;
+}

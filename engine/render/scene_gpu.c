@@ -1,0 +1,272 @@
+/* vergence — scene upload and per-frame vertex streams. */
+#include "scene_gpu.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "shared.h"
+
+_Static_assert(VG_MAX_TEXTURES == SCENE_MAX_TEXTURES, "texture array sizes differ");
+
+/* ------------------------------------------------------------------------- */
+/* Textures                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static vg_status create_sampler(gpu *g, const scene_texture *t, VkSampler *out)
+{
+    VkSamplerAddressMode mode_s = t && t->mirror_s ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
+                                  : t && !t->wrap_repeat_s ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+                                                           : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    VkSamplerAddressMode mode_t = t && t->mirror_t ? VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT
+                                  : t && !t->wrap_repeat_t ? VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE
+                                                           : VK_SAMPLER_ADDRESS_MODE_REPEAT;
+    VkFilter filter = t && t->nearest ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
+    VkSamplerCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = filter,
+        .minFilter = VK_FILTER_LINEAR,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = mode_s,
+        .addressModeV = mode_t,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT,
+        .maxLod = 0.0f,
+    };
+    VK_TRY(vkCreateSampler(g->device, &info, NULL, out));
+    GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, *out, "sampler %s", t ? t->name : "default");
+    return VG_OK;
+}
+
+static vg_status upload_textures(gpu *g, scene_gpu *sg)
+{
+    const scene *s = sg->scene;
+    static const uint8_t white[4] = {255, 255, 255, 255};
+    vg_status st = gpu_image_create(g, &(gpu_image_desc){
+        .name = "texture white", .format = VK_FORMAT_R8G8B8A8_SRGB, .width = 1, .height = 1,
+        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT}, &sg->white);
+    if (st == VG_OK)
+        st = gpu_image_upload(g, &sg->white, white, 4);
+    if (st == VG_OK)
+        st = create_sampler(g, NULL, &sg->default_sampler);
+    for (int i = 0; i < s->texture_count && i < SCENE_MAX_TEXTURES && st == VG_OK; i++) {
+        const scene_texture *t = &s->textures[i];
+        char name[96];
+        snprintf(name, sizeof name, "texture %d %s", i, t->name);
+        st = gpu_image_create(g, &(gpu_image_desc){
+            .name = name, .format = VK_FORMAT_R8G8B8A8_SRGB, .width = (uint32_t)t->width,
+            .height = (uint32_t)t->height,
+            .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT}, &sg->textures[i]);
+        if (st == VG_OK)
+            st = gpu_image_upload(g, &sg->textures[i], t->rgba, (size_t)t->width * (size_t)t->height * 4);
+        if (st == VG_OK)
+            st = create_sampler(g, t, &sg->samplers[i]);
+    }
+    if (st != VG_OK)
+        return st;
+
+    VkDescriptorSetLayoutBinding binding = {
+        .binding = 0,
+        .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+        .descriptorCount = SCENE_MAX_TEXTURES,
+        .stageFlags = VK_SHADER_STAGE_ALL_GRAPHICS,
+    };
+    VkDescriptorSetLayoutCreateInfo layout = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = 1,
+        .pBindings = &binding,
+    };
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &layout, NULL, &sg->texture_layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, sg->texture_layout, "scene textures layout");
+    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, SCENE_MAX_TEXTURES};
+    VkDescriptorPoolCreateInfo pool = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .maxSets = 1,
+        .poolSizeCount = 1,
+        .pPoolSizes = &size,
+    };
+    VK_TRY(vkCreateDescriptorPool(g->device, &pool, NULL, &sg->pool));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_POOL, sg->pool, "scene textures pool");
+    VkDescriptorSetAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+        .descriptorPool = sg->pool,
+        .descriptorSetCount = 1,
+        .pSetLayouts = &sg->texture_layout,
+    };
+    VK_TRY(vkAllocateDescriptorSets(g->device, &alloc, &sg->texture_set));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET, sg->texture_set, "scene textures");
+    /* Unused slots point at a white texel so every array element is valid. */
+    VkDescriptorImageInfo images[SCENE_MAX_TEXTURES];
+    for (int i = 0; i < SCENE_MAX_TEXTURES; i++) {
+        bool has = i < s->texture_count;
+        images[i] = (VkDescriptorImageInfo){
+            .sampler = has ? sg->samplers[i] : sg->default_sampler,
+            .imageView = has ? sg->textures[i].view : sg->white.view,
+            .imageLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+        };
+    }
+    VkWriteDescriptorSet write = {
+        .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+        .dstSet = sg->texture_set,
+        .descriptorCount = SCENE_MAX_TEXTURES,
+        .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+        .pImageInfo = images,
+    };
+    vkUpdateDescriptorSets(g->device, 1, &write, 0, NULL);
+    return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Buffers                                                                   */
+/* ------------------------------------------------------------------------- */
+
+vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *sg)
+{
+    *sg = (scene_gpu){.scene = s};
+    if (s->texture_count > SCENE_MAX_TEXTURES) {
+        vg_error("%s: %d textures, the renderer binds at most %d", s->path, s->texture_count, SCENE_MAX_TEXTURES);
+        return VG_ERR_UNSUPPORTED;
+    }
+    uint32_t nv = s->vertex_count;
+    vg_status st = scene_state_init(s, &sg->now);
+    if (st == VG_OK)
+        st = scene_state_init(s, &sg->prev);
+    if (st == VG_OK)
+        st = scene_state_init(s, &sg->next);
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){
+            .name = "scene statics", .size = (VkDeviceSize)nv * 6 * sizeof(float),
+            .usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, .host_visible = true}, &sg->statics);
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){
+            .name = "scene indices", .size = (VkDeviceSize)s->index_count * sizeof(uint32_t),
+            .usage = VK_BUFFER_USAGE_INDEX_BUFFER_BIT, .host_visible = true}, &sg->indices);
+    sg->offset_prev = (VkDeviceSize)nv * 6 * sizeof(float);
+    sg->offset_next = sg->offset_prev + (VkDeviceSize)nv * 3 * sizeof(float);
+    for (int i = 0; i < VG_FRAMES_IN_FLIGHT && st == VG_OK; i++) {
+        char name[48];
+        snprintf(name, sizeof name, "scene vertices slot %d", i);
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){
+            .name = name, .size = (VkDeviceSize)nv * 12 * sizeof(float),
+            .usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, .host_visible = true}, &sg->dynamic[i]);
+    }
+    if (st == VG_OK)
+        st = upload_textures(g, sg);
+    if (st != VG_OK) {
+        scene_gpu_destroy(g, sg);
+        return st;
+    }
+    /* Static attributes of every instance, laid out like the evaluated positions. */
+    float *statics = sg->statics.mapped;
+    for (int i = 0; i < s->instance_count; i++) {
+        const scene_instance *in = &s->instances[i];
+        const scene_primitive *p = &s->primitives[in->primitive];
+        for (uint32_t v = 0; v < p->vertex_count; v++) {
+            float *o = statics + (size_t)(in->first_vertex + v) * 6;
+            memcpy(o, p->texcoords + 2 * v, 2 * sizeof(float));
+            memcpy(o + 2, p->colors + 4 * v, 4 * sizeof(float));
+        }
+    }
+    if (s->index_count)
+        memcpy(sg->indices.mapped, s->indices, (size_t)s->index_count * sizeof(uint32_t));
+    return VG_OK;
+}
+
+void scene_gpu_destroy(gpu *g, scene_gpu *sg)
+{
+    if (!sg)
+        return;
+    gpu_buffer_destroy(g, &sg->statics);
+    gpu_buffer_destroy(g, &sg->indices);
+    for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++)
+        gpu_buffer_destroy(g, &sg->dynamic[i]);
+    for (int i = 0; i < SCENE_MAX_TEXTURES; i++) {
+        gpu_image_destroy(g, &sg->textures[i]);
+        if (sg->samplers[i])
+            vkDestroySampler(g->device, sg->samplers[i], NULL);
+    }
+    gpu_image_destroy(g, &sg->white);
+    if (sg->default_sampler)
+        vkDestroySampler(g->device, sg->default_sampler, NULL);
+    if (sg->pool)
+        vkDestroyDescriptorPool(g->device, sg->pool, NULL);
+    if (sg->texture_layout)
+        vkDestroyDescriptorSetLayout(g->device, sg->texture_layout, NULL);
+    scene_state_free(&sg->now);
+    scene_state_free(&sg->prev);
+    scene_state_free(&sg->next);
+    *sg = (scene_gpu){0};
+}
+
+void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_next)
+{
+    const scene *s = sg->scene;
+    scene_evaluate(s, t, &sg->now);
+    scene_evaluate(s, t_prev, &sg->prev);
+    scene_evaluate(s, t_next, &sg->next);
+    float *cur = sg->dynamic[slot].mapped;
+    float *prev = (float *)((uint8_t *)sg->dynamic[slot].mapped + sg->offset_prev);
+    float *next = (float *)((uint8_t *)sg->dynamic[slot].mapped + sg->offset_next);
+    for (uint32_t v = 0; v < s->vertex_count; v++) {
+        memcpy(cur + 6 * v, sg->now.positions + 3 * v, 3 * sizeof(float));
+        memcpy(cur + 6 * v + 3, sg->now.normals + 3 * v, 3 * sizeof(float));
+    }
+    memcpy(prev, sg->prev.positions, (size_t)s->vertex_count * 3 * sizeof(float));
+    memcpy(next, sg->next.positions, (size_t)s->vertex_count * 3 * sizeof(float));
+}
+
+/* ------------------------------------------------------------------------- */
+/* Drawing                                                                   */
+/* ------------------------------------------------------------------------- */
+
+void scene_gpu_vertex_input(bool positions_only, VkVertexInputBindingDescription *b, uint32_t *nb,
+                            VkVertexInputAttributeDescription *a, uint32_t *na)
+{
+    b[0] = (VkVertexInputBindingDescription){SCENE_BINDING_CURRENT, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    a[0] = (VkVertexInputAttributeDescription){0, SCENE_BINDING_CURRENT, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    if (positions_only) {
+        *nb = 1;
+        *na = 1;
+        return;
+    }
+    b[1] = (VkVertexInputBindingDescription){SCENE_BINDING_PREV, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    b[2] = (VkVertexInputBindingDescription){SCENE_BINDING_NEXT, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    b[3] = (VkVertexInputBindingDescription){SCENE_BINDING_STATIC, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    a[1] = (VkVertexInputAttributeDescription){1, SCENE_BINDING_CURRENT, VK_FORMAT_R32G32B32_SFLOAT, 12};
+    a[2] = (VkVertexInputAttributeDescription){2, SCENE_BINDING_PREV, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    a[3] = (VkVertexInputAttributeDescription){3, SCENE_BINDING_NEXT, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    a[4] = (VkVertexInputAttributeDescription){4, SCENE_BINDING_STATIC, VK_FORMAT_R32G32_SFLOAT, 0};
+    a[5] = (VkVertexInputAttributeDescription){5, SCENE_BINDING_STATIC, VK_FORMAT_R32G32B32A32_SFLOAT, 8};
+    *nb = 4;
+    *na = 6;
+}
+
+void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                    bool positions_only)
+{
+    const scene *s = sg->scene;
+    if (!s->index_count)
+        return;
+    VkBuffer buffers[4] = {sg->dynamic[slot].buffer, sg->dynamic[slot].buffer, sg->dynamic[slot].buffer,
+                           sg->statics.buffer};
+    VkDeviceSize offsets[4] = {0, sg->offset_prev, sg->offset_next, 0};
+    vkCmdBindVertexBuffers(cmd, 0, positions_only ? 1 : 4, buffers, offsets);
+    vkCmdBindIndexBuffer(cmd, sg->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    for (int i = 0; i < s->instance_count; i++) {
+        const scene_instance *in = &s->instances[i];
+        const scene_primitive *p = &s->primitives[in->primitive];
+        if (!positions_only) {
+            const scene_material *m = p->material >= 0 ? &s->materials[p->material] : NULL;
+            vg_draw_push push = {
+                .base_color = {{1, 1, 1, 1}},
+                .instance_id = in->id,
+                .saliency = in->saliency,
+                .texture_index = m ? m->base_color_texture : -1,
+            };
+            if (m)
+                memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);
+            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                               sizeof push, &push);
+        }
+        vkCmdDrawIndexed(cmd, p->index_count, 1, in->first_index, (int32_t)in->first_vertex, 0);
+    }
+}

@@ -1,0 +1,49 @@
+/* vergence — a scene on the GPU: static attributes, indices, textures, and
+ * per-frame world-space vertices at the frame's time and at its neighbouring
+ * keyframe times (for motion vectors and, later, look-ahead). */
+#pragma once
+#include "gpu/gpu.h"
+#include "scene/scene.h"
+
+#define VG_FRAMES_IN_FLIGHT 2
+
+/* Vertex bindings of the scene pipelines. */
+enum {
+    SCENE_BINDING_CURRENT = 0, /* position + normal at t (6 floats) */
+    SCENE_BINDING_PREV,        /* position at the previous keyframe (3 floats) */
+    SCENE_BINDING_NEXT,        /* position at the next keyframe (3 floats) */
+    SCENE_BINDING_STATIC,      /* texcoord + colour (6 floats) */
+    SCENE_BINDING_COUNT,
+};
+
+typedef struct scene_gpu {
+    const scene *scene;
+    gpu_buffer statics;                        /* SCENE_BINDING_STATIC */
+    gpu_buffer indices;
+    gpu_buffer dynamic[VG_FRAMES_IN_FLIGHT];   /* current | prev | next regions */
+    VkDeviceSize offset_prev, offset_next;
+    gpu_image textures[SCENE_MAX_TEXTURES];
+    VkSampler samplers[SCENE_MAX_TEXTURES];
+    gpu_image white;
+    VkSampler default_sampler;
+    VkDescriptorSetLayout texture_layout;      /* set 1: sampler2D textures[] */
+    VkDescriptorPool pool;
+    VkDescriptorSet texture_set;
+    scene_state now, prev, next;               /* evaluated states of the last update */
+} scene_gpu;
+
+vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *out);
+void scene_gpu_destroy(gpu *g, scene_gpu *sg);
+
+/* Evaluates the scene at t, t_prev and t_next and writes slot's vertices. */
+void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_next);
+
+/* Vertex input of the scene pipelines (all bindings, or only positions). */
+void scene_gpu_vertex_input(bool positions_only, VkVertexInputBindingDescription *bindings,
+                            uint32_t *binding_count, VkVertexInputAttributeDescription *attributes,
+                            uint32_t *attribute_count);
+
+/* Binds the slot's buffers and draws every instance. With push_material the
+ * instance's vg_draw_push is pushed before its draw. */
+void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                    bool positions_only);
