@@ -1,0 +1,169 @@
+#!/usr/bin/env python3
+"""Command-line tests of `vergence`: what a user sees.
+
+usage: cli_test.py VERGENCE CASE
+
+Each case drives the executable like a user would and checks exit codes,
+error lines and files. Validation is on (VERGENCE_VALIDATE=1 from CTest), so
+any validation message makes vergence exit non-zero and fails the case.
+"""
+import filecmp
+import json
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+
+ASSETS = os.path.join("..", "shared", "assets", "gltf")
+
+
+def run(args, expect_ok=True):
+    p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=600)
+    if expect_ok and p.returncode != 0:
+        sys.exit(f"FAIL: vergence {' '.join(args)} exited {p.returncode}\n{p.stderr}")
+    return p
+
+
+def expect_error(args, must_name, out_dir=None):
+    """One clear error line naming must_name, exit 1..127, nothing left that looks complete."""
+    p = run(args, expect_ok=False)
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    errors = [l for l in lines if "error" in l]
+    print(f"vergence {' '.join(args)} -> exit {p.returncode}: {p.stderr.strip()}")
+    if not 0 < p.returncode < 128:
+        sys.exit(f"FAIL: exit code {p.returncode} (want 1..127; >= 128 is a crash)")
+    if len(errors) != 1 or len(lines) > 3:
+        sys.exit(f"FAIL: want exactly one error line, got {len(errors)} of {len(lines)} lines")
+    if must_name and must_name not in errors[0]:
+        sys.exit(f"FAIL: the error does not name '{must_name}'")
+    if out_dir and os.path.exists(os.path.join(out_dir, "capture.json")):
+        sys.exit("FAIL: a capture.json was written despite the error")
+
+
+# ---------------------------------------------------------------------------
+# Bad input
+# ---------------------------------------------------------------------------
+
+def write(path, data):
+    with open(path, "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+def case_bad_inputs():
+    tmp = tempfile.mkdtemp(prefix="vergence_cli_")
+    out = os.path.join(tmp, "out")
+    box = open(os.path.join(ASSETS, "Box", "glTF", "Box.gltf"), "rb").read()
+    glb = open(os.path.join(ASSETS, "Box", "glTF-Binary", "Box.glb"), "rb").read()
+    cases = {
+        "truncated.gltf": box[: len(box) // 2],
+        "truncated.glb": glb[: len(glb) * 2 // 3],
+        "syntax.gltf": box.replace(b'"asset"', b'"asset" "', 1),
+        "range.gltf": '{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":7}}]}]}',
+        "nobin.gltf": box.replace(b"Box0.bin", b"no_such_buffer.bin"),
+    }
+    for name, data in cases.items():
+        path = os.path.join(tmp, name)
+        write(path, data)
+        expect_error(["capture", "--scene", path, "--frames", "1", "--size", "64x64", "--out", out],
+                     name, out)
+    expect_error(["capture", "--scene", os.path.join(tmp, "missing.gltf"), "--out", out], "missing.gltf", out)
+    expect_error(["capture", "--no-such-flag"], "--no-such-flag")
+    expect_error(["capture", "--scene", "content/cubes.gltf"], "--out")
+    expect_error(["capture", "--scene", "content/cubes.gltf", "--out", out, "--size", "12xq"], "--size")
+    expect_error(["capture", "--scene", "content/cubes.gltf", "--out", out, "--frames", "-3"], "--frames")
+    # A folder under a regular file cannot be created, even by root.
+    blocker = os.path.join(tmp, "a_file")
+    write(blocker, "x")
+    expect_error(["capture", "--scene", "content/cubes.gltf", "--out", os.path.join(blocker, "out")], "a_file")
+    expect_error(["no-such-command"], "no-such-command")
+    expect_error(["info", "--gpu", "9"], "--gpu")
+
+
+def case_help():
+    p = run(["--help"])
+    for cmd in ("info", "capture"):
+        if cmd not in p.stdout:
+            sys.exit(f"FAIL: 'vergence --help' does not list {cmd}")
+        h = run([cmd, "--help"])
+        if "usage: vergence " + cmd not in h.stdout:
+            sys.exit(f"FAIL: 'vergence {cmd} --help' has no usage line")
+    print("help ok")
+
+
+# ---------------------------------------------------------------------------
+# Captures
+# ---------------------------------------------------------------------------
+
+def capture(scene, out, frames=1, size="96x64", extra=()):
+    run(["capture", "--scene", scene, "--frames", str(frames), "--size", size, "--out", out] + list(extra))
+    with open(os.path.join(out, "capture.json")) as f:
+        return json.load(f)
+
+
+def case_deterministic():
+    tmp = tempfile.mkdtemp(prefix="vergence_det_")
+    a, b = os.path.join(tmp, "a"), os.path.join(tmp, "b")
+    ja = capture("content/balloon.gltf", a, frames=3, size="320x180", extra=["--time", "1.5"])
+    jb = capture("content/balloon.gltf", b, frames=3, size="320x180", extra=["--time", "1.5"])
+    files = sorted(f for f in os.listdir(a) if f.startswith("frame_"))
+    if len(files) != 3 * 6:
+        sys.exit(f"FAIL: {len(files)} frame files, want 18: {files}")
+    match, mismatch, errors = filecmp.cmpfiles(a, b, files, shallow=False)
+    if mismatch or errors:
+        sys.exit(f"FAIL: files differ between two captures: {mismatch + errors}")
+    # capture.json is identical except the measured timings.
+    for j in (ja, jb):
+        j.pop("passes")
+        j.pop("frame_ms_median")
+    if ja != jb:
+        sys.exit("FAIL: capture.json differs beyond the timings")
+    print(f"{len(match)} frame files byte-identical; capture.json identical but for timings")
+
+
+def gltf_json(path):
+    data = open(path, "rb").read()
+    if data[:4] == b"glTF":
+        length, kind = struct.unpack_from("<II", data, 12)
+        return json.loads(data[20:20 + length])
+    return json.loads(data)
+
+
+def case_assets():
+    """Every sample model loads and renders one frame; counts match the file."""
+    models = []
+    for root, _, names in os.walk(ASSETS):
+        models += [os.path.join(root, n) for n in names if n.endswith((".gltf", ".glb"))]
+    if len(models) < 20:
+        sys.exit(f"FAIL: found only {len(models)} models under {ASSETS}")
+    tmp = tempfile.mkdtemp(prefix="vergence_assets_")
+    for i, m in enumerate(sorted(models)):
+        out = os.path.join(tmp, str(i))
+        info = capture(m, out)["scene_info"]
+        doc = gltf_json(m)
+        for key in ("nodes", "meshes", "animations", "skins", "cameras", "materials"):
+            want = len(doc.get(key, []))
+            if info[key] != want:
+                sys.exit(f"FAIL: {m}: {key} = {info[key]}, the file has {want}")
+        if not os.path.getsize(os.path.join(out, "frame_0000_color.png")):
+            sys.exit(f"FAIL: {m}: empty colour image")
+        print(f"ok {m}: {info['nodes']} nodes, {info['meshes']} meshes, {info['animations']} animations, "
+              f"{info['triangles']} triangles")
+    print(f"{len(models)} models loaded and captured")
+
+
+def case_dump_graph():
+    tmp = tempfile.mkdtemp(prefix="vergence_graph_")
+    dot = os.path.join(tmp, "frame.dot")
+    p = run(["capture", "--scene", "content/cubes.gltf", "--size", "64x64", "--out", tmp, "--dump-graph", dot])
+    for word in ("shadow", "gbuffer", "readback", "barrier", "gbuffer.depth"):
+        if word not in p.stdout:
+            sys.exit(f"FAIL: the graph dump lacks '{word}':\n{p.stdout}")
+    if "digraph" not in open(dot).read():
+        sys.exit("FAIL: no Graphviz graph written")
+    print(p.stdout)
+
+
+if __name__ == "__main__":
+    VERGENCE = os.path.abspath(sys.argv[1])
+    globals()["case_" + sys.argv[2]]()
