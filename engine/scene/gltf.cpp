@@ -198,7 +198,14 @@ bool parse(const char *path, Model &model, scene_err *e)
          * rest (syntax, sizes, bad types) is a malformed file. */
         bool io = err.find("File not found") != std::string::npos ||
                   err.find("File read error") != std::string::npos;
-        return scene_fail(e, io ? VG_ERR_IO : VG_ERR_FORMAT, "%s", one_line(err).c_str());
+        std::string msg = one_line(err);
+        if (err.rfind("File not found : ", 0) == 0)
+            msg = "cannot find the buffer file '" + one_line(err.substr(17)) + "'";
+        else if (err.rfind("File size mismatch : ", 0) == 0)
+            msg = "buffer file of the wrong size (truncated?): " + one_line(err.substr(21));
+        else if (err.rfind("JSON string too short", 0) == 0)
+            msg = "too short to be a glTF file";
+        return scene_fail(e, io ? VG_ERR_IO : VG_ERR_FORMAT, "%s", msg.c_str());
     }
     return true;
 }
