@@ -1,4 +1,4 @@
-/* vergence — the frame: graph, passes and submission. */
+/* vergence — the frame: per-frame state, the graph, submission, readback. */
 #include "frame.h"
 
 #include <math.h>
@@ -9,49 +9,35 @@
 #include <cglm/cglm.h>
 
 #include "core/log.h"
-#include "gpu/pipeline.h"
-#include "scene_gpu.h"
+#include "frame_ctx.h"
+#include "gbuffer.h"
 #include "shared.h"
 
-#include "gbuffer_frag.h"
-#include "gbuffer_vert.h"
-#include "shadow_vert.h"
-#include "sky_frag.h"
-#include "sky_vert.h"
+/* One image copied to the host after the frame. */
+typedef struct readback_item {
+    rg_res res;
+    uint32_t width, height, texel;
+    VkDeviceSize offset;
+} readback_item;
+
+#define FRAME_MAX_READBACK 16
 
 struct frame {
-    gpu *gpu;
-    const scene *scene;
-    frame_desc desc;
-    scene_gpu sg;
+    frame_ctx fc;
+    gbuffer_pass *gbuffer;
 
-    VkDescriptorSetLayout push_layout;   /* set 0: frame UBO, shadow map */
-    VkPipelineLayout layout;
-    VkPipeline shadow, sky, gbuffer;
-    VkSampler shadow_sampler;
-    gpu_buffer ubo[VG_FRAMES_IN_FLIGHT];
     gpu_buffer readback;
+    readback_item items[FRAME_MAX_READBACK];
+    int item_count;
     VkCommandBuffer cmd[VG_FRAMES_IN_FLIGHT];
     VkFence fence[VG_FRAMES_IN_FLIGHT];
     bool submitted[VG_FRAMES_IN_FLIGHT];
-    int slot;
 
     rg_graph *graph;
-    rg_res r_ubo, r_vertices, r_statics, r_indices;
-    rg_res r_shadow, r_color, r_depth, r_ids, r_motion, r_zbuffer, r_readback;
-
-    frame_times times;
-    vg_camera cam, cam_prev, cam_next;
+    frame_resources res;
+    rg_res r_readback;
     frame_outputs outputs;
 };
-
-static const VkFormat k_gbuffer_formats[4] = {
-    [VG_GBUFFER_COLOR] = VK_FORMAT_R8G8B8A8_SRGB,
-    [VG_GBUFFER_DEPTH] = VK_FORMAT_R32_SFLOAT,
-    [VG_GBUFFER_ID] = VK_FORMAT_R32_UINT,
-    [VG_GBUFFER_MOTION] = VK_FORMAT_R32G32B32A32_SFLOAT,
-};
-static const VkFormat k_depth_format = VK_FORMAT_D32_SFLOAT;
 
 /* ------------------------------------------------------------------------- */
 /* Times                                                                     */
@@ -78,67 +64,60 @@ frame_times frame_times_at(long index, double fps, int stride)
 }
 
 /* ------------------------------------------------------------------------- */
-/* Passes                                                                    */
+/* Shared with pass modules                                                  */
 /* ------------------------------------------------------------------------- */
 
-static void push_frame_descriptors(frame *f, const rg_context *ctx, bool with_shadow)
+void frame_ctx_push_scene(const frame_ctx *fc, const rg_context *ctx, rg_res shadow)
 {
-    VkDescriptorBufferInfo ubo = {f->ubo[f->slot].buffer, 0, sizeof(vg_frame_ubo)};
-    VkDescriptorImageInfo shadow = {
-        .sampler = f->shadow_sampler,
-        .imageView = rg_ctx_view(ctx, f->r_shadow),
-        .imageLayout = rg_ctx_layout(ctx, f->r_shadow),
+    VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
+    VkDescriptorImageInfo map = {
+        .sampler = fc->shadow_sampler,
+        .imageView = shadow.id ? rg_ctx_view(ctx, shadow) : VK_NULL_HANDLE,
+        .imageLayout = shadow.id ? rg_ctx_layout(ctx, shadow) : VK_IMAGE_LAYOUT_UNDEFINED,
     };
     VkWriteDescriptorSet writes[2] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo},
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow},
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &map},
     };
-    f->gpu->cmd_push_descriptor_set(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_GRAPHICS, f->layout, 0,
-                                    with_shadow ? 2 : 1, writes);
+    fc->gpu->cmd_push_descriptor_set(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 0,
+                                     shadow.id ? 2 : 1, writes);
 }
 
-static void shadow_execute(const rg_context *ctx, void *user)
-{
-    frame *f = user;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, f->shadow);
-    push_frame_descriptors(f, ctx, false);
-    /* Slope-scaled bias keeps grazing surfaces free of acne. */
-    vkCmdSetDepthBias(cmd, 1.0f, 0.0f, 1.75f);
-    scene_gpu_draw(&f->sg, cmd, f->slot, f->layout, true);
-}
-
-static void gbuffer_execute(const rg_context *ctx, void *user)
-{
-    frame *f = user;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    push_frame_descriptors(f, ctx, true);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, f->layout, 1, 1, &f->sg.texture_set, 0, NULL);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, f->sky);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, f->gbuffer);
-    scene_gpu_draw(&f->sg, cmd, f->slot, f->layout, false);
-}
+/* ------------------------------------------------------------------------- */
+/* Readback                                                                  */
+/* ------------------------------------------------------------------------- */
 
 static void readback_execute(const rg_context *ctx, void *user)
 {
     frame *f = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    VkDeviceSize pixels = (VkDeviceSize)f->desc.width * f->desc.height, offset = 0;
-    const rg_res images[4] = {f->r_color, f->r_depth, f->r_ids, f->r_motion};
-    const VkDeviceSize texel[4] = {4, 4, 4, 16};
-    for (int i = 0; i < 4; i++) {
+    for (int i = 0; i < f->item_count; i++) {
+        const readback_item *it = &f->items[i];
         VkBufferImageCopy region = {
-            .bufferOffset = offset,
+            .bufferOffset = it->offset,
             .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
-            .imageExtent = {f->desc.width, f->desc.height, 1},
+            .imageExtent = {it->width, it->height, 1},
         };
-        vkCmdCopyImageToBuffer(cmd, rg_ctx_image(ctx, images[i]), rg_ctx_layout(ctx, images[i]),
+        vkCmdCopyImageToBuffer(cmd, rg_ctx_image(ctx, it->res), rg_ctx_layout(ctx, it->res),
                                rg_ctx_buffer(ctx, f->r_readback), 1, &region);
-        offset += pixels * texel[i];
     }
+}
+
+static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint32_t texel)
+{
+    VkDeviceSize offset = 0;
+    if (f->item_count > 0) {
+        const readback_item *last = &f->items[f->item_count - 1];
+        offset = last->offset + (VkDeviceSize)last->width * last->height * last->texel;
+    }
+    f->items[f->item_count++] = (readback_item){res, w, h, texel, offset};
+}
+
+static const void *readback_ptr(const frame *f, int item)
+{
+    return (const uint8_t *)f->readback.mapped + f->items[item].offset;
 }
 
 /* ------------------------------------------------------------------------- */
@@ -147,74 +126,62 @@ static void readback_execute(const rg_context *ctx, void *user)
 
 static vg_status build_graph(frame *f)
 {
+    frame_ctx *fc = &f->fc;
     rg_graph *g = f->graph = rg_create();
     if (!g)
         return VG_ERR_NOMEM;
-    uint32_t w = f->desc.width, h = f->desc.height, sz = f->desc.shadow_size;
+    frame_resources *res = &f->res;
     rg_import_desc ready_vertex = {.initial = RG_VERTEX}, ready_index = {.initial = RG_INDEX},
                    ready_uniform = {.initial = RG_UNIFORM};
-    f->r_ubo = rg_import_buffer(g, &(rg_buffer_desc){"frame.ubo", sizeof(vg_frame_ubo)}, &ready_uniform);
-    f->r_vertices = rg_import_buffer(g, &(rg_buffer_desc){"scene.vertices", f->sg.dynamic[0].size}, &ready_vertex);
-    f->r_statics = rg_import_buffer(g, &(rg_buffer_desc){"scene.statics", f->sg.statics.size}, &ready_vertex);
-    f->r_indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", f->sg.indices.size}, &ready_index);
-    f->r_shadow = rg_image(g, &(rg_image_desc){"shadow.map", k_depth_format, sz, sz, 1});
-    f->r_color = rg_image(g, &(rg_image_desc){"gbuffer.color", k_gbuffer_formats[VG_GBUFFER_COLOR], w, h, 1});
-    f->r_depth = rg_image(g, &(rg_image_desc){"gbuffer.depth", k_gbuffer_formats[VG_GBUFFER_DEPTH], w, h, 1});
-    f->r_ids = rg_image(g, &(rg_image_desc){"gbuffer.ids", k_gbuffer_formats[VG_GBUFFER_ID], w, h, 1});
-    f->r_motion = rg_image(g, &(rg_image_desc){"gbuffer.motion", k_gbuffer_formats[VG_GBUFFER_MOTION], w, h, 1});
-    f->r_zbuffer = rg_image(g, &(rg_image_desc){"gbuffer.zbuffer", k_depth_format, w, h, 1});
+    res->ubo = rg_import_buffer(g, &(rg_buffer_desc){"frame.ubo", sizeof(vg_frame_ubo)}, &ready_uniform);
+    res->vertices = rg_import_buffer(g, &(rg_buffer_desc){"scene.vertices", fc->sg.dynamic[0].size}, &ready_vertex);
+    res->statics = rg_import_buffer(g, &(rg_buffer_desc){"scene.statics", fc->sg.statics.size}, &ready_vertex);
+    res->indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", fc->sg.indices.size}, &ready_index);
 
-    rg_pass shadow = rg_pass_add(g, &(rg_pass_desc){.name = "shadow", .type = RG_PASS_GRAPHICS,
-                                                    .execute = shadow_execute, .user = f});
-    rg_use(g, shadow, f->r_ubo, RG_UNIFORM);
-    rg_use(g, shadow, f->r_vertices, RG_VERTEX);
-    rg_use(g, shadow, f->r_indices, RG_INDEX);
-    rg_use_clear(g, shadow, f->r_shadow, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
+    gbuffer_pass_add(f->gbuffer, g, res);
 
-    rg_pass gbuf = rg_pass_add(g, &(rg_pass_desc){.name = "gbuffer", .type = RG_PASS_GRAPHICS,
-                                                  .execute = gbuffer_execute, .user = f});
-    rg_use(g, gbuf, f->r_ubo, RG_UNIFORM);
-    rg_use(g, gbuf, f->r_vertices, RG_VERTEX);
-    rg_use(g, gbuf, f->r_statics, RG_VERTEX);
-    rg_use(g, gbuf, f->r_indices, RG_INDEX);
-    rg_use(g, gbuf, f->r_shadow, RG_SAMPLED);
-    /* Attachment order = shader output locations (shared.h). */
-    rg_use(g, gbuf, f->r_color, RG_COLOR_WRITE);
-    rg_use(g, gbuf, f->r_depth, RG_COLOR_WRITE);
-    rg_use(g, gbuf, f->r_ids, RG_COLOR_WRITE);
-    rg_use(g, gbuf, f->r_motion, RG_COLOR_WRITE);
-    rg_use_clear(g, gbuf, f->r_zbuffer, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
-
-    if (f->desc.readback) {
-        uint64_t size = f->readback.size;
+    uint32_t w = fc->desc.width, h = fc->desc.height;
+    if (fc->desc.readback) {
+        readback_add_item(f, res->color, w, h, 4);
+        readback_add_item(f, res->depth, w, h, 4);
+        readback_add_item(f, res->ids, w, h, 4);
+        readback_add_item(f, res->motion, w, h, 16);
+        const readback_item *last = &f->items[f->item_count - 1];
+        VkDeviceSize size = last->offset + (VkDeviceSize)last->width * last->height * last->texel;
+        vg_status st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){
+            .name = "frame readback", .size = size, .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+            .host_visible = true}, &f->readback);
+        if (st != VG_OK)
+            return st;
         f->r_readback = rg_import_buffer(g, &(rg_buffer_desc){"readback", size},
                                          &(rg_import_desc){.final = RG_HOST_READ});
         rg_pass rb = rg_pass_add(g, &(rg_pass_desc){.name = "readback", .type = RG_PASS_TRANSFER,
                                                     .execute = readback_execute, .user = f});
-        rg_use(g, rb, f->r_color, RG_TRANSFER_SRC);
-        rg_use(g, rb, f->r_depth, RG_TRANSFER_SRC);
-        rg_use(g, rb, f->r_ids, RG_TRANSFER_SRC);
-        rg_use(g, rb, f->r_motion, RG_TRANSFER_SRC);
+        for (int i = 0; i < f->item_count; i++)
+            rg_use(g, rb, f->items[i].res, RG_TRANSFER_SRC);
         rg_use(g, rb, f->r_readback, RG_TRANSFER_DST);
+        f->outputs = (frame_outputs){
+            .color = readback_ptr(f, 0),
+            .depth = readback_ptr(f, 1),
+            .ids = readback_ptr(f, 2),
+            .motion = readback_ptr(f, 3),
+        };
     } else {
-        rg_export(g, f->r_color);
-        rg_export(g, f->r_depth);
-        rg_export(g, f->r_ids);
-        rg_export(g, f->r_motion);
+        rg_export(g, res->color);
     }
     vg_status st = rg_compile(g);
     if (st == VG_OK)
-        st = rg_realize(g, f->gpu);
+        st = rg_realize(g, fc->gpu);
     return st;
 }
 
 /* ------------------------------------------------------------------------- */
-/* Pipelines                                                                 */
+/* Lifetime                                                                  */
 /* ------------------------------------------------------------------------- */
 
-static vg_status create_pipelines(frame *f)
+static vg_status create_layouts(frame_ctx *fc)
 {
-    gpu *g = f->gpu;
+    gpu *g = fc->gpu;
     VkDescriptorSetLayoutBinding bindings[2] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_ALL_GRAPHICS, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_ALL_GRAPHICS, NULL},
@@ -225,10 +192,10 @@ static vg_status create_pipelines(frame *f)
         .bindingCount = 2,
         .pBindings = bindings,
     };
-    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, NULL, &f->push_layout));
-    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, f->push_layout, "frame push layout");
-    VkDescriptorSetLayout sets[2] = {f->push_layout, f->sg.texture_layout};
-    VkPushConstantRange push = {VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(vg_draw_push)};
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, NULL, &fc->push_layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, fc->push_layout, "scene push layout");
+    VkDescriptorSetLayout sets[2] = {fc->push_layout, fc->sg.texture_layout};
+    VkPushConstantRange push = {VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof(vg_draw_push)};
     VkPipelineLayoutCreateInfo layout = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
         .setLayoutCount = 2,
@@ -236,10 +203,10 @@ static vg_status create_pipelines(frame *f)
         .pushConstantRangeCount = 1,
         .pPushConstantRanges = &push,
     };
-    VK_TRY(vkCreatePipelineLayout(g->device, &layout, NULL, &f->layout));
-    GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, f->layout, "scene pipeline layout");
+    VK_TRY(vkCreatePipelineLayout(g->device, &layout, NULL, &fc->scene_layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, fc->scene_layout, "scene pipeline layout");
 
-    VkSamplerCreateInfo shadow_sampler = {
+    VkSamplerCreateInfo shadow = {
         .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
         .magFilter = VK_FILTER_LINEAR,
         .minFilter = VK_FILTER_LINEAR,
@@ -250,50 +217,65 @@ static vg_status create_pipelines(frame *f)
         .compareOp = VK_COMPARE_OP_LESS_OR_EQUAL,
         .borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE,
     };
-    VK_TRY(vkCreateSampler(g->device, &shadow_sampler, NULL, &f->shadow_sampler));
-    GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, f->shadow_sampler, "shadow compare sampler");
-
-    VkShaderModule gvert = 0, gfrag = 0, svert = 0, skyv = 0, skyf = 0;
-    vg_status st = GPU_SHADER(g, spv_gbuffer_vert, &gvert);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_gbuffer_frag, &gfrag);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_shadow_vert, &svert);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &skyv);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_frag, &skyf);
-
-    VkVertexInputBindingDescription vb[4];
-    VkVertexInputAttributeDescription va[6];
-    uint32_t nb, na;
-    if (st == VG_OK) {
-        scene_gpu_vertex_input(true, vb, &nb, va, &na);
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "shadow", .layout = f->layout, .vert = svert, .bindings = vb, .binding_count = nb,
-            .attributes = va, .attribute_count = na, .depth_test = true, .depth_write = true,
-            .depth_bias = true, .depth_format = k_depth_format}, &f->shadow);
-    }
-    if (st == VG_OK)
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "sky", .layout = f->layout, .vert = skyv, .frag = skyf,
-            .color_formats = k_gbuffer_formats, .color_count = 4, .depth_format = k_depth_format}, &f->sky);
-    if (st == VG_OK) {
-        scene_gpu_vertex_input(false, vb, &nb, va, &na);
-        /* No culling: single-sided glTF surfaces seen from behind flip their
-         * normal in the shader instead of leaving holes in depth and ids. */
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "gbuffer", .layout = f->layout, .vert = gvert, .frag = gfrag, .bindings = vb,
-            .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true,
-            .depth_write = true, .color_formats = k_gbuffer_formats, .color_count = 4,
-            .depth_format = k_depth_format}, &f->gbuffer);
-    }
-    VkShaderModule mods[] = {gvert, gfrag, svert, skyv, skyf};
-    for (size_t i = 0; i < sizeof mods / sizeof mods[0]; i++)
-        if (mods[i])
-            vkDestroyShaderModule(g->device, mods[i], NULL);
-    return st;
+    VK_TRY(vkCreateSampler(g->device, &shadow, NULL, &fc->shadow_sampler));
+    GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, fc->shadow_sampler, "shadow compare sampler");
+    VkSamplerCreateInfo clamp = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_LINEAR,
+        .minFilter = VK_FILTER_LINEAR,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+    };
+    VK_TRY(vkCreateSampler(g->device, &clamp, NULL, &fc->linear_clamp));
+    GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, fc->linear_clamp, "linear clamp sampler");
+    clamp.magFilter = clamp.minFilter = VK_FILTER_NEAREST;
+    VK_TRY(vkCreateSampler(g->device, &clamp, NULL, &fc->nearest_clamp));
+    GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, fc->nearest_clamp, "nearest clamp sampler");
+    return VG_OK;
 }
 
-/* ------------------------------------------------------------------------- */
-/* Lifetime                                                                  */
-/* ------------------------------------------------------------------------- */
+static vg_status create_submission(frame *f)
+{
+    gpu *g = f->fc.gpu;
+    VkCommandBufferAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+        .commandPool = g->pool,
+        .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+        .commandBufferCount = VG_FRAMES_IN_FLIGHT,
+    };
+    VK_TRY(vkAllocateCommandBuffers(g->device, &alloc, f->cmd));
+    for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
+        GPU_NAME(g, VK_OBJECT_TYPE_COMMAND_BUFFER, f->cmd[i], "frame commands slot %d", i);
+        VK_TRY(vkCreateFence(g->device, &(VkFenceCreateInfo){.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO},
+                             NULL, &f->fence[i]));
+        GPU_NAME(g, VK_OBJECT_TYPE_FENCE, f->fence[i], "frame fence slot %d", i);
+        char name[32];
+        snprintf(name, sizeof name, "frame ubo slot %d", i);
+        vg_status st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = name, .size = sizeof(vg_frame_ubo),
+                                                               .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                                               .host_visible = true}, &f->fc.ubo[i]);
+        if (st != VG_OK)
+            return st;
+    }
+    return VG_OK;
+}
+
+static frame_desc resolve_defaults(const frame_desc *desc)
+{
+    frame_desc d = *desc;
+    if (!d.width || !d.height) {
+        d.width = 960;
+        d.height = 540;
+    }
+    if (d.fps <= 0)
+        d.fps = 60;
+    if (d.keyframe_stride <= 0)
+        d.keyframe_stride = 10;
+    if (!d.shadow_size)
+        d.shadow_size = 2048;
+    return d;
+}
 
 vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **out)
 {
@@ -301,68 +283,26 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     frame *f = calloc(1, sizeof *f);
     if (!f)
         return VG_ERR_NOMEM;
-    f->gpu = g;
-    f->scene = s;
-    f->desc = *desc;
-    if (!f->desc.width || !f->desc.height) {
-        f->desc.width = 960;
-        f->desc.height = 540;
-    }
-    if (f->desc.fps <= 0)
-        f->desc.fps = 60;
-    if (f->desc.keyframe_stride <= 0)
-        f->desc.keyframe_stride = 10;
-    if (!f->desc.shadow_size)
-        f->desc.shadow_size = 2048;
+    frame_ctx *fc = &f->fc;
+    fc->gpu = g;
+    fc->scene = s;
+    fc->desc = resolve_defaults(desc);
+    fc->slot = -1;
+    stereo_display_init(&fc->display, &fc->desc.display);
+    stereo_camera_init(&fc->rig, &fc->desc.rig, &fc->display);
 
-    vg_status st = scene_gpu_create(g, s, &f->sg);
+    vg_status st = scene_gpu_create(g, s, &fc->sg);
     if (st == VG_OK)
-        st = create_pipelines(f);
-    for (int i = 0; i < VG_FRAMES_IN_FLIGHT && st == VG_OK; i++) {
-        char name[32];
-        snprintf(name, sizeof name, "frame ubo slot %d", i);
-        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = name, .size = sizeof(vg_frame_ubo),
-                                                     .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                                                     .host_visible = true}, &f->ubo[i]);
-    }
-    if (st == VG_OK && f->desc.readback)
-        st = gpu_buffer_create(g, &(gpu_buffer_desc){
-            .name = "gbuffer readback", .size = (VkDeviceSize)f->desc.width * f->desc.height * 28,
-            .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT, .host_visible = true}, &f->readback);
-    if (st == VG_OK) {
-        VkCommandBufferAllocateInfo alloc = {
-            .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-            .commandPool = g->pool,
-            .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
-            .commandBufferCount = VG_FRAMES_IN_FLIGHT,
-        };
-        VkResult r = vkAllocateCommandBuffers(g->device, &alloc, f->cmd);
-        for (int i = 0; i < VG_FRAMES_IN_FLIGHT && r == VK_SUCCESS; i++) {
-            GPU_NAME(g, VK_OBJECT_TYPE_COMMAND_BUFFER, f->cmd[i], "frame commands slot %d", i);
-            r = vkCreateFence(g->device, &(VkFenceCreateInfo){.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO},
-                              NULL, &f->fence[i]);
-            GPU_NAME(g, VK_OBJECT_TYPE_FENCE, f->fence[i], "frame fence slot %d", i);
-        }
-        if (r != VK_SUCCESS) {
-            gpu_report_failure(__FILE__, __LINE__, "frame command buffers", r);
-            st = VG_ERR_VULKAN;
-        }
-    }
+        st = create_layouts(fc);
+    if (st == VG_OK)
+        st = create_submission(f);
+    if (st == VG_OK)
+        st = gbuffer_pass_create(fc, &f->gbuffer);
     if (st == VG_OK)
         st = build_graph(f);
     if (st != VG_OK) {
         frame_destroy(f);
         return st;
-    }
-    if (f->desc.readback) {
-        size_t pixels = (size_t)f->desc.width * f->desc.height;
-        const uint8_t *base = f->readback.mapped;
-        f->outputs = (frame_outputs){
-            .color = base,
-            .depth = (const float *)(base + pixels * 4),
-            .ids = (const uint32_t *)(base + pixels * 8),
-            .motion = (const float *)(base + pixels * 12),
-        };
     }
     *out = f;
     return VG_OK;
@@ -372,28 +312,28 @@ void frame_destroy(frame *f)
 {
     if (!f)
         return;
-    gpu *g = f->gpu;
+    frame_ctx *fc = &f->fc;
+    gpu *g = fc->gpu;
     vkDeviceWaitIdle(g->device);
     rg_destroy(f->graph);
+    gbuffer_pass_destroy(f->gbuffer);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
-        gpu_buffer_destroy(g, &f->ubo[i]);
+        gpu_buffer_destroy(g, &fc->ubo[i]);
         if (f->fence[i])
             vkDestroyFence(g->device, f->fence[i], NULL);
     }
     if (f->cmd[0])
         vkFreeCommandBuffers(g->device, g->pool, VG_FRAMES_IN_FLIGHT, f->cmd);
     gpu_buffer_destroy(g, &f->readback);
-    VkPipeline pipes[] = {f->shadow, f->sky, f->gbuffer};
-    for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
-        if (pipes[i])
-            vkDestroyPipeline(g->device, pipes[i], NULL);
-    if (f->shadow_sampler)
-        vkDestroySampler(g->device, f->shadow_sampler, NULL);
-    if (f->layout)
-        vkDestroyPipelineLayout(g->device, f->layout, NULL);
-    if (f->push_layout)
-        vkDestroyDescriptorSetLayout(g->device, f->push_layout, NULL);
-    scene_gpu_destroy(g, &f->sg);
+    VkSampler samplers[] = {fc->shadow_sampler, fc->linear_clamp, fc->nearest_clamp};
+    for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
+        if (samplers[i])
+            vkDestroySampler(g->device, samplers[i], NULL);
+    if (fc->scene_layout)
+        vkDestroyPipelineLayout(g->device, fc->scene_layout, NULL);
+    if (fc->push_layout)
+        vkDestroyDescriptorSetLayout(g->device, fc->push_layout, NULL);
+    scene_gpu_destroy(g, &fc->sg);
     free(f);
 }
 
@@ -403,11 +343,11 @@ void frame_destroy(frame *f)
 
 /* Sun: low in the sky to the left and behind the viewer, so shadows fall
  * into the scene and give depth cues (a fixed light keeps captures stable). */
-static void light_setup(const frame *f, vg_frame_ubo *u)
+static void light_setup(const frame_ctx *fc, vg_frame_ubo *u)
 {
     vec3 sun = {-0.42f, 0.74f, 0.52f};
     glm_vec3_normalize(sun);
-    const scene_state *st = &f->sg.now;
+    const scene_state *st = &fc->sg.now;
     vec3 lo, hi, centre;
     glm_vec3_copy((float *)st->bounds_min, lo);
     glm_vec3_copy((float *)st->bounds_max, hi);
@@ -423,53 +363,54 @@ static void light_setup(const frame *f, vg_frame_ubo *u)
     glm_ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius, proj);
     glm_mat4_mul(proj, view, vp);
     memcpy(u->light_view_proj.m, vp, sizeof vp);
-    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], 2.0f * radius / (float)f->desc.shadow_size}, 16);
+    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], 2.0f * radius / (float)fc->desc.shadow_size}, 16);
     memcpy(u->sun_color.v, (float[4]){3.1f, 2.9f, 2.6f, 0.55f}, 16);
     memcpy(u->sky_zenith.v, (float[4]){0.23f, 0.42f, 0.78f, 0.0035f}, 16);
     memcpy(u->sky_horizon.v, (float[4]){0.78f, 0.86f, 0.95f, 0.85f}, 16);
     memcpy(u->ground_color.v, (float[4]){0.30f, 0.27f, 0.22f, 0.0f}, 16);
 }
 
-static void fill_ubo(frame *f, vg_frame_ubo *u)
+static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
 {
     memset(u, 0, sizeof *u);
-    memcpy(u->view_proj.m, f->cam.view_proj, 64);
-    memcpy(u->view_proj_prev.m, f->cam_prev.view_proj, 64);
-    memcpy(u->view_proj_next.m, f->cam_next.view_proj, 64);
-    memcpy(u->view.m, f->cam.view, 64);
+    memcpy(u->view_proj.m, fc->cam.view_proj, 64);
+    memcpy(u->view_proj_prev.m, fc->cam_prev.view_proj, 64);
+    memcpy(u->view_proj_next.m, fc->cam_next.view_proj, 64);
+    memcpy(u->view.m, fc->cam.view, 64);
     mat4 vp, inv; /* cglm's SIMD paths need its own aligned matrices */
-    memcpy(vp, f->cam.view_proj, sizeof vp);
+    memcpy(vp, fc->cam.view_proj, sizeof vp);
     glm_mat4_inv(vp, inv);
     memcpy(u->inv_view_proj.m, inv, 64);
-    memcpy(u->camera_pos.v, (float[4]){f->cam.position[0], f->cam.position[1], f->cam.position[2], f->cam.zfar}, 16);
-    memcpy(u->viewport.v, (float[4]){(float)f->desc.width, (float)f->desc.height, 1.0f / (float)f->desc.width,
-                                     1.0f / (float)f->desc.height}, 16);
-    light_setup(f, u);
+    memcpy(u->camera_pos.v, (float[4]){fc->cam.position[0], fc->cam.position[1], fc->cam.position[2], fc->cam.zfar}, 16);
+    memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
+                                     1.0f / (float)fc->desc.height}, 16);
+    light_setup(fc, u);
 }
 
 vg_status frame_render(frame *f, long index)
 {
-    gpu *g = f->gpu;
-    f->slot = (f->slot + 1) % VG_FRAMES_IN_FLIGHT;
-    int slot = f->slot;
+    frame_ctx *fc = &f->fc;
+    gpu *g = fc->gpu;
+    fc->slot = (fc->slot + 1) % VG_FRAMES_IN_FLIGHT;
+    int slot = fc->slot;
     if (f->submitted[slot]) {
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
         f->submitted[slot] = false;
     }
-    f->times = frame_times_at(index, f->desc.fps, f->desc.keyframe_stride);
-    scene_gpu_update(&f->sg, slot, (float)f->times.t, (float)f->times.t_prev, (float)f->times.t_next);
-    float aspect = (float)f->desc.width / (float)f->desc.height;
-    scene_camera_resolve(f->scene, &f->sg.now, f->desc.camera, aspect, &f->cam);
-    scene_camera_resolve(f->scene, &f->sg.prev, f->desc.camera, aspect, &f->cam_prev);
-    scene_camera_resolve(f->scene, &f->sg.next, f->desc.camera, aspect, &f->cam_next);
-    fill_ubo(f, f->ubo[slot].mapped);
+    fc->times = frame_times_at(index, fc->desc.fps, fc->desc.keyframe_stride);
+    scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
+    float aspect = (float)fc->desc.width / (float)fc->desc.height;
+    scene_camera_resolve(fc->scene, &fc->sg.now, fc->desc.camera, aspect, &fc->cam);
+    scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
+    scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
+    fill_ubo(fc, fc->ubo[slot].mapped);
 
-    rg_bind_buffer(f->graph, f->r_ubo, f->ubo[slot].buffer);
-    rg_bind_buffer(f->graph, f->r_vertices, f->sg.dynamic[slot].buffer);
-    rg_bind_buffer(f->graph, f->r_statics, f->sg.statics.buffer);
-    rg_bind_buffer(f->graph, f->r_indices, f->sg.indices.buffer);
-    if (f->desc.readback)
+    rg_bind_buffer(f->graph, f->res.ubo, fc->ubo[slot].buffer);
+    rg_bind_buffer(f->graph, f->res.vertices, fc->sg.dynamic[slot].buffer);
+    rg_bind_buffer(f->graph, f->res.statics, fc->sg.statics.buffer);
+    rg_bind_buffer(f->graph, f->res.indices, fc->sg.indices.buffer);
+    if (fc->desc.readback)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
 
     VkCommandBuffer cmd = f->cmd[slot];
@@ -492,9 +433,9 @@ vg_status frame_render(frame *f, long index)
 }
 
 const frame_outputs *frame_get_outputs(const frame *f) { return &f->outputs; }
-const frame_times *frame_get_times(const frame *f) { return &f->times; }
-const vg_camera *frame_get_camera(const frame *f) { return &f->cam; }
-const frame_desc *frame_get_desc(const frame *f) { return &f->desc; }
+const frame_times *frame_get_times(const frame *f) { return &f->fc.times; }
+const vg_camera *frame_get_camera(const frame *f) { return &f->fc.cam; }
+const frame_desc *frame_get_desc(const frame *f) { return &f->fc.desc; }
 rg_graph *frame_get_graph(frame *f) { return f->graph; }
 
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap)

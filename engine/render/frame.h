@@ -19,6 +19,7 @@
 #include "gpu/gpu.h"
 #include "graph/graph.h"
 #include "scene/scene.h"
+#include "stereo/stereo_display.h"
 
 typedef struct frame frame;
 
@@ -29,6 +30,8 @@ typedef struct frame_desc {
     int camera;                  /* camera node index (in node order) */
     bool readback;               /* copy the G-buffer to the host every frame */
     uint32_t shadow_size;        /* 0 = 2048 */
+    stereo_display_desc display; /* the display model (zero = paper defaults) */
+    stereo_camera_desc rig;      /* the original stereo camera (zero = ortho-stereo for the display) */
 } frame_desc;
 
 /* Host copies of the G-buffer after frame_render() (readback only). */

@@ -264,7 +264,7 @@ void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipeli
             };
             if (m)
                 memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);
-            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0,
                                sizeof push, &push);
         }
         vkCmdDrawIndexed(cmd, p->index_count, 1, in->first_index, (int32_t)in->first_vertex, 0);

@@ -43,7 +43,7 @@ void scene_gpu_vertex_input(bool positions_only, VkVertexInputBindingDescription
                             uint32_t *binding_count, VkVertexInputAttributeDescription *attributes,
                             uint32_t *attribute_count);
 
-/* Binds the slot's buffers and draws every instance. With push_material the
- * instance's vg_draw_push is pushed before its draw. */
+/* Binds the slot's buffers and draws every instance; unless positions_only,
+ * each instance's vg_draw_push (all graphics stages) precedes its draw. */
 void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
                     bool positions_only);

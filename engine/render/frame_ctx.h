@@ -1,0 +1,46 @@
+/* vergence — what the frame shares with its pass modules.
+ *
+ * A pass module (gbuffer, disparity, warp, compose) owns its pipelines and
+ * persistent resources, and adds its passes to the frame graph in
+ * *_pass_add(), reading and writing named resources of frame_resources. Its
+ * execute callbacks read per-frame state (slot, times, cameras) from the
+ * frame_ctx, which lives as long as the frame. */
+#pragma once
+#include "frame.h"
+#include "gpu/gpu.h"
+#include "graph/graph.h"
+#include "scene_gpu.h"
+#include "stereo/stereo_display.h"
+
+typedef struct frame_ctx {
+    gpu *gpu;
+    const scene *scene;
+    frame_desc desc;             /* defaults resolved */
+    scene_gpu sg;
+    gpu_buffer ubo[VG_FRAMES_IN_FLIGHT];    /* vg_frame_ubo per slot */
+    VkDescriptorSetLayout push_layout;      /* set 0: frame UBO (0), shadow map (1), pass images (2..) */
+    VkPipelineLayout scene_layout;          /* set 0 push + set 1 textures + vg_draw_push */
+    VkSampler shadow_sampler, linear_clamp, nearest_clamp;
+    stereo_display display;
+    stereo_camera rig;
+
+    /* Per frame. */
+    int slot;
+    frame_times times;
+    vg_camera cam, cam_prev, cam_next;
+} frame_ctx;
+
+/* Resources of the frame graph, by name, for pass modules to connect. */
+typedef struct frame_resources {
+    rg_res ubo, vertices, statics, indices;                /* imported scene streams */
+    rg_res shadow;                                         /* sun shadow map */
+    rg_res color, depth, ids, motion, zbuffer;             /* G-buffer (centre eye) */
+    rg_res g, h, f;                                        /* vergence maps, arcmin (R32F) */
+    rg_res curve;                                          /* global depth -> vergence curve */
+    rg_res left, right, left_aux, right_aux;               /* eyes: colour, (centre x, y, target px, stage) */
+    rg_res stereo;                                         /* composed output */
+} frame_resources;
+
+/* Pushes the frame UBO (binding 0) and, when shadow is non-null, the shadow
+ * map (binding 1) for a scene pipeline. */
+void frame_ctx_push_scene(const frame_ctx *fc, const rg_context *ctx, rg_res shadow);
