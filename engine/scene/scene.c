@@ -146,36 +146,41 @@ static void pose_joints(const scene *s, scene_state *st)
 /* Step 5: vertices                                                          */
 /* ------------------------------------------------------------------------- */
 
-/* Normal matrix of an affine 3x3 part: the cofactor matrix equals
+/* Normal matrix of an affine 3x3 part (columns a, b, c; m is column-major
+ * with a stride of 4 per column): the cofactor matrix equals
  * det * inverse-transpose, so multiplying by sign(det) gives the direction
  * of the inverse transpose without a division (and survives det = 0). */
-static void normal_matrix(const float *m, float out[9])
+static inline void normal_matrix(const float *a, const float *b, const float *c, float out[9])
 {
-    const float *a = m, *b = m + 4, *c = m + 8; /* columns */
-    float bc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0]};
-    float ca[3] = {c[1] * a[2] - c[2] * a[1], c[2] * a[0] - c[0] * a[2], c[0] * a[1] - c[1] * a[0]};
-    float ab[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-    float sign = a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2] < 0.0f ? -1.0f : 1.0f;
-    for (int k = 0; k < 3; k++)
-        out[k] = bc[k] * sign, out[3 + k] = ca[k] * sign, out[6 + k] = ab[k] * sign;
+    float bc0 = b[1] * c[2] - b[2] * c[1], bc1 = b[2] * c[0] - b[0] * c[2], bc2 = b[0] * c[1] - b[1] * c[0];
+    float sign = a[0] * bc0 + a[1] * bc1 + a[2] * bc2 < 0.0f ? -1.0f : 1.0f;
+    out[0] = bc0 * sign, out[1] = bc1 * sign, out[2] = bc2 * sign;
+    out[3] = (c[1] * a[2] - c[2] * a[1]) * sign;
+    out[4] = (c[2] * a[0] - c[0] * a[2]) * sign;
+    out[5] = (c[0] * a[1] - c[1] * a[0]) * sign;
+    out[6] = (a[1] * b[2] - a[2] * b[1]) * sign;
+    out[7] = (a[2] * b[0] - a[0] * b[2]) * sign;
+    out[8] = (a[0] * b[1] - a[1] * b[0]) * sign;
 }
 
-static void transform(const float *m, const float nm[9], const float *p, const float *n, float *op, float *on)
+/* In place: p = M p (affine: 3 columns + translation, 4 floats apart) and
+ * n = normalize(nm n). */
+static inline void transform(const float *m, const float nm[9], float *p, float *n)
 {
     float x = p[0], y = p[1], z = p[2];
-    op[0] = m[0] * x + m[4] * y + m[8] * z + m[12];
-    op[1] = m[1] * x + m[5] * y + m[9] * z + m[13];
-    op[2] = m[2] * x + m[6] * y + m[10] * z + m[14];
+    p[0] = m[0] * x + m[4] * y + m[8] * z + m[12];
+    p[1] = m[1] * x + m[5] * y + m[9] * z + m[13];
+    p[2] = m[2] * x + m[6] * y + m[10] * z + m[14];
     float a = n[0], b = n[1], c = n[2];
     float nx = nm[0] * a + nm[3] * b + nm[6] * c;
     float ny = nm[1] * a + nm[4] * b + nm[7] * c;
     float nz = nm[2] * a + nm[5] * b + nm[8] * c;
     float len2 = nx * nx + ny * ny + nz * nz;
-    if (len2 > 1e-30f && isfinite(len2)) {
+    if (len2 > 1e-30f && len2 < INFINITY) {
         float inv = 1.0f / sqrtf(len2);
-        on[0] = nx * inv, on[1] = ny * inv, on[2] = nz * inv;
+        n[0] = nx * inv, n[1] = ny * inv, n[2] = nz * inv;
     } else {
-        on[0] = 0.0f, on[1] = 0.0f, on[2] = 1.0f; /* promised unit length */
+        n[0] = 0.0f, n[1] = 0.0f, n[2] = 1.0f; /* promised unit length */
     }
 }
 
@@ -204,28 +209,30 @@ static void morph(const scene_primitive *p, const float *w, int wc, float *pos, 
 static void skin_vertices(const scene_primitive *p, const float *joints, const float *world, float *pos, float *nrm)
 {
     float rigid_nm[9];
-    normal_matrix(world, rigid_nm);
+    normal_matrix(world, world + 4, world + 8, rigid_nm);
     for (uint32_t v = 0; v < p->vertex_count; v++) {
         const uint16_t *j = p->joints + (size_t)v * 4;
         const float *w = p->weights + (size_t)v * 4;
-        float m[16] = {0}, nm[9];
-        float sum = w[0] + w[1] + w[2] + w[3];
         float *vp = pos + (size_t)v * 3, *vn = nrm + (size_t)v * 3;
-        if (!(sum > 0.0f)) {
+        if (!(w[0] + w[1] + w[2] + w[3] > 0.0f)) {
             /* No influence at all (invalid, but seen in exports): keep the
              * vertex rigidly on its node instead of collapsing it to 0. */
-            transform(world, rigid_nm, vp, vn, vp, vn);
+            transform(world, rigid_nm, vp, vn);
             continue;
         }
+        /* Blend only the affine 3x4 part: the bottom rows are 0 0 0 1. */
+        float m[16] = {0}, nm[9];
         for (int k = 0; k < 4; k++) {
-            if (w[k] == 0.0f)
+            float wk = w[k];
+            if (wk == 0.0f)
                 continue;
             const float *jm = joints + (size_t)j[k] * 16;
-            for (int e = 0; e < 16; e++)
-                m[e] += w[k] * jm[e];
+            for (int col = 0; col < 4; col++)
+                for (int r = 0; r < 3; r++)
+                    m[col * 4 + r] += wk * jm[col * 4 + r];
         }
-        normal_matrix(m, nm);
-        transform(m, nm, vp, vn, vp, vn);
+        normal_matrix(m, m + 4, m + 8, nm);
+        transform(m, nm, vp, vn);
     }
 }
 
@@ -247,10 +254,9 @@ static void place_instances(const scene *s, scene_state *st)
             skin_vertices(p, st->joint_matrices + first * 16, world, pos, nrm);
         } else {
             float nm[9];
-            normal_matrix(world, nm);
+            normal_matrix(world, world + 4, world + 8, nm);
             for (uint32_t v = 0; v < p->vertex_count; v++)
-                transform(world, nm, pos + (size_t)v * 3, nrm + (size_t)v * 3, pos + (size_t)v * 3,
-                          nrm + (size_t)v * 3);
+                transform(world, nm, pos + (size_t)v * 3, nrm + (size_t)v * 3);
         }
     }
 }

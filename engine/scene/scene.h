@@ -23,7 +23,7 @@
 
 #define SCENE_NAME_MAX 64
 /* Base-colour textures a scene may use (one descriptor array on the GPU). */
-#define SCENE_MAX_TEXTURES 64
+#define SCENE_MAX_TEXTURES 16
 
 typedef enum scene_interp {
     SCENE_INTERP_DEFAULT = 0, /* = linear */
@@ -45,7 +45,7 @@ typedef struct scene_texture {
     int width, height;
     uint8_t *rgba;         /* width * height * 4, top row first */
     bool wrap_repeat_s, wrap_repeat_t; /* false: clamp to edge */
-    bool mirror_s, mirror_t;
+    bool mirror_s, mirror_t; /* MIRRORED_REPEAT (wrap_repeat_* is also true then) */
     bool nearest;          /* magnification filter NEAREST */
 } scene_texture;
 
@@ -113,7 +113,7 @@ typedef struct scene_skin {
 typedef struct scene_sampler {
     scene_interp interp;
     int key_count;
-    float *times;            /* key_count, strictly increasing */
+    float *times;            /* key_count, finite, non-decreasing (equal neighbours tolerated) */
     int components;          /* 3 (T, S), 4 (R) or the morph weight count */
     float *values;           /* key_count * components, x3 for cubic (in-tangent, value, out-tangent) */
 } scene_sampler;
@@ -166,7 +166,7 @@ typedef struct scene {
 
     float bounds_min[3], bounds_max[3]; /* world-space bounds of all vertices at t = 0 */
     float duration;          /* end of the longest animation, 0 when static */
-    bool animated;           /* has animations, skins or morph weights != default */
+    bool animated;           /* has animation channels, skinned instances or non-zero morph weights */
 } scene;
 
 /* Evaluated scene at one time. Arrays are owned by the state. */
@@ -214,6 +214,10 @@ typedef struct vg_camera {
 } vg_camera;
 
 /* The view for an evaluated state: the scene's camera node number `index`
- * (in node order) when it has cameras, else an automatic camera that frames
- * the scene's bounds at t = 0 from the front (+Z) slightly above. */
+ * (in node order, clamped to the cameras there are) when it has cameras,
+ * else an automatic camera that frames the scene's bounds at t = 0 from the
+ * front (+Z) slightly above. aspect is the viewport's width / height and is
+ * used even when the glTF camera has its own (no stretching); aspect <= 0
+ * takes the camera's aspectRatio (or 1). An infinite glTF zfar becomes a
+ * far plane just beyond the scene bounds. See docs/scene.md. */
 void scene_camera_resolve(const scene *s, const scene_state *st, int index, float aspect, vg_camera *cam);
