@@ -1,0 +1,61 @@
+#include "disp_metrics.h"
+
+#include <math.h>
+
+#define RANGE_SLACK 1e-3f
+
+double disp_metrics_range_violation(const float *x, int n, float lo, float hi)
+{
+    long out = 0;
+    for (int i = 0; i < n; i++)
+        out += !(x[i] >= lo - RANGE_SLACK && x[i] <= hi + RANGE_SLACK);
+    return n > 0 ? (double)out / n : 0.0;
+}
+
+/* A pixel moves in depth when g changes along a valid link by at least the
+ * threshold velocity (the image-space motion alone is not motion in depth). */
+static bool is_moving(const mid_window *w, int i, float thr)
+{
+    int k = i / w->ns;
+    float speed = 0.0f;
+    if (w->fwd[i].mask)
+        speed = fmaxf(speed, fabsf(mid_link_gather(w->fwd, w->nx, i, w->g) - w->g[i]) * w->inv_dt_f[k]);
+    if (w->bwd[i].mask)
+        speed = fmaxf(speed, fabsf(w->g[i] - mid_link_gather(w->bwd, w->nx, i, w->g)) * w->inv_dt_b[k]);
+    return speed >= thr;
+}
+
+void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics_desc *desc,
+                         disp_metrics *out)
+{
+    float thr = desc && desc->moving_threshold > 0 ? desc->moving_threshold : 1.0f;
+    double mid2 = 0, st2 = 0, grad2 = 0;
+    disp_metrics m = {.samples = w->n};
+    for (int i = 0; i < w->n; i++) {
+        int k = i / w->ns, p = i % w->ns, px = p % w->nx, py = p / w->nx;
+        if (is_moving(w, i, thr)) {
+            m.moving++;
+            if (w->fwd[i].mask && w->bwd[i].mask) {
+                /* The c_a residual of Sec. 4.3 with x in place of f. */
+                float xa = mid_link_gather(w->fwd, w->nx, i, x);
+                float xb = mid_link_gather(w->bwd, w->nx, i, x);
+                double e = (double)mid_p((xa - x[i]) * w->inv_dt_f[k]) -
+                           (double)mid_p((x[i] - xb) * w->inv_dt_b[k]) - (double)w->pg_acc[i];
+                mid2 += e * e;
+                m.moving_measured++;
+            }
+            continue;
+        }
+        m.static_count++;
+        double d = (double)x[i] - w->h[i];
+        st2 += d * d;
+        double gx = px + 1 < w->nx ? ((double)x[i + 1] - w->h[i + 1]) - d : 0.0;
+        double gy = py + 1 < w->ny ? ((double)x[i + w->nx] - w->h[i + w->nx]) - d : 0.0;
+        grad2 += gx * gx + gy * gy;
+    }
+    m.mid_distortion_jnd = m.moving_measured ? sqrt(mid2 / m.moving_measured) : 0.0;
+    m.static_rms = m.static_count ? sqrt(st2 / m.static_count) : 0.0;
+    m.static_grad_rms = m.static_count ? sqrt(grad2 / m.static_count) : 0.0;
+    m.range_violation = disp_metrics_range_violation(x, w->n, w->range_lo, w->range_hi);
+    *out = m;
+}

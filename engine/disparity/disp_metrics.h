@@ -1,0 +1,31 @@
+/* vergence — quality metrics of a disparity video on a MID window, used by
+ * every later issue (docs/method.md "Metrics").
+ *
+ * For a field x (h or f) on the keyframe samples of the window:
+ *   MID distortion   RMS over moving pixels of the perceptual acceleration
+ *                    error  e_i = [p(v+_x) - p(v-_x)] - [p(v+_g) - p(v-_g)]  (JND),
+ *                    velocities along the window's flow links; a pixel moves
+ *                    when g's velocity on a valid link reaches moving_threshold;
+ *                    e needs both links valid
+ *   range violation  fraction of samples outside the target range (+- 1e-3 arcmin)
+ *   static RMS       RMS of x - h over the static (not moving) pixels, arcmin
+ *   static gradient  RMS over static pixels of |grad (x - h)| (forward differences), arcmin/px */
+#pragma once
+#include "mid_window.h"
+
+typedef struct disp_metrics {
+    double mid_distortion_jnd;
+    double range_violation;
+    double static_rms;
+    double static_grad_rms;
+    int moving, moving_measured, static_count, samples;
+} disp_metrics;
+
+typedef struct disp_metrics_desc {
+    float moving_threshold; /* arcmin/s, 0 = 1 */
+} disp_metrics_desc;
+
+void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics_desc *desc,
+                         disp_metrics *out);
+/* Fraction of the n values outside [lo - 1e-3, hi + 1e-3]. */
+double disp_metrics_range_violation(const float *x, int n, float lo, float hi);
