@@ -315,11 +315,15 @@ bool locate(Ctx &c, int index, unsigned allowed, const std::string &what, scene_
     return true;
 }
 
-float *decode_floats(Ctx &c, int index, unsigned allowed, const std::string &what, size_t *count, int *comps)
+/* unit_ints: integer data is normalised even without "normalized": true
+ * (COLOR_0 and WEIGHTS_0 may only hold normalised integers, spec 3.7.2.1). */
+float *decode_floats(Ctx &c, int index, unsigned allowed, const std::string &what, size_t *count, int *comps,
+                     bool unit_ints = false)
 {
     scene_accessor_desc d;
     if (!locate(c, index, allowed, what, &d))
         return nullptr;
+    d.normalized = d.normalized || unit_ints;
     float *out = alloc<float>(d.count * static_cast<size_t>(d.components));
     char why[320];
     if (!out) {
@@ -431,10 +435,10 @@ bool convert_primitive(Ctx &c, int mi, int pi, int mode, scene_primitive *o)
     o->vertex_count = static_cast<uint32_t>(vc);
 
     /* NORMAL, TEXCOORD_0, COLOR_0 (vec3 or vec4), spec 3.7.2.1. */
-    struct { const char *name; unsigned allowed; float **dst; } attrs[] = {
-        {"NORMAL", 1u << 3, &o->normals},
-        {"TEXCOORD_0", 1u << 2, &o->texcoords},
-        {"COLOR_0", (1u << 3) | (1u << 4), &o->colors},
+    struct { const char *name; unsigned allowed; float **dst; bool unit; } attrs[] = {
+        {"NORMAL", 1u << 3, &o->normals, false},
+        {"TEXCOORD_0", 1u << 2, &o->texcoords, false},
+        {"COLOR_0", (1u << 3) | (1u << 4), &o->colors, true},
     };
     for (auto &a : attrs) {
         int idx = attribute(p.attributes, a.name, &present);
@@ -442,7 +446,7 @@ bool convert_primitive(Ctx &c, int mi, int pi, int mode, scene_primitive *o)
             continue;
         int comps = 0;
         what = fmt("mesh %d primitive %d %s", mi, pi, a.name);
-        if (!(*a.dst = decode_floats(c, idx, a.allowed, what, &n, &comps)) || !check_count(c, n, vc, what))
+        if (!(*a.dst = decode_floats(c, idx, a.allowed, what, &n, &comps, a.unit)) || !check_count(c, n, vc, what))
             return false;
         if (a.dst == &o->colors && comps == 3) {
             float *rgba = alloc<float>(vc * 4);
@@ -485,7 +489,7 @@ bool convert_primitive(Ctx &c, int mi, int pi, int mode, scene_primitive *o)
         if (!o->joints)
             return scene_fail(c.e, VG_ERR_NOMEM, "out of memory (%s)", what.c_str());
         what = fmt("mesh %d primitive %d WEIGHTS_0", mi, pi);
-        if (!(o->weights = decode_floats(c, wi, 1u << 4, what, &n, nullptr)) || !check_count(c, n, vc, what))
+        if (!(o->weights = decode_floats(c, wi, 1u << 4, what, &n, nullptr, true)) || !check_count(c, n, vc, what))
             return false;
         if (p.attributes.count("JOINTS_1") && !c.warned_joints1) {
             c.warned_joints1 = true;

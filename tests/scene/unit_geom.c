@@ -242,3 +242,62 @@ void test_normals(void)
     scene_state_free(&st);
     scene_destroy(s);
 }
+
+void test_colors(void)
+{
+    /* COLOR_0 as normalised u8 VEC3 (alpha becomes 1), normalised u16
+     * VEC4, and float VEC3; TEXCOORD_0 as normalised u16 (quantised). */
+    struct {
+        float pos[9];
+        uint8_t c8[12];    /* 3 x RGB, each padded to 4 bytes (byteStride 4) */
+        uint16_t c16[12];  /* 3 x RGBA */
+        float cf[9];       /* 3 x RGB */
+        uint16_t uv[6];
+        uint16_t pad;
+    } d = {{0, 0, 0, 1, 0, 0, 0, 1, 0},
+           {255, 0, 51, 0, 0, 255, 0, 0, 102, 102, 102, 0},
+           {65535, 0, 0, 32768, 0, 65535, 0, 65535, 0, 0, 65535, 0},
+           {0.25f, 0.5f, 0.75f, 1, 1, 1, 0, 0, 0},
+           {0, 0, 65535, 0, 0, 32768},
+           0};
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":["
+        "{\"attributes\":{\"POSITION\":0,\"COLOR_0\":1,\"TEXCOORD_0\":4}},"
+        "{\"attributes\":{\"POSITION\":0,\"COLOR_0\":2}},"
+        "{\"attributes\":{\"POSITION\":0,\"COLOR_0\":3}}]}],"
+        "\"buffers\":[{\"byteLength\":124,\"uri\":\"@BUF@\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},"
+        "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":12,\"byteStride\":4},"
+        "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":24},"
+        "{\"buffer\":0,\"byteOffset\":72,\"byteLength\":36},"
+        "{\"buffer\":0,\"byteOffset\":108,\"byteLength\":12}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+        "{\"bufferView\":1,\"componentType\":5121,\"normalized\":true,\"count\":3,\"type\":\"VEC3\"},"
+        "{\"bufferView\":2,\"componentType\":5123,\"normalized\":true,\"count\":3,\"type\":\"VEC4\"},"
+        "{\"bufferView\":3,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+        "{\"bufferView\":4,\"componentType\":5123,\"normalized\":true,\"count\":3,\"type\":\"VEC2\"}]}";
+    scene *s = unit_load(unit_write_gltf("colors.gltf", json, &d, 124));
+    if (!s)
+        return;
+    CHECK(s->primitive_count == 3, "%d primitives", s->primitive_count);
+    if (s->primitive_count != 3) {
+        scene_destroy(s);
+        return;
+    }
+    /* No normals: vertices are unwelded in order 0 1 2, so vertex i is i. */
+    const scene_primitive *p = s->primitives;
+    const float want8[12] = {1, 0, 0.2f, 1, 0, 1, 0, 1, 0.4f, 0.4f, 0.4f, 1};
+    for (int i = 0; i < 12; i++)
+        CHECK_NEAR(p[0].colors[i], want8[i], 1e-6, "u8 colour component %d", i);
+    const float want16[12] = {1, 0, 0, 32768.0f / 65535.0f, 0, 1, 0, 1, 0, 0, 1, 0};
+    for (int i = 0; i < 12; i++)
+        CHECK_NEAR(p[1].colors[i], want16[i], 1e-6, "u16 colour component %d", i);
+    const float wantf[12] = {0.25f, 0.5f, 0.75f, 1, 1, 1, 1, 1, 0, 0, 0, 1};
+    for (int i = 0; i < 12; i++)
+        CHECK_NEAR(p[2].colors[i], wantf[i], 1e-6, "float colour component %d", i);
+    const float wantuv[6] = {0, 0, 1, 0, 0, 32768.0f / 65535.0f};
+    for (int i = 0; i < 6; i++)
+        CHECK_NEAR(p[0].texcoords[i], wantuv[i], 1e-6, "normalised u16 texcoord %d", i);
+    scene_destroy(s);
+}
