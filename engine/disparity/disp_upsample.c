@@ -1,0 +1,237 @@
+#include "disp_upsample.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "mid_shared.h"
+
+/* Rows of full-resolution pixels per block of the spatial pass. */
+#define ROWS_PER_BLOCK 8
+
+/* ------------------------------------------------------------------------- */
+/* Grid and flow                                                             */
+/* ------------------------------------------------------------------------- */
+
+void disp_grid_init(disp_grid *g, int full_w, int full_h, int stride)
+{
+    g->full_w = full_w;
+    g->full_h = full_h;
+    g->stride = stride > 0 ? stride : 5;
+    g->nx = (full_w + g->stride - 1) / g->stride;
+    g->ny = (full_h + g->stride - 1) / g->stride;
+}
+
+void disp_grid_sample(const disp_grid *g, const float *full, int channels, float *coarse)
+{
+    for (int qy = 0; qy < g->ny; qy++)
+        for (int qx = 0; qx < g->nx; qx++) {
+            size_t src = ((size_t)disp_grid_py(g, qy) * g->full_w + disp_grid_px(g, qx)) * channels;
+            size_t dst = ((size_t)qy * g->nx + qx) * channels;
+            for (int c = 0; c < channels; c++)
+                coarse[dst + c] = full[src + c];
+        }
+}
+
+void disp_grid_positions(const disp_grid *g, float *pos)
+{
+    for (int qy = 0; qy < g->ny; qy++)
+        for (int qx = 0; qx < g->nx; qx++) {
+            pos[2 * (qy * g->nx + qx)] = (float)disp_grid_px(g, qx);
+            pos[2 * (qy * g->nx + qx) + 1] = (float)disp_grid_py(g, qy);
+        }
+}
+
+void disp_flow_advect(const float *flow, int w, int h, float *pos, int count)
+{
+    for (int i = 0; i < count; i++) {
+        float x = pos[2 * i], y = pos[2 * i + 1];
+        if (!(x >= 0.0f && x <= (float)(w - 1) && y >= 0.0f && y <= (float)(h - 1))) {
+            pos[2 * i] = pos[2 * i + 1] = NAN;
+            continue;
+        }
+        int x0 = (int)x, y0 = (int)y;
+        int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
+        float fx = x - (float)x0, fy = y - (float)y0;
+        for (int c = 0; c < 2; c++) {
+            float a = flow[((size_t)y0 * w + x0) * 2 + c], b = flow[((size_t)y0 * w + x1) * 2 + c];
+            float e = flow[((size_t)y1 * w + x0) * 2 + c], d = flow[((size_t)y1 * w + x1) * 2 + c];
+            float v = (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * e + fx * d);
+            pos[2 * i + c] += v;
+        }
+        x = pos[2 * i];
+        y = pos[2 * i + 1];
+        /* Half a pixel of slack at the border, as for the window's links. */
+        if (!(x >= -0.5f && x <= (float)w - 0.5f && y >= -0.5f && y <= (float)h - 0.5f))
+            pos[2 * i] = pos[2 * i + 1] = NAN;
+        else {
+            pos[2 * i] = fminf(fmaxf(x, 0.0f), (float)(w - 1));
+            pos[2 * i + 1] = fminf(fmaxf(y, 0.0f), (float)(h - 1));
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------- */
+/* Time                                                                      */
+/* ------------------------------------------------------------------------- */
+
+typedef struct keyframe_sample {
+    float ratio;
+    float weight; /* bilinear weight that passed the depth test */
+} keyframe_sample;
+
+/* The keyframe's ratio at a full-resolution position: bilinear over the
+ * coarse samples, keeping only taps on the same surface (depth test). */
+static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, float z,
+                                       const float *ratio, const float *depth, float log_tol,
+                                       bool test_depth)
+{
+    keyframe_sample s = {1.0f, 0.0f};
+    if (isnan(px) || isnan(py))
+        return s;
+    float s2 = (float)(g->stride / 2);
+    float cx = fminf(fmaxf((px - s2) / (float)g->stride, 0.0f), (float)(g->nx - 1));
+    float cy = fminf(fmaxf((py - s2) / (float)g->stride, 0.0f), (float)(g->ny - 1));
+    int x0 = (int)cx, y0 = (int)cy;
+    float fx = cx - (float)x0, fy = cy - (float)y0;
+    float acc = 0.0f, wsum = 0.0f;
+    for (int t = 0; t < 4; t++) {
+        int x = x0 + (t & 1), y = y0 + (t >> 1);
+        float w = ((t & 1) ? fx : 1 - fx) * ((t >> 1) ? fy : 1 - fy);
+        if (w <= 0.0f || x >= g->nx || y >= g->ny)
+            continue;
+        int q = y * g->nx + x;
+        if (test_depth && !(z > 0.0f && depth[q] > 0.0f && fabsf(logf(depth[q] / z)) <= log_tol))
+            continue;
+        acc += w * ratio[q];
+        wsum += w;
+    }
+    if (wsum > 0.0f)
+        s.ratio = acc / wsum;
+    s.weight = wsum;
+    return s;
+}
+
+typedef struct time_ctx {
+    const disp_upsample_desc *d;
+    float tau, log_tol;
+    const float *depth_t, *pos0, *ratio0, *depth0, *pos1, *ratio1, *depth1;
+    float *out;
+} time_ctx;
+
+static void temporal_block(void *c, int block, int begin, int end)
+{
+    (void)block;
+    time_ctx *x = c;
+    const disp_grid *g = &x->d->grid;
+    for (int q = begin; q < end; q++) {
+        float z = x->depth_t[q];
+        keyframe_sample a = sample_keyframe(g, x->pos0[2 * q], x->pos0[2 * q + 1], z, x->ratio0,
+                                            x->depth0, x->log_tol, true);
+        keyframe_sample b = {1.0f, 0.0f};
+        if (x->pos1 && x->tau > 0.0f)
+            b = sample_keyframe(g, x->pos1[2 * q], x->pos1[2 * q + 1], z, x->ratio1, x->depth1,
+                                x->log_tol, true);
+        /* Fig. 4: interpolate along the flow by temporal distance; a keyframe
+         * whose sample is occluded (depth test) or out of frame drops out. */
+        float wa = (1.0f - x->tau) * (a.weight >= MID_LINK_MIN_WEIGHT ? 1.0f : 0.0f);
+        float wb = x->tau * (b.weight >= MID_LINK_MIN_WEIGHT ? 1.0f : 0.0f);
+        if (wa + wb > 0.0f) {
+            x->out[q] = (wa * a.ratio + wb * b.ratio) / (wa + wb);
+            continue;
+        }
+        /* Both lost (disocclusion, or out of frame for both): the temporally
+         * nearer keyframe at the tracked position, else at the sample itself. */
+        bool near0 = x->tau < 0.5f || !x->pos1;
+        const float *pos = near0 ? x->pos0 : x->pos1;
+        float px = pos[2 * q], py = pos[2 * q + 1];
+        if (isnan(px) || isnan(py)) {
+            px = (float)disp_grid_px(g, q % g->nx);
+            py = (float)disp_grid_py(g, q / g->nx);
+        }
+        keyframe_sample s = sample_keyframe(g, px, py, z, near0 ? x->ratio0 : x->ratio1,
+                                            near0 ? x->depth0 : x->depth1, x->log_tol, false);
+        x->out[q] = s.ratio;
+    }
+}
+
+void disp_upsample_temporal(const disp_upsample_desc *d, float tau, const float *depth_t,
+                            const float *pos0, const float *ratio0, const float *depth0,
+                            const float *pos1, const float *ratio1, const float *depth1,
+                            float *ratio_t, vg_pool *pool)
+{
+    float tol = d->occlusion_tolerance > 0 ? d->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
+    time_ctx c = {.d = d, .tau = tau, .log_tol = logf(1.0f + tol), .depth_t = depth_t,
+                  .pos0 = pos0, .ratio0 = ratio0, .depth0 = depth0,
+                  .pos1 = pos1, .ratio1 = ratio1, .depth1 = depth1, .out = ratio_t};
+    vg_parallel_for(pool, d->grid.nx * d->grid.ny, MID_BLOCK, temporal_block, &c);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Space: joint bilateral upsampling                                         */
+/* ------------------------------------------------------------------------- */
+
+typedef struct space_ctx {
+    const disp_upsample_desc *d;
+    const float *h, *ratio;
+    float *f;
+    float inv_2ss, inv_2sr;
+} space_ctx;
+
+static void spatial_block(void *c, int block, int begin, int end)
+{
+    (void)block;
+    space_ctx *x = c;
+    const disp_grid *g = &x->d->grid;
+    const float s2 = (float)(g->stride / 2), inv_s = 1.0f / (float)g->stride;
+    bool clamp = x->d->range_hi > x->d->range_lo;
+    for (int y = begin; y < end; y++)
+        for (int px = 0; px < g->full_w; px++) {
+            size_t i = (size_t)y * g->full_w + px;
+            float hv = x->h[i];
+            float cx = ((float)px - s2) * inv_s, cy = ((float)y - s2) * inv_s;
+            int bx = (int)floorf(cx) - 1, by = (int)floorf(cy) - 1;
+            float acc = 0.0f, wsum = 0.0f, best_d = 1e30f, best_r = 1.0f;
+            /* 4 x 4 coarse neighbours; Kopf et al.: spatial Gaussian on the
+             * coarse distance times range Gaussian on the guide, where the
+             * guide of a coarse sample is h at its full-resolution pixel. */
+            for (int j = 0; j < 4; j++) {
+                int qy = by + j;
+                if (qy < 0 || qy >= g->ny)
+                    continue;
+                for (int k = 0; k < 4; k++) {
+                    int qx = bx + k;
+                    if (qx < 0 || qx >= g->nx)
+                        continue;
+                    float dx = cx - (float)qx, dy = cy - (float)qy, d2 = dx * dx + dy * dy;
+                    float gq = x->h[(size_t)disp_grid_py(g, qy) * g->full_w + disp_grid_px(g, qx)];
+                    float dr = hv - gq;
+                    float w = expf(-d2 * x->inv_2ss - dr * dr * x->inv_2sr);
+                    float r = x->ratio[qy * g->nx + qx];
+                    acc += w * r;
+                    wsum += w;
+                    if (d2 < best_d) {
+                        best_d = d2;
+                        best_r = r;
+                    }
+                }
+            }
+            /* No neighbour on this surface (a structure thinner than the
+             * grid): the nearest sample's correction. */
+            float ratio = wsum > 1e-20f ? acc / wsum : best_r;
+            float f = hv * ratio;
+            if (clamp)
+                f = fminf(fmaxf(f, x->d->range_lo), x->d->range_hi);
+            x->f[i] = f;
+        }
+}
+
+void disp_upsample_spatial(const disp_upsample_desc *d, const float *h_full,
+                           const float *ratio_coarse, float *f_full, vg_pool *pool)
+{
+    float ss = d->sigma_spatial > 0 ? d->sigma_spatial : 0.5f;
+    float sr = d->sigma_range > 0 ? d->sigma_range : 4.0f;
+    space_ctx c = {.d = d, .h = h_full, .ratio = ratio_coarse, .f = f_full,
+                   .inv_2ss = 1.0f / (2.0f * ss * ss), .inv_2sr = 1.0f / (2.0f * sr * sr)};
+    vg_parallel_for(pool, d->grid.full_h, ROWS_PER_BLOCK, spatial_block, &c);
+}

@@ -1,0 +1,61 @@
+/* vergence — from the coarse keyframe solution to full-resolution frames
+ * (paper Sec. 4.4, Fig. 4). Only the correction is upsampled: the ratio
+ * r = f / h (vergence is never 0, DESIGN.md), so f = h * r keeps every fine
+ * detail of the full-resolution h.
+ *   Time:  r at the coarse samples of frame t from the two nearest keyframes,
+ *          along the flow, weighted by temporal distance; a keyframe whose
+ *          sample fails the depth test (occlusion) or left the frame drops out.
+ *   Space: joint bilateral upsampling (Kopf et al. 2007) of r, guided by the
+ *          full-resolution h of frame t; then f = clamp(h r, target range).
+ * Equations: docs/method.md "Upsampling". */
+#pragma once
+#include "core/parallel.h"
+
+/* The coarse grid of a full-resolution frame: sample (qx, qy) is the
+ * full-resolution pixel (min(qx s + s/2, W - 1), min(qy s + s/2, H - 1)), a
+ * point sample at the block centre (no blending across depth edges). */
+typedef struct disp_grid {
+    int full_w, full_h, stride, nx, ny;
+} disp_grid;
+
+void disp_grid_init(disp_grid *g, int full_w, int full_h, int stride);
+static inline int disp_grid_px(const disp_grid *g, int qx)
+{
+    int x = qx * g->stride + g->stride / 2;
+    return x < g->full_w ? x : g->full_w - 1;
+}
+static inline int disp_grid_py(const disp_grid *g, int qy)
+{
+    int y = qy * g->stride + g->stride / 2;
+    return y < g->full_h ? y : g->full_h - 1;
+}
+/* Point samples of a full-resolution field (channels interleaved). */
+void disp_grid_sample(const disp_grid *g, const float *full, int channels, float *coarse);
+/* Full-resolution positions of the coarse samples (2 floats each). */
+void disp_grid_positions(const disp_grid *g, float *pos);
+
+/* Moves positions (full-resolution pixels, 2 floats each) along one
+ * per-frame flow field (bilinear); a position that leaves the frame, or is
+ * NaN, becomes NaN. Composes per-frame flows into keyframe flows. */
+void disp_flow_advect(const float *flow, int w, int h, float *pos, int count);
+
+typedef struct disp_upsample_desc {
+    disp_grid grid;
+    float occlusion_tolerance; /* relative depth, 0 = MID_OCCLUSION_TOLERANCE */
+    float sigma_spatial;       /* coarse pixels, 0 = 0.5 */
+    float sigma_range;         /* arcmin, 0 = 4 */
+    float range_lo, range_hi;  /* clamp of f; both 0 = none */
+} disp_upsample_desc;
+
+/* Time. tau = (t - t0) / (t1 - t0). depth_t: coarse depth of frame t;
+ * pos0 / pos1: where frame t's coarse samples are in keyframes k0 / k1
+ * (full-resolution pixels, NaN when lost; pos1 may be NULL when tau = 0);
+ * ratio*, depth*: the keyframes' coarse f/h and depth. Writes ratio_t. */
+void disp_upsample_temporal(const disp_upsample_desc *d, float tau, const float *depth_t,
+                            const float *pos0, const float *ratio0, const float *depth0,
+                            const float *pos1, const float *ratio1, const float *depth1,
+                            float *ratio_t, vg_pool *pool);
+
+/* Space. f_full = clamp(h_full * JBU(ratio_coarse; guide h_full)). */
+void disp_upsample_spatial(const disp_upsample_desc *d, const float *h_full,
+                           const float *ratio_coarse, float *f_full, vg_pool *pool);

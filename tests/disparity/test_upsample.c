@@ -1,0 +1,195 @@
+/* Upsampling of the keyframe correction (paper Sec. 4.4, Fig. 4).
+ * Run one case: test_upsample NAME. */
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "../test.h"
+#include "disparity/disp_upsample.h"
+
+#define FW 160
+#define FH 90
+#define S 5
+
+/* A full-resolution h with pixel-scale detail the coarse grid cannot hold. */
+static void detailed_h(float *h)
+{
+    for (int y = 0; y < FH; y++)
+        for (int x = 0; x < FW; x++)
+            h[y * FW + x] = 260.0f + 10.0f * sinf(0.9f * x) * cosf(1.3f * y) + 0.1f * x;
+}
+
+static disp_upsample_desc desc_default(void)
+{
+    disp_upsample_desc d = {0};
+    disp_grid_init(&d.grid, FW, FH, S);
+    return d;
+}
+
+/* Ratio 1 is no correction: f is h bit for bit; a constant ratio scales h
+ * and keeps all of its fine detail. */
+static int detail_preserved(void)
+{
+    disp_upsample_desc d = desc_default();
+    int nc = d.grid.nx * d.grid.ny;
+    float *h = malloc(FW * FH * sizeof(float)), *f = malloc(FW * FH * sizeof(float));
+    float *r = malloc(nc * sizeof(float));
+    detailed_h(h);
+    for (int q = 0; q < nc; q++)
+        r[q] = 1.0f;
+    disp_upsample_spatial(&d, h, r, f, NULL);
+    int differ = 0;
+    for (int i = 0; i < FW * FH; i++)
+        differ += f[i] != h[i];
+    printf("ratio 1: %d of %d pixels differ from h\n", differ, FW * FH);
+    CHECK(differ == 0, "%d pixels differ", differ);
+    for (int q = 0; q < nc; q++)
+        r[q] = 1.05f;
+    disp_upsample_spatial(&d, h, r, f, NULL);
+    double worst = 0;
+    for (int i = 0; i < FW * FH; i++)
+        worst = fmax(worst, fabs(f[i] - 1.05 * h[i]));
+    printf("ratio 1.05: max |f - 1.05 h| = %.3g arcmin\n", worst);
+    CHECK(worst < 1e-3, "%.3g", worst);
+    free(h);
+    free(f);
+    free(r);
+    return 0;
+}
+
+/* The guide keeps a correction on its own side of a depth edge that does
+ * not line up with the coarse grid; plain spatial interpolation would mix. */
+static int bilateral_edge(void)
+{
+    disp_upsample_desc d = desc_default();
+    int nc = d.grid.nx * d.grid.ny;
+    float *h = malloc(FW * FH * sizeof(float)), *f = malloc(FW * FH * sizeof(float));
+    float *r = malloc(nc * sizeof(float));
+    const float edge = 0.37f * FW; /* a slanted edge, mostly between coarse samples */
+    for (int y = 0; y < FH; y++)
+        for (int x = 0; x < FW; x++)
+            h[y * FW + x] = (x < edge + 0.15f * y) ? 300.0f : 240.0f;
+    for (int q = 0; q < nc; q++) {
+        int px = disp_grid_px(&d.grid, q % d.grid.nx), py = disp_grid_py(&d.grid, q / d.grid.nx);
+        r[q] = h[py * FW + px] > 270.0f ? 1.08f : 1.0f;
+    }
+    disp_upsample_spatial(&d, h, r, f, NULL);
+    double worst = 0;
+    for (int i = 0; i < FW * FH; i++) {
+        double want = h[i] > 270.0f ? 1.08 : 1.0;
+        worst = fmax(worst, fabs(f[i] / h[i] - want));
+    }
+    d.sigma_range = 1e6f; /* no guide: spatial interpolation only */
+    disp_upsample_spatial(&d, h, r, f, NULL);
+    double worst_plain = 0;
+    for (int i = 0; i < FW * FH; i++) {
+        double want = h[i] > 270.0f ? 1.08 : 1.0;
+        worst_plain = fmax(worst_plain, fabs(f[i] / h[i] - want));
+    }
+    printf("ratio error at the edge: joint bilateral %.3g, spatial only %.3g\n", worst, worst_plain);
+    CHECK(worst < 1e-3, "the correction leaks across the edge: %.3g", worst);
+    CHECK(worst_plain > 0.02, "the test edge must be hard for plain interpolation (%.3g)", worst_plain);
+    free(h);
+    free(f);
+    free(r);
+    return 0;
+}
+
+/* A square moves 40 px right between keyframes k0 and k1 over a static
+ * background. Keyframe corrections: square 1.1, background 1.0 at k0 and
+ * 0.98 at k1. At tau = 0.5 the square's samples follow the flow; background
+ * samples that the square covered at k0 fail the depth test there and take
+ * k1 alone. */
+static int temporal_flow_and_occlusion(void)
+{
+    disp_upsample_desc d = desc_default();
+    int nx = d.grid.nx, ny = d.grid.ny, nc = nx * ny;
+    float *ratio0 = malloc(nc * sizeof(float)), *ratio1 = malloc(nc * sizeof(float));
+    float *depth0 = malloc(nc * sizeof(float)), *depth1 = malloc(nc * sizeof(float)), *depth_t = malloc(nc * sizeof(float));
+    float *pos0 = malloc(2 * nc * sizeof(float)), *pos1 = malloc(2 * nc * sizeof(float)), *out = malloc(nc * sizeof(float));
+    int x0 = 30, x1 = 70, xt = 50, y_lo = 30, y_hi = 60, side = 25; /* square spans [x, x + side) */
+#define IN_SQUARE(px, py, sx) ((px) >= (sx) && (px) < (sx) + side && (py) >= y_lo && (py) < y_hi)
+    disp_grid_positions(&d.grid, pos0);
+    for (int q = 0; q < nc; q++) {
+        float px = pos0[2 * q], py = pos0[2 * q + 1];
+        bool s0 = IN_SQUARE(px, py, x0), s1 = IN_SQUARE(px, py, x1), st = IN_SQUARE(px, py, xt);
+        ratio0[q] = s0 ? 1.1f : 1.0f;
+        ratio1[q] = s1 ? 1.1f : 0.98f;
+        depth0[q] = s0 ? 2.0f : 8.0f;
+        depth1[q] = s1 ? 2.0f : 8.0f;
+        depth_t[q] = st ? 2.0f : 8.0f;
+        /* Flow of frame t to the keyframes: the square moves, the rest stays. */
+        pos1[2 * q] = px + (st ? (float)(x1 - xt) : 0.0f);
+        pos1[2 * q + 1] = py;
+        pos0[2 * q] = px + (st ? (float)(x0 - xt) : 0.0f);
+    }
+    disp_upsample_temporal(&d, 0.5f, depth_t, pos0, ratio0, depth0, pos1, ratio1, depth1, out, NULL);
+    double err_square = 0, err_uncovered = 0, err_static = 0;
+    int n_square = 0, n_uncovered = 0;
+    for (int q = 0; q < nc; q++) {
+        float px = (float)disp_grid_px(&d.grid, q % nx), py = (float)disp_grid_py(&d.grid, q / nx);
+        bool st = IN_SQUARE(px, py, xt), s0 = IN_SQUARE(px, py, x0), s1 = IN_SQUARE(px, py, x1);
+        if (st) {
+            err_square = fmax(err_square, fabs(out[q] - 1.1));
+            n_square++;
+        } else if (s0 && !s1) {
+            err_uncovered = fmax(err_uncovered, fabs(out[q] - 0.98)); /* k0 occluded: k1 only */
+            n_uncovered++;
+        } else if (!s1) {
+            err_static = fmax(err_static, fabs(out[q] - 0.99)); /* both: the average */
+        }
+    }
+    printf("tau 0.5: square (%d samples) error %.3g; uncovered background (%d) error %.3g; background %.3g\n",
+           n_square, err_square, n_uncovered, err_uncovered, err_static);
+    CHECK(n_square > 20 && n_uncovered > 20, "the scene must have both cases");
+    CHECK(err_square < 1e-6, "the square must follow its flow: %.3g", err_square);
+    CHECK(err_uncovered < 1e-6, "occluded keyframe samples must drop out: %.3g", err_uncovered);
+    CHECK(err_static < 1e-6, "%.3g", err_static);
+    /* At a keyframe (tau 0) the keyframe's own correction comes back exactly. */
+    disp_grid_positions(&d.grid, pos0);
+    disp_upsample_temporal(&d, 0.0f, depth0, pos0, ratio0, depth0, NULL, NULL, NULL, out, NULL);
+    for (int q = 0; q < nc; q++)
+        CHECK(out[q] == ratio0[q], "tau 0, sample %d: %.7f vs %.7f", q, out[q], ratio0[q]);
+#undef IN_SQUARE
+    free(ratio0); free(ratio1); free(depth0); free(depth1); free(depth_t);
+    free(pos0); free(pos1); free(out);
+    return 0;
+}
+
+/* Composing per-frame flows: two translations add; leaving the frame loses the point. */
+static int flow_composition(void)
+{
+    int w = 40, h = 30;
+    float *a = malloc(w * h * 2 * sizeof(float)), *b = malloc(w * h * 2 * sizeof(float));
+    for (int i = 0; i < w * h; i++) {
+        int x = i % w;
+        a[2 * i] = 1.25f;
+        a[2 * i + 1] = -0.5f;
+        b[2 * i] = x < 20 ? 2.0f : 3.0f; /* a motion boundary at x = 20 */
+        b[2 * i + 1] = 0.25f;
+    }
+    float pos[6] = {5.0f, 10.0f, 19.0f, 10.0f, 38.0f, 5.0f};
+    disp_flow_advect(a, w, h, pos, 3);
+    disp_flow_advect(b, w, h, pos, 3);
+    printf("(5,10) -> (%.3f, %.3f); (19,10) -> (%.3f, %.3f); (38,5) -> (%.3f, %.3f)\n", pos[0], pos[1],
+           pos[2], pos[3], pos[4], pos[5]);
+    CHECK(fabsf(pos[0] - 8.25f) < 1e-5f && fabsf(pos[1] - 9.75f) < 1e-5f, "first point");
+    /* After the first step the point is at x = 20.25: bilinear across the boundary. */
+    CHECK(fabsf(pos[2] - (20.25f + 3.0f)) < 1e-5f, "second point %.6f", pos[2]);
+    CHECK(isnan(pos[4]) && isnan(pos[5]), "the third point left the frame");
+    free(a);
+    free(b);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static const vg_test_case cases[] = {
+        {"detail_preserved", detail_preserved},
+        {"bilateral_edge", bilateral_edge},
+        {"temporal_flow_and_occlusion", temporal_flow_and_occlusion},
+        {"flow_composition", flow_composition},
+    };
+    return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
+}
