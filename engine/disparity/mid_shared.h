@@ -189,4 +189,30 @@ MID_FN mid_pixel mid_pixel_eval(float f, float fa, float fb, float inv_dt_f, flo
     return r;
 }
 
+/* ------------------------------------------------------------------------- */
+/* Global depth -> disparity curve (Sec. 4.6)                                */
+/* ------------------------------------------------------------------------- */
+
+/* Bins of the curve, uniform in inverse depth (where vergence is nearly linear). */
+#define DISP_CURVE_BINS 256
+
+/* Header of the curve buffer (std430, 16 bytes), followed by DISP_CURVE_BINS
+ * floats: the disparity (arcmin) at each bin centre. */
+struct disp_curve_header {
+    float inv_depth_lo; /* 1 / farthest depth */
+    float inv_depth_hi; /* 1 / nearest depth */
+    uint bins;
+    uint populated;     /* bins that held at least one pair */
+};
+#if defined(__STDC__) || defined(__cplusplus)
+typedef struct disp_curve_header disp_curve_header;
+#endif
+
+/* Continuous bin coordinate of a depth: bin centres at 0 .. bins-1. */
+MID_FN float disp_curve_coord(float depth, float inv_lo, float inv_hi, uint bins)
+{
+    float u = (1.0f / depth - inv_lo) / (inv_hi - inv_lo);
+    return u * MID_FLOAT(bins) - 0.5f;
+}
+
 #endif /* VG_MID_SHARED_H */
