@@ -74,6 +74,7 @@ void test_no_indices(void);
 void test_topology(void);
 void test_normals(void);
 void test_colors(void);
+void test_magic(void);
 void test_saliency(void);
 void test_textures(void);
 void test_cameras(void);

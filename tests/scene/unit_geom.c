@@ -301,3 +301,29 @@ void test_colors(void)
         CHECK_NEAR(p[0].texcoords[i], wantuv[i], 1e-6, "normalised u16 texcoord %d", i);
     scene_destroy(s);
 }
+
+void test_magic(void)
+{
+    /* The container is told by its first bytes: a GLB named .gltf and a
+     * JSON glTF (embedded buffers) named .glb both load. */
+    size_t nb = 0, nt = 0;
+    uint8_t *glb = unit_read(unit_asset("Box/glTF-Binary/Box.glb"), &nb);
+    uint8_t *txt = unit_read(unit_asset("Box/glTF-Embedded/Box.gltf"), &nt);
+    if (!glb || !txt)
+        return;
+    char a[160], b[160];
+    snprintf(a, sizeof a, "%s", unit_write_gltf("really-binary.gltf", "", NULL, 0));
+    snprintf(b, sizeof b, "%s", unit_write_gltf("really-text.glb", "", NULL, 0));
+    FILE *f = fopen(a, "wb");
+    if (f)
+        fwrite(glb, 1, nb, f), fclose(f);
+    f = fopen(b, "wb");
+    if (f)
+        fwrite(txt, 1, nt, f), fclose(f);
+    scene *s = unit_load(a), *t = unit_load(b);
+    CHECK(s && t && s->vertex_count == 24 && t->vertex_count == 24, "both boxes load with 24 vertices");
+    scene_destroy(s);
+    scene_destroy(t);
+    free(glb);
+    free(txt);
+}

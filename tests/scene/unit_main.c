@@ -237,7 +237,7 @@ static const struct {
     {"skin", test_skin},                     {"skin_bind_pose", test_skin_bind_pose}, {"skin_reference", test_skin_reference},
     {"hierarchy", test_hierarchy},           {"sparse", test_sparse},
     {"interleaved", test_interleaved},       {"no_indices", test_no_indices},
-    {"topology", test_topology}, {"normals", test_normals}, {"colors", test_colors},             {"saliency", test_saliency},
+    {"topology", test_topology}, {"normals", test_normals}, {"colors", test_colors}, {"magic", test_magic},             {"saliency", test_saliency},
     {"textures", test_textures},             {"cameras", test_cameras},
     {"camera_resolve", test_camera_resolve}, {"camera_infinite", test_camera_infinite},
 };
