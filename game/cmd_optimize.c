@@ -1,18 +1,143 @@
-/* Placeholder until the CPU reference lands (issue 3). */
+/* vergence optimize — the motion-in-depth optimisation of disparity videos
+ * from files (paper Sec. 4; pipeline in engine/disparity/disp_offline.c). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include "commands.h"
 #include "core/log.h"
+#include "disparity/disp_offline.h"
+
+static const char *const g_solvers[] = {"gauss-newton", "descent", NULL};
+static const char *const g_presets[] = {"comfort", "study", NULL};
+static const char *const g_units[] = {"arcmin", "px", NULL};
+
+static struct {
+    const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *out, *frames, *weights;
+    int stride, coarse, row, iterations, cg, threads, solver, preset, units;
+    double fps, range, diagonal, distance, ipd, px_zero, occlusion;
+    int resolution[2];
+} o;
+
+static const vg_opt g_opts[] = {
+    {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM per frame, e.g. 'in/g_%04d.pfm' (required)"},
+    {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required)"},
+    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, metrics.json (required)"},
+    {.name = "--h", .kind = VG_OPT_STRING, .dest = &o.h, .metavar = "PATTERN", .help = "manipulated disparity h, PFM arcmin (instead of --operator)"},
+    {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
+    {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
+    {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth, PFM metres (default: from g)"},
+    {.name = "--flow-next", .kind = VG_OPT_STRING, .dest = &o.flow_next, .metavar = "PATTERN", .help = "per-frame .flo flow to the next frame"},
+    {.name = "--flow-prev", .kind = VG_OPT_STRING, .dest = &o.flow_prev, .metavar = "PATTERN", .help = "per-frame .flo flow to the previous frame"},
+    {.name = "--saliency", .kind = VG_OPT_STRING, .dest = &o.saliency, .metavar = "PATTERN", .help = "8-bit grey PNG saliency for the operator"},
+    {.name = "--g-units", .kind = VG_OPT_CHOICE, .dest = &o.units, .metavar = "U", .help = "units of g: arcmin (vergence) or px (dataset disparity x_l - x_r)", .choices = g_units},
+    {.name = "--px-zero", .kind = VG_OPT_FLOAT, .dest = &o.px_zero, .metavar = "D", .help = "with --g-units px: the disparity that lands on the screen (default 0)"},
+    {.name = "--keyframe-stride", .kind = VG_OPT_INT, .dest = &o.stride, .metavar = "N", .help = "frames between keyframes (default 10)", .min = 1, .max = 1000},
+    {.name = "--coarse", .kind = VG_OPT_INT, .dest = &o.coarse, .metavar = "N", .help = "pixels per coarse solver sample (default 5)", .min = 1, .max = 64},
+    {.name = "--fps", .kind = VG_OPT_FLOAT, .dest = &o.fps, .metavar = "F", .help = "frame rate (default 60)", .min = 1, .max = 1000},
+    {.name = "--row", .kind = VG_OPT_INT, .dest = &o.row, .metavar = "Y", .help = "row of the x-t slices (default: the middle)", .min = 0, .max = 100000},
+    {.name = "--target-range", .kind = VG_OPT_FLOAT, .dest = &o.range, .metavar = "ARCMIN", .help = "half-width of the target range around the screen (default 60)", .min = 1, .max = 1000},
+    {.name = "--weights", .kind = VG_OPT_STRING, .dest = &o.weights, .metavar = "M,S,T,A", .help = "cost weights (default 0.05,1,0.1,0.1)"},
+    {.name = "--solver", .kind = VG_OPT_CHOICE, .dest = &o.solver, .metavar = "NAME", .help = "minimiser", .choices = g_solvers},
+    {.name = "--iterations", .kind = VG_OPT_INT, .dest = &o.iterations, .metavar = "N", .help = "outer iterations (default 4 gauss-newton, 8 descent)", .min = 1, .max = 100000},
+    {.name = "--cg-iterations", .kind = VG_OPT_INT, .dest = &o.cg, .metavar = "N", .help = "CG steps per Gauss-Newton iteration (default 8)", .min = 1, .max = 100000},
+    {.name = "--threads", .kind = VG_OPT_INT, .dest = &o.threads, .metavar = "N", .help = "worker threads (default: all cores)", .min = 0, .max = 1024},
+    {.name = "--occlusion-tolerance", .kind = VG_OPT_FLOAT, .dest = &o.occlusion, .metavar = "R", .help = "relative depth difference of one surface (default 0.2)", .min = 0.001, .max = 10},
+    {.name = "--display-diagonal", .kind = VG_OPT_FLOAT, .dest = &o.diagonal, .metavar = "IN", .help = "panel diagonal, inches (default 24, 16:9)", .min = 1, .max = 1000},
+    {.name = "--display-resolution", .kind = VG_OPT_SIZE, .dest = o.resolution, .metavar = "WxH", .help = "panel pixels (default 1920x1080)"},
+    {.name = "--display-distance", .kind = VG_OPT_FLOAT, .dest = &o.distance, .metavar = "M", .help = "viewing distance, metres (default 0.80)", .min = 0.05, .max = 100},
+    {.name = "--display-ipd", .kind = VG_OPT_FLOAT, .dest = &o.ipd, .metavar = "M", .help = "interocular distance, metres (default 0.065)", .min = 0.01, .max = 0.2},
+};
+
+const vg_cmd vg_cmd_optimize;
+
+static int fail(vg_status st)
+{
+    return vg_status_exit_code(st == VG_OK ? VG_ERR_ARG : st);
+}
+
+static bool parse_frames(const char *text, int *first, int *last)
+{
+    char *end;
+    long a = strtol(text, &end, 10);
+    if (end == text || *end != ':')
+        return false;
+    const char *b_text = end + 1;
+    long b = strtol(b_text, &end, 10);
+    if (end == b_text || *end || a < 0 || b < a || b > 100000000)
+        return false;
+    *first = (int)a;
+    *last = (int)b;
+    return true;
+}
+
+static bool parse_weights(const char *text, mid_weights *w)
+{
+    float v[4];
+    char tail;
+    if (sscanf(text, "%f,%f,%f,%f%c", &v[0], &v[1], &v[2], &v[3], &tail) != 4)
+        return false;
+    for (int i = 0; i < 4; i++)
+        if (!(v[i] >= 0.0f && v[i] < 1e6f))
+            return false;
+    *w = (mid_weights){v[0], v[1], v[2], v[3]};
+    return v[0] > 0.0f; /* the data term keeps the problem well posed */
+}
 
 static int run(int argc, char **argv)
 {
-    (void)argc;
-    (void)argv;
-    vg_error("optimize: not built yet");
-    return 2;
+    memset(&o, 0, sizeof o);
+    o.row = -1;
+    bool help;
+    vg_status st = vg_cli_parse(&vg_cmd_optimize, argc, argv, &help);
+    if (st != VG_OK || help)
+        return help ? 0 : fail(st);
+    if (vg_cli_require(&vg_cmd_optimize, "--g", o.g) != VG_OK ||
+        vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
+        vg_cli_require(&vg_cmd_optimize, "--out", o.out) != VG_OK)
+        return fail(VG_ERR_ARG);
+    disp_offline_desc d = {
+        .g = o.g, .h = o.h, .depth = o.depth, .flow_next = o.flow_next, .flow_prev = o.flow_prev,
+        .saliency = o.saliency, .out_dir = o.out, .keyframe_stride = o.stride, .coarse = o.coarse,
+        .fps = o.fps, .row = o.row, .preset = (disp_operator_preset)o.preset, .target_range = o.range,
+        .solver = o.solver == 1 ? MID_SOLVER_DESCENT : MID_SOLVER_GAUSS_NEWTON,
+        .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
+        .display = {.diagonal_in = o.diagonal, .res_x = o.resolution[0], .res_y = o.resolution[1],
+                    .distance_m = o.distance, .ipd_m = o.ipd},
+        .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
+        .occlusion_tolerance = (float)o.occlusion,
+    };
+    if (!parse_frames(o.frames, &d.first, &d.last)) {
+        vg_error("optimize: --frames '%s' is not A:B with 0 <= A <= B", o.frames);
+        return fail(VG_ERR_ARG);
+    }
+    if (o.h && o.op) {
+        vg_error("optimize: give either --h or --operator, not both");
+        return fail(VG_ERR_ARG);
+    }
+    d.op = o.op ? disp_operator_kind_parse(o.op) : DISP_OPERATOR_LANG;
+    if (o.op && d.op == DISP_OPERATOR_DEFAULT) {
+        vg_error("optimize: --operator '%s' is not one of: none, linear, lang, lang-smoothed", o.op);
+        return fail(VG_ERR_ARG);
+    }
+    if (o.weights && !parse_weights(o.weights, &d.weights)) {
+        vg_error("optimize: --weights '%s' is not four numbers M,S,T,A >= 0 with M > 0", o.weights);
+        return fail(VG_ERR_ARG);
+    }
+    st = disp_offline_run(&d);
+    return st == VG_OK ? 0 : fail(st);
 }
 
 const vg_cmd vg_cmd_optimize = {
     .name = "optimize",
-    .summary = "apply the motion-in-depth optimisation to disparity videos (not built yet)",
-    .usage = "vergence optimize [options]",
+    .summary = "optimise disparity videos for motion in depth (Kellnhofer et al. Sec. 4)",
+    .usage = "vergence optimize --g PATTERN --frames A:B --out DIR [options]",
+    .details = "Reads per-frame PFM vergence g (or dataset pixel disparity with --g-units px),\n"
+               "makes h with an operator (or reads --h), solves the motion-in-depth optimisation\n"
+               "on coarse keyframes and writes the upsampled f for every frame. Patterns take one\n"
+               "%d-style conversion, as in ffmpeg. Missing flow means a static scene; a missing\n"
+               "flow direction is approximated by the other one negated.",
+    .opts = g_opts,
+    .opt_count = (int)(sizeof g_opts / sizeof g_opts[0]),
     .run = run,
 };

@@ -1,0 +1,606 @@
+#include "disp_offline.h"
+
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/io.h"
+#include "core/json.h"
+#include "core/log.h"
+#include "core/parallel.h"
+#include "disp_metrics.h"
+#include "disp_pattern.h"
+#include "disp_upsample.h"
+
+#define PATH_CAP 4096
+
+/* ------------------------------------------------------------------------- */
+/* Run state                                                                 */
+/* ------------------------------------------------------------------------- */
+
+typedef struct seq {
+    const disp_offline_desc *d;
+    disp_pattern pg, ph, pz, pfn, pfp, ps;
+    bool has_h, has_z, has_fn, has_fp, has_s;
+    int w, h, frames, stride, nt;
+    int *key;             /* frame number of each keyframe */
+    double fps, lo, hi, g_min, g_max;
+    stereo_display disp;
+    disp_grid grid;
+    disp_operator *op;
+    vg_pool *pool;
+    float *sal;           /* scratch: saliency of one frame */
+} seq;
+
+static vg_status frame_path(const disp_pattern *p, int t, char *buf)
+{
+    if (disp_pattern_format(p, t, buf, PATH_CAP) != VG_OK) {
+        vg_error("'%s': file name of frame %d is too long", p->text, t);
+        return VG_ERR_ARG;
+    }
+    return VG_OK;
+}
+
+/* Reads one frame of a single- or two-channel sequence and checks its size
+ * against the first g frame: every frame of every input must match. */
+static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, const char *what,
+                            vg_imagef *img)
+{
+    char path[PATH_CAP];
+    vg_status st = frame_path(p, t, path);
+    if (st != VG_OK)
+        return st;
+    st = channels == 2 ? vg_flo_read(path, img) : vg_pfm_read(path, img);
+    if (st != VG_OK)
+        return st;
+    if (img->channels != channels) {
+        vg_error("%s: %s has %d channels, expected %d", path, what, img->channels, channels);
+        vg_imagef_free(img);
+        return VG_ERR_FORMAT;
+    }
+    if (s->w && (img->width != s->w || img->height != s->h)) {
+        vg_error("%s: %s is %dx%d but the sequence is %dx%d (all frames must have the same size)", path,
+                 what, img->width, img->height, s->w, s->h);
+        vg_imagef_free(img);
+        return VG_ERR_FORMAT;
+    }
+    int n = img->width * img->height * channels;
+    for (int i = 0; i < n; i++)
+        if (!isfinite(img->data[i])) {
+            vg_error("%s: %s has a non-finite value at pixel %d", path, what, i / channels);
+            vg_imagef_free(img);
+            return VG_ERR_FORMAT;
+        }
+    return VG_OK;
+}
+
+/* g of a frame as vergence in arcmin (converted from dataset pixels if asked). */
+static vg_status read_g(seq *s, int t, float *out)
+{
+    vg_imagef img;
+    vg_status st = read_frame(s, &s->pg, t, 1, "g", &img);
+    if (st != VG_OK)
+        return st;
+    if (!s->w) {
+        s->w = img.width;
+        s->h = img.height;
+    }
+    int n = s->w * s->h, bad = 0;
+    for (int i = 0; i < n; i++) {
+        double v = img.data[i];
+        if (s->d->g_units == DISP_G_PX)
+            v = stereo_vergence_from_dataset_px(&s->disp, v, s->d->px_zero, s->w);
+        /* Vergence is positive (DESIGN.md); a divergent value is clamped. */
+        if (!(v > 0.5)) {
+            v = 0.5;
+            bad++;
+        }
+        if (out)
+            out[i] = (float)v;
+        s->g_min = fmin(s->g_min, v);
+        s->g_max = fmax(s->g_max, v);
+    }
+    if (bad) {
+        char path[PATH_CAP];
+        frame_path(&s->pg, t, path);
+        vg_warn("%s: %d pixels beyond infinity for this display (vergence <= 0), clamped to 0.5 arcmin", path, bad);
+    }
+    vg_imagef_free(&img);
+    return VG_OK;
+}
+
+static vg_status read_plane(seq *s, const disp_pattern *p, int t, const char *what, float *out)
+{
+    vg_imagef img;
+    vg_status st = read_frame(s, p, t, 1, what, &img);
+    if (st == VG_OK && out)
+        memcpy(out, img.data, (size_t)s->w * s->h * sizeof(float));
+    vg_imagef_free(&img);
+    return st;
+}
+
+static vg_status read_saliency(seq *s, int t, float *out)
+{
+    char path[PATH_CAP];
+    vg_status st = frame_path(&s->ps, t, path);
+    int w, h;
+    uint8_t *px;
+    if (st == VG_OK)
+        st = vg_png_read(path, &w, &h, 1, &px);
+    if (st != VG_OK)
+        return st;
+    if (w != s->w || h != s->h) {
+        vg_error("%s: saliency is %dx%d but the sequence is %dx%d (all frames must have the same size)",
+                 path, w, h, s->w, s->h);
+        free(px);
+        return VG_ERR_FORMAT;
+    }
+    for (int i = 0; out && i < w * h; i++)
+        out[i] = px[i] / 255.0f;
+    free(px);
+    return VG_OK;
+}
+
+/* Flow of frame t to t+1 (next) or t-1 (prev). A missing direction is
+ * approximated by the other one negated at the same pixel (docs/method.md);
+ * no flow at all means a static camera and scene. */
+static vg_status read_flow(seq *s, int t, bool next, float *out)
+{
+    size_t n = (size_t)s->w * s->h * 2;
+    bool have = next ? s->has_fn : s->has_fp, other = next ? s->has_fp : s->has_fn;
+    int tt = have ? t : (next ? t + 1 : t - 1);
+    if (!have && !other) {
+        if (out)
+            memset(out, 0, n * sizeof(float));
+        return VG_OK;
+    }
+    vg_imagef img;
+    vg_status st = read_frame(s, have ? (next ? &s->pfn : &s->pfp) : (next ? &s->pfp : &s->pfn), tt, 2,
+                              "flow", &img);
+    if (st != VG_OK)
+        return st;
+    for (size_t i = 0; out && i < n; i++)
+        out[i] = have ? img.data[i] : -img.data[i];
+    vg_imagef_free(&img);
+    return VG_OK;
+}
+
+/* h of frame t: from --h, or the operator (called in frame order). */
+static vg_status frame_h(seq *s, int t, const float *g, float *h)
+{
+    if (s->has_h)
+        return read_plane(s, &s->ph, t, "h", h);
+    const float *sal = NULL;
+    if (s->has_s) {
+        vg_status st = read_saliency(s, t, s->sal);
+        if (st != VG_OK)
+            return st;
+        sal = s->sal;
+    }
+    disp_operator_apply(s->op, g, sal, s->w * s->h, h, s->pool);
+    return VG_OK;
+}
+
+/* Depth from --depth, else the perceived distance of g (only depth ratios
+ * are used, by the occlusion tests). */
+static vg_status frame_depth(seq *s, int t, const float *g, float *z)
+{
+    if (s->has_z)
+        return read_plane(s, &s->pz, t, "depth", z);
+    for (int i = 0; i < s->w * s->h; i++)
+        z[i] = (float)stereo_distance_from_vergence(&s->disp, g[i]);
+    return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Passes                                                                    */
+/* ------------------------------------------------------------------------- */
+
+/* A: every input read once, so that a bad file fails the run before any output. */
+static vg_status pass_validate(seq *s)
+{
+    const disp_offline_desc *d = s->d;
+    vg_status st = VG_OK;
+    for (int t = d->first; t <= d->last && st == VG_OK; t++) {
+        vg_progress("optimize: checking inputs", t - d->first, s->frames);
+        st = read_g(s, t, NULL);
+        if (st == VG_OK && s->has_h)
+            st = read_plane(s, &s->ph, t, "h", NULL);
+        if (st == VG_OK && s->has_z)
+            st = read_plane(s, &s->pz, t, "depth", NULL);
+        if (st == VG_OK && s->has_fn && t < d->last)
+            st = read_flow(s, t, true, NULL);
+        if (st == VG_OK && s->has_fp && t > d->first)
+            st = read_flow(s, t, false, NULL);
+        if (st == VG_OK && s->has_s)
+            st = read_saliency(s, t, NULL);
+    }
+    if (st == VG_OK)
+        vg_progress("optimize: checking inputs", s->frames, s->frames);
+    return st;
+}
+
+/* Keyframe positions tracked through the per-frame flows from frame a to b
+ * (forward when b > a), as coarse-pixel flows of the window. */
+static vg_status keyframe_flow(seq *s, int a, int b, float *flow_c, float *scratch, float *pos)
+{
+    int nc = s->grid.nx * s->grid.ny;
+    disp_grid_positions(&s->grid, pos);
+    for (int t = a; t != b; t += b > a ? 1 : -1) {
+        vg_status st = read_flow(s, t, b > a, scratch);
+        if (st != VG_OK)
+            return st;
+        disp_flow_advect(scratch, s->w, s->h, pos, nc);
+    }
+    float half = (float)(s->grid.stride / 2), inv = 1.0f / (float)s->grid.stride;
+    for (int q = 0; q < nc; q++) {
+        /* Coarse coordinates of the uniform grid; lost points leave the frame. */
+        bool lost = isnan(pos[2 * q]);
+        flow_c[2 * q] = lost ? 1e6f : (pos[2 * q] - half) * inv - (float)(q % s->grid.nx);
+        flow_c[2 * q + 1] = lost ? 1e6f : (pos[2 * q + 1] - half) * inv - (float)(q / s->grid.nx);
+    }
+    return VG_OK;
+}
+
+/* B: h per frame, keyframe samples and keyframe flows into the window. */
+static vg_status pass_keyframes(seq *s, mid_window *w, float *g, float *h, float *z, float *scratch, float *pos)
+{
+    /* Only lang-smoothed has state that needs the frames between keyframes. */
+    bool every_frame = !s->has_h && s->d->op == DISP_OPERATOR_LANG_SMOOTHED;
+    disp_operator_reset(s->op);
+    for (int k = 0; k < s->nt; k++) {
+        vg_progress("optimize: keyframes", k, s->nt);
+        int t0 = s->key[k], t_end = k + 1 < s->nt ? s->key[k + 1] : t0 + 1;
+        for (int t = t0; t < t_end; t++) {
+            if (t != t0 && !every_frame)
+                continue;
+            vg_status st = read_g(s, t, g);
+            if (st == VG_OK)
+                st = frame_h(s, t, g, h);
+            if (st == VG_OK && t == t0)
+                st = frame_depth(s, t, g, z);
+            if (st != VG_OK)
+                return st;
+            if (t == t0) {
+                size_t o = (size_t)k * w->ns;
+                disp_grid_sample(&s->grid, g, 1, w->g + o);
+                disp_grid_sample(&s->grid, h, 1, w->h + o);
+                disp_grid_sample(&s->grid, z, 1, w->depth + o);
+            }
+        }
+        if (k + 1 < s->nt) {
+            w->dt[k] = (float)((s->key[k + 1] - t0) / s->fps);
+            vg_status st = keyframe_flow(s, t0, s->key[k + 1], w->flow_fwd + (size_t)2 * k * w->ns, scratch, pos);
+            if (st == VG_OK)
+                st = keyframe_flow(s, s->key[k + 1], t0, w->flow_bwd + (size_t)2 * (k + 1) * w->ns, scratch, pos);
+            if (st != VG_OK)
+                return st;
+        }
+    }
+    vg_progress("optimize: keyframes", s->nt, s->nt);
+    return VG_OK;
+}
+
+/* Output buffers of pass C. */
+typedef struct outputs {
+    float *slice_g, *slice_h, *slice_f; /* frames x width */
+    float *f_key;                       /* coarse samples of the written f at keyframes (n) */
+    long h_out, f_out;                  /* full-resolution samples outside the range */
+} outputs;
+
+/* C: upsample the keyframe correction to every frame and write f. */
+static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, outputs *o)
+{
+    const disp_offline_desc *d = s->d;
+    size_t np = (size_t)s->w * s->h, nf2 = 2 * np;
+    int nc = w->ns, row = d->row >= 0 && d->row < s->h ? d->row : s->h / 2;
+    float *g = malloc(np * sizeof(float)), *h = malloc(np * sizeof(float)), *z = malloc(np * sizeof(float));
+    float *f = malloc(np * sizeof(float)), *ratio = malloc((size_t)w->n * sizeof(float));
+    float *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
+    float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
+    float *prev = malloc((size_t)s->stride * nf2 * sizeof(float)), *next = malloc((size_t)s->stride * nf2 * sizeof(float));
+    vg_status st = VG_OK;
+    if (!g || !h || !z || !f || !ratio || !zc || !rt || !pos0 || !pos1 || !prev || !next) {
+        st = VG_ERR_NOMEM;
+        goto done;
+    }
+    /* Fig. 4: the correction is the ratio f / h (vergence is never 0). */
+    for (int i = 0; i < w->n; i++)
+        ratio[i] = f_sol[i] / w->h[i];
+    disp_upsample_desc ud = {.grid = s->grid, .occlusion_tolerance = d->occlusion_tolerance,
+                             .range_lo = (float)s->lo, .range_hi = (float)s->hi};
+    disp_operator_reset(s->op);
+    for (int k = 0; k < s->nt && st == VG_OK; k++) {
+        int t0 = s->key[k], t1 = k + 1 < s->nt ? s->key[k + 1] : t0;
+        int t_end = k + 1 < s->nt ? t1 : t0 + 1;
+        /* The segment's per-frame flows, held for the tracking of each frame. */
+        for (int t = t0 + 1; t < t1 && st == VG_OK; t++) {
+            st = read_flow(s, t, false, prev + (size_t)(t - t0) * nf2);
+            if (st == VG_OK)
+                st = read_flow(s, t, true, next + (size_t)(t - t0) * nf2);
+        }
+        const float *r0 = ratio + (size_t)k * nc, *z0 = w->depth + (size_t)k * nc;
+        const float *r1 = k + 1 < s->nt ? r0 + nc : NULL, *z1 = k + 1 < s->nt ? z0 + nc : NULL;
+        for (int t = t0; t < t_end && st == VG_OK; t++) {
+            vg_progress("optimize: writing", t - d->first, s->frames);
+            st = read_g(s, t, g);
+            if (st == VG_OK)
+                st = frame_h(s, t, g, h);
+            if (st == VG_OK)
+                st = frame_depth(s, t, g, z);
+            if (st != VG_OK)
+                break;
+            disp_grid_sample(&s->grid, z, 1, zc);
+            /* Where frame t's coarse samples are in the two keyframes. */
+            disp_grid_positions(&s->grid, pos0);
+            for (int m = t; m > t0; m--)
+                disp_flow_advect(prev + (size_t)(m - t0) * nf2, s->w, s->h, pos0, nc);
+            disp_grid_positions(&s->grid, pos1);
+            for (int m = t; m < t1 && t > t0; m++) /* at a keyframe only k0 counts */
+                disp_flow_advect(next + (size_t)(m - t0) * nf2, s->w, s->h, pos1, nc);
+            float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
+            disp_upsample_temporal(&ud, tau, zc, pos0, r0, z0, r1 ? pos1 : NULL, r1, z1, rt, s->pool);
+            disp_upsample_spatial(&ud, h, rt, f, s->pool);
+            char path[PATH_CAP], name[64];
+            snprintf(name, sizeof name, "f_%04d.pfm", t);
+            st = vg_path_join(path, sizeof path, d->out_dir, name);
+            vg_imagef img = {.width = s->w, .height = s->h, .channels = 1, .data = f};
+            if (st == VG_OK)
+                st = vg_pfm_write(path, &img);
+            size_t r = (size_t)(t - d->first) * s->w, src = (size_t)row * s->w;
+            memcpy(o->slice_g + r, g + src, s->w * sizeof(float));
+            memcpy(o->slice_h + r, h + src, s->w * sizeof(float));
+            memcpy(o->slice_f + r, f + src, s->w * sizeof(float));
+            o->h_out += lround(disp_metrics_range_violation(h, (int)np, (float)s->lo, (float)s->hi) * (double)np);
+            o->f_out += lround(disp_metrics_range_violation(f, (int)np, (float)s->lo, (float)s->hi) * (double)np);
+            if (t == t0)
+                disp_grid_sample(&s->grid, f, 1, o->f_key + (size_t)k * nc);
+        }
+    }
+    if (st == VG_OK)
+        vg_progress("optimize: writing", s->frames, s->frames);
+done:
+    free(g); free(h); free(z); free(f); free(ratio); free(zc); free(rt);
+    free(pos0); free(pos1); free(prev); free(next);
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Results                                                                   */
+/* ------------------------------------------------------------------------- */
+
+/* An x-t slice as a grey PNG (time runs down), on a scale shared by g, h, f. */
+static vg_status write_slice(const seq *s, const char *name, const float *v, double lo, double hi)
+{
+    size_t n = (size_t)s->w * s->frames;
+    uint8_t *px = malloc(n);
+    if (!px)
+        return VG_ERR_NOMEM;
+    for (size_t i = 0; i < n; i++) {
+        double u = hi > lo ? (v[i] - lo) / (hi - lo) : 0.5;
+        px[i] = (uint8_t)lround(255.0 * fmin(fmax(u, 0.0), 1.0));
+    }
+    char path[PATH_CAP];
+    vg_status st = vg_path_join(path, sizeof path, s->d->out_dir, name);
+    if (st == VG_OK)
+        st = vg_png_write(path, s->w, s->frames, 1, px);
+    free(px);
+    return st;
+}
+
+static void json_metrics(vg_json *j, const char *key, const disp_metrics *m, double range_violation)
+{
+    vg_json_object_begin(j, key);
+    vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
+    vg_json_num(j, "range_violation", range_violation);
+    vg_json_num(j, "static_rms", m->static_rms);
+    vg_json_num(j, "static_grad_rms", m->static_grad_rms);
+    vg_json_int(j, "moving_samples", m->moving_measured);
+    vg_json_object_end(j);
+}
+
+static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, const outputs *o,
+                               const mid_solve_stats *ss)
+{
+    disp_metrics mh, mf, ms;
+    disp_metrics_window(w, w->h, NULL, &mh);
+    disp_metrics_window(w, o->f_key, NULL, &mf);
+    disp_metrics_window(w, f_sol, NULL, &ms);
+    double np = (double)s->w * s->h * s->frames;
+    double lo = DBL_MAX, hi = -DBL_MAX;
+    size_t n = (size_t)s->w * s->frames;
+    for (size_t i = 0; i < n; i++) {
+        lo = fmin(lo, fmin(o->slice_g[i], fmin(o->slice_h[i], o->slice_f[i])));
+        hi = fmax(hi, fmax(o->slice_g[i], fmax(o->slice_h[i], o->slice_f[i])));
+    }
+    vg_status st = write_slice(s, "xt_g.png", o->slice_g, lo, hi);
+    if (st == VG_OK)
+        st = write_slice(s, "xt_h.png", o->slice_h, lo, hi);
+    if (st == VG_OK)
+        st = write_slice(s, "xt_f.png", o->slice_f, lo, hi);
+    if (st != VG_OK)
+        return st;
+    vg_json j = {0};
+    vg_json_object_begin(&j, NULL);
+    json_metrics(&j, "h", &mh, o->h_out / np);
+    json_metrics(&j, "f", &mf, o->f_out / np);
+    json_metrics(&j, "f_solver", &ms, ms.range_violation);
+    vg_json_num(&j, "mid_reduction", mh.mid_distortion_jnd > 0 ? 1.0 - mf.mid_distortion_jnd / mh.mid_distortion_jnd : 0.0);
+    vg_json_object_begin(&j, "solve");
+    vg_json_str(&j, "solver", s->d->solver == MID_SOLVER_DESCENT ? "descent" : "gauss-newton");
+    vg_json_int(&j, "iterations", ss->iterations);
+    vg_json_int(&j, "cg_steps", ss->cg_steps);
+    vg_json_num(&j, "cost_h", ss->cost_initial);
+    vg_json_num(&j, "cost_f", ss->cost_final);
+    vg_json_num(&j, "ms", ss->ms);
+    vg_json_object_end(&j);
+    vg_json_object_begin(&j, "input");
+    vg_json_int(&j, "first", s->d->first);
+    vg_json_int(&j, "last", s->d->last);
+    vg_json_int(&j, "width", s->w);
+    vg_json_int(&j, "height", s->h);
+    vg_json_int(&j, "keyframes", s->nt);
+    vg_json_int(&j, "coarse_width", s->grid.nx);
+    vg_json_int(&j, "coarse_height", s->grid.ny);
+    vg_json_str(&j, "operator", s->has_h ? "given" : disp_operator_kind_name(s->d->op));
+    vg_json_num(&j, "g_min", s->g_min);
+    vg_json_num(&j, "g_max", s->g_max);
+    vg_json_num(&j, "range_lo", s->lo);
+    vg_json_num(&j, "range_hi", s->hi);
+    vg_json_object_end(&j);
+    vg_json_object_end(&j);
+    char path[PATH_CAP];
+    st = vg_path_join(path, sizeof path, s->d->out_dir, "metrics.json");
+    if (st == VG_OK)
+        st = vg_json_write_file(&j, path);
+    vg_json_free(&j);
+    if (st == VG_OK)
+        vg_info("optimize: MID distortion %.3f -> %.3f JND (%.1f %% less), f range violation %.4f, static RMS %.3f arcmin",
+                mh.mid_distortion_jnd, mf.mid_distortion_jnd,
+                mh.mid_distortion_jnd > 0 ? 100.0 * (1.0 - mf.mid_distortion_jnd / mh.mid_distortion_jnd) : 0.0,
+                o->f_out / np, mf.static_rms);
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Run                                                                       */
+/* ------------------------------------------------------------------------- */
+
+static vg_status parse_patterns(seq *s)
+{
+    const disp_offline_desc *d = s->d;
+    struct { const char *text, *opt; disp_pattern *p; bool *has; } list[] = {
+        {d->g, "--g", &s->pg, NULL},          {d->h, "--h", &s->ph, &s->has_h},
+        {d->depth, "--depth", &s->pz, &s->has_z}, {d->flow_next, "--flow-next", &s->pfn, &s->has_fn},
+        {d->flow_prev, "--flow-prev", &s->pfp, &s->has_fp}, {d->saliency, "--saliency", &s->ps, &s->has_s},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        if (!list[i].text)
+            continue;
+        vg_status st = disp_pattern_parse(list[i].text, list[i].opt, list[i].p);
+        if (st != VG_OK)
+            return st;
+        if (list[i].has)
+            *list[i].has = true;
+    }
+    return VG_OK;
+}
+
+/* Keyframes every stride frames from the first; the last frame is always one
+ * (its interval may be shorter: dt is per interval). */
+static vg_status place_keyframes(seq *s)
+{
+    int count = (s->frames - 1) / s->stride + 1;
+    bool extra = (s->frames - 1) % s->stride != 0;
+    s->nt = count + extra;
+    s->key = malloc((size_t)s->nt * sizeof(int));
+    if (!s->key)
+        return VG_ERR_NOMEM;
+    for (int k = 0; k < count; k++)
+        s->key[k] = s->d->first + k * s->stride;
+    if (extra)
+        s->key[s->nt - 1] = s->d->last;
+    return VG_OK;
+}
+
+vg_status disp_offline_run(const disp_offline_desc *d)
+{
+    seq s = {.d = d, .g_min = DBL_MAX, .g_max = -DBL_MAX};
+    mid_window *w = NULL;
+    float *g = NULL, *h = NULL, *z = NULL, *scratch = NULL, *pos = NULL, *f_sol = NULL;
+    outputs o = {0};
+    mid_solve_stats ss = {0};
+    if (!d->g || !d->out_dir) {
+        vg_error("optimize: --g and --out are required");
+        return VG_ERR_ARG;
+    }
+    if (d->first < 0 || d->last < d->first) {
+        vg_error("optimize: --frames %d:%d is not a range of frame numbers >= 0", d->first, d->last);
+        return VG_ERR_ARG;
+    }
+    vg_status st = parse_patterns(&s);
+    if (st != VG_OK)
+        return st;
+    /* A previous run's metrics.json would make a failed run look complete. */
+    char path[PATH_CAP];
+    if ((st = vg_dir_prepare(d->out_dir)) != VG_OK || (st = vg_path_join(path, sizeof path, d->out_dir, "metrics.json")) != VG_OK)
+        return st;
+    if (unlink(path) != 0 && errno != ENOENT) {
+        vg_error("%s: cannot remove the previous metrics: %s", path, strerror(errno));
+        return VG_ERR_IO;
+    }
+    s.frames = d->last - d->first + 1;
+    s.stride = d->keyframe_stride > 0 ? d->keyframe_stride : 10;
+    s.fps = d->fps > 0 ? d->fps : 60.0;
+    stereo_display_init(&s.disp, &d->display);
+    if ((st = vg_pool_create(&(vg_pool_desc){.threads = d->threads}, &s.pool)) != VG_OK ||
+        (st = place_keyframes(&s)) != VG_OK ||
+        (st = pass_validate(&s)) != VG_OK)
+        goto done;
+    disp_grid_init(&s.grid, s.w, s.h, d->coarse > 0 ? d->coarse : 5);
+    if (s.grid.nx < 2 || s.grid.ny < 2) {
+        vg_error("optimize: %dx%d frames give a %dx%d coarse grid; use a smaller --coarse", s.w, s.h, s.grid.nx, s.grid.ny);
+        st = VG_ERR_ARG;
+        goto done;
+    }
+    /* The operator's domain is the range of g over the whole sequence. */
+    if ((st = disp_operator_create(&(disp_operator_desc){.kind = d->op, .preset = d->preset,
+                                                         .screen_vergence = s.disp.screen_vergence,
+                                                         .range = d->target_range, .in_min = s.g_min,
+                                                         .in_max = s.g_max > s.g_min ? s.g_max : s.g_min + 1e-3,
+                                                         .frame_seconds = 1.0 / s.fps},
+                                    &s.op)) != VG_OK)
+        goto done;
+    disp_operator_range(s.op, &s.lo, &s.hi);
+    size_t np = (size_t)s.w * s.h;
+    g = malloc(np * sizeof(float));
+    h = malloc(np * sizeof(float));
+    z = malloc(np * sizeof(float));
+    s.sal = malloc(np * sizeof(float));
+    scratch = malloc(2 * np * sizeof(float));
+    pos = malloc(2 * (size_t)s.grid.nx * s.grid.ny * sizeof(float));
+    if (!g || !h || !z || !s.sal || !scratch || !pos) {
+        st = VG_ERR_NOMEM;
+        goto done;
+    }
+    if ((st = mid_window_create(&(mid_window_desc){.width = s.grid.nx, .height = s.grid.ny, .keyframes = s.nt,
+                                                   .range_lo = (float)s.lo, .range_hi = (float)s.hi,
+                                                   .occlusion_tolerance = d->occlusion_tolerance},
+                                &w)) != VG_OK ||
+        (st = pass_keyframes(&s, w, g, h, z, scratch, pos)) != VG_OK ||
+        (st = mid_window_build(w, s.pool)) != VG_OK)
+        goto done;
+    f_sol = malloc((size_t)w->n * sizeof(float));
+    o.f_key = malloc((size_t)w->n * sizeof(float));
+    o.slice_g = malloc((size_t)s.w * s.frames * sizeof(float));
+    o.slice_h = malloc((size_t)s.w * s.frames * sizeof(float));
+    o.slice_f = malloc((size_t)s.w * s.frames * sizeof(float));
+    if (!f_sol || !o.f_key || !o.slice_g || !o.slice_h || !o.slice_f) {
+        st = VG_ERR_NOMEM;
+        goto done;
+    }
+    vg_info("optimize: %d frames of %dx%d, %d keyframes of %dx%d, target range [%.2f, %.2f] arcmin, %d threads",
+            s.frames, s.w, s.h, s.nt, s.grid.nx, s.grid.ny, s.lo, s.hi, vg_pool_threads(s.pool));
+    if ((st = mid_solve(w, &(mid_solve_desc){.solver = d->solver, .iterations = d->iterations,
+                                             .cg_iterations = d->cg_iterations, .weights = d->weights,
+                                             .pool = s.pool},
+                        f_sol, &ss)) != VG_OK)
+        goto done;
+    vg_info("optimize: solved in %.1f ms: cost %.5g -> %.5g (%d iterations, %d CG steps)", ss.ms,
+            ss.cost_initial, ss.cost_final, ss.iterations, ss.cg_steps);
+    if ((st = pass_output(&s, w, f_sol, &o)) == VG_OK)
+        st = write_results(&s, w, f_sol, &o, &ss);
+done:
+    free(g); free(h); free(z); free(scratch); free(pos); free(f_sol);
+    free(o.f_key); free(o.slice_g); free(o.slice_h); free(o.slice_f);
+    free(s.sal);
+    free(s.key);
+    mid_window_destroy(w);
+    disp_operator_destroy(s.op);
+    vg_pool_destroy(s.pool);
+    return st;
+}

@@ -1,0 +1,46 @@
+/* vergence — the offline MID pipeline behind `vergence optimize`: disparity
+ * videos from files, including ones that did not come from this engine.
+ *
+ * Three passes over the frames (docs/method.md "Offline pipeline"):
+ *   A. read every input once: sizes, channels, values (one clear error naming
+ *      the file); the range of g for the operator's domain;
+ *   B. h per frame (the operator, or --h files); coarse keyframe samples of
+ *      g, h, depth; keyframe flows composed from the per-frame flows by
+ *      tracking the coarse samples through them; then the window solve;
+ *   C. per frame: temporal and spatial upsampling of f/h, f written as PFM;
+ *      x-t slices of g, h and f at one row; metrics.json written last.
+ * A stale metrics.json is removed first, so a failed run never looks complete. */
+#pragma once
+#include "core/status.h"
+#include "disp_operator.h"
+#include "mid_solver.h"
+#include "stereo/stereo_display.h"
+
+typedef enum disp_g_units {
+    DISP_G_ARCMIN = 0, /* vergence, arcmin (this engine's convention) */
+    DISP_G_PX,         /* stereo-dataset pixel disparity x_left - x_right, larger = nearer */
+} disp_g_units;
+
+typedef struct disp_offline_desc {
+    /* printf-style patterns (disp_pattern.h); all but g and out optional */
+    const char *g, *h, *depth, *flow_next, *flow_prev, *saliency;
+    const char *out_dir;
+    int first, last;          /* inclusive frame numbers */
+    int keyframe_stride;      /* frames between keyframes, 0 = 10 (paper 4.4) */
+    int coarse;               /* spatial stride of the solver grid, 0 = 5 (paper 4.4) */
+    double fps;               /* 0 = 60 */
+    int row;                  /* full-resolution row of the x-t slices, < 0 = the middle */
+    disp_operator_kind op;    /* ignored when h is given */
+    disp_operator_preset preset;
+    double target_range;      /* half-width, arcmin, 0 = preset */
+    mid_weights weights;      /* all zero = the paper's */
+    mid_solver_kind solver;
+    int iterations, cg_iterations;
+    int threads;              /* 0 = all cores */
+    stereo_display_desc display;
+    disp_g_units g_units;
+    double px_zero;           /* pixel disparity shown on the screen plane (px units) */
+    float occlusion_tolerance; /* 0 = MID_OCCLUSION_TOLERANCE */
+} disp_offline_desc;
+
+vg_status disp_offline_run(const disp_offline_desc *desc);

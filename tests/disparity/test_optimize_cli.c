@@ -1,0 +1,337 @@
+/* `vergence optimize` end to end: a synthetic sequence written here, the
+ * third-party files, and bad inputs. Run one case:
+ *   test_optimize_cli NAME VERGENCE_EXECUTABLE WORKDIR */
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "../test.h"
+#include "core/io.h"
+#include "stereo/stereo_display.h"
+
+#define W 160
+#define H 90
+#define LAST 60
+#define STEREO "../shared/assets/stereo/"
+
+static const char *g_exe = "build/game/vergence";
+static char g_work[512] = "build/test-optimize";
+static char g_stderr[65536];
+
+/* ------------------------------------------------------------------------- */
+/* Helpers                                                                   */
+/* ------------------------------------------------------------------------- */
+
+/* Runs vergence with the arguments; returns its exit code, stderr in g_stderr. */
+static int run_vergence(const char *args)
+{
+    char cmd[20000], err[1200];
+    snprintf(err, sizeof err, "%s/stderr.txt", g_work);
+    snprintf(cmd, sizeof cmd, "'%s' optimize %s 2> '%s'", g_exe, args, err);
+    int rc = system(cmd);
+    FILE *f = fopen(err, "rb");
+    size_t n = f ? fread(g_stderr, 1, sizeof g_stderr - 1, f) : 0;
+    g_stderr[n] = 0;
+    if (f)
+        fclose(f);
+    int code = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
+    printf("$ vergence optimize %s\n  -> exit %d\n", args, code);
+    return code;
+}
+
+static int count_errors(const char *text)
+{
+    int n = 0;
+    for (const char *p = text; (p = strstr(p, "error:")); p++)
+        n++;
+    return n;
+}
+
+/* The number after "key": inside the object "section" of a JSON text. */
+static double json_number(const char *json, const char *section, const char *key)
+{
+    char pat[128];
+    snprintf(pat, sizeof pat, "\"%s\": {", section);
+    const char *s = strstr(json, pat);
+    if (!s)
+        return NAN;
+    const char *end = strchr(s, '}');
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *k = strstr(s, pat);
+    return k && k < end ? strtod(k + strlen(pat), NULL) : NAN;
+}
+
+static bool exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static void path_in(char *out, size_t cap, const char *name)
+{
+    snprintf(out, cap, "%s/%s", g_work, name);
+}
+
+/* ------------------------------------------------------------------------- */
+/* The synthetic sequence                                                    */
+/* ------------------------------------------------------------------------- */
+
+/* Static layers at 10 m, 3 m, 1.5 m and 0.9 m; a ball of radius 20 px moves
+ * sideways and in depth at constant vergence speed from 35 to 230 arcmin,
+ * crossing the layers' depths (the operator compresses the gaps). */
+static double ball_x(int t)
+{
+    return 40.0 + 80.0 * t / LAST;
+}
+
+static bool on_ball(int t, int x, int y)
+{
+    double dx = x - ball_x(t), dy = y - 0.5 * (H - 1);
+    return dx * dx + dy * dy <= 20.0 * 20.0;
+}
+
+static vg_status write_sequence(const char *dir)
+{
+    stereo_display d;
+    stereo_display_init(&d, &(stereo_display_desc){0});
+    vg_imagef g, z, fn, fp;
+    if (vg_imagef_alloc(&g, W, H, 1) || vg_imagef_alloc(&z, W, H, 1) || vg_imagef_alloc(&fn, W, H, 2) ||
+        vg_imagef_alloc(&fp, W, H, 2))
+        return VG_ERR_NOMEM;
+    vg_status st = VG_OK;
+    for (int t = 0; t <= LAST && st == VG_OK; t++) {
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                int i = y * W + x;
+                bool ball = on_ball(t, x, y);
+                double zm = y < H / 4 ? 3.0 : (y >= H - H / 4 ? 1.5 : (x >= W - 30 ? 0.9 : 10.0));
+                double a = ball ? 35.0 + 195.0 * t / LAST : stereo_vergence_from_distance(&d, zm);
+                g.data[i] = (float)a;
+                z.data[i] = (float)stereo_distance_from_vergence(&d, a);
+                fn.data[2 * i] = ball && t < LAST ? (float)(ball_x(t + 1) - ball_x(t)) : 0.0f;
+                fp.data[2 * i] = ball && t > 0 ? (float)(ball_x(t - 1) - ball_x(t)) : 0.0f;
+                fn.data[2 * i + 1] = fp.data[2 * i + 1] = 0.0f;
+            }
+        char p[1200];
+        snprintf(p, sizeof p, "%s/g_%04d.pfm", dir, t);
+        st = vg_pfm_write(p, &g);
+        snprintf(p, sizeof p, "%s/z_%04d.pfm", dir, t);
+        if (st == VG_OK)
+            st = vg_pfm_write(p, &z);
+        snprintf(p, sizeof p, "%s/fn_%04d.flo", dir, t);
+        if (st == VG_OK)
+            st = vg_flo_write(p, &fn);
+        snprintf(p, sizeof p, "%s/fp_%04d.flo", dir, t);
+        if (st == VG_OK)
+            st = vg_flo_write(p, &fp);
+    }
+    vg_imagef_free(&g);
+    vg_imagef_free(&z);
+    vg_imagef_free(&fn);
+    vg_imagef_free(&fp);
+    return st;
+}
+
+static int prepare(void)
+{
+    CHECK(vg_dir_prepare(g_work) == VG_OK, "work folder %s", g_work);
+    char first[1200];
+    path_in(first, sizeof first, "g_0060.pfm");
+    if (!exists(first))
+        CHECK(write_sequence(g_work) == VG_OK, "writing the synthetic sequence");
+    return 0;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Cases                                                                     */
+/* ------------------------------------------------------------------------- */
+
+static int synthetic_sequence(void)
+{
+    CHECK(prepare() == 0, "prepare");
+    char args[16384], out[1200];
+    path_in(out, sizeof out, "out");
+    snprintf(args, sizeof args,
+             "--g '%s/g_%%04d.pfm' --depth '%s/z_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' "
+             "--flow-prev '%s/fp_%%04d.flo' --frames 0:%d --out '%s' --threads 2",
+             g_work, g_work, g_work, g_work, LAST, out);
+    CHECK(run_vergence(args) == 0, "optimize failed:\n%s", g_stderr);
+    char path[1400];
+    snprintf(path, sizeof path, "%s/metrics.json", out);
+    uint8_t *json;
+    size_t size;
+    CHECK(vg_file_read(path, &json, &size) == VG_OK, "metrics.json");
+    double mh = json_number((char *)json, "h", "mid_distortion_jnd");
+    double mf = json_number((char *)json, "f", "mid_distortion_jnd");
+    double rv = json_number((char *)json, "f", "range_violation");
+    double srms = json_number((char *)json, "f", "static_rms");
+    double lo = json_number((char *)json, "input", "range_lo"), hi = json_number((char *)json, "input", "range_hi");
+    printf("metrics.json: MID distortion h %.3f -> f %.3f JND (%.1f %% less); f range violation %.4g; static RMS %.3f arcmin of %.0f\n",
+           mh, mf, 100 * (1 - mf / mh), rv, srms, hi - lo);
+    CHECK(mh > 1.0, "h must distort motion in depth (%.3f JND)", mh);
+    CHECK(mf <= 0.5 * mh, "f must halve the MID distortion: %.3f -> %.3f", mh, mf);
+    CHECK(rv == 0.0, "f leaves the target range: %.4g", rv);
+    CHECK(srms < 0.05 * (hi - lo), "static RMS %.3f", srms);
+    free(json);
+    /* Every frame written, full size, inside the range. */
+    for (int t = 0; t <= LAST; t++) {
+        vg_imagef f;
+        snprintf(path, sizeof path, "%s/f_%04d.pfm", out, t);
+        CHECK(vg_pfm_read(path, &f) == VG_OK && f.width == W && f.height == H, "%s", path);
+        for (int i = 0; i < W * H; i++)
+            CHECK(f.data[i] >= lo - 1e-3 && f.data[i] <= hi + 1e-3, "%s: %.4f outside the range", path, f.data[i]);
+        vg_imagef_free(&f);
+    }
+    const char *slices[] = {"xt_g.png", "xt_h.png", "xt_f.png"};
+    for (int i = 0; i < 3; i++) {
+        int w, h;
+        uint8_t *px;
+        snprintf(path, sizeof path, "%s/%s", out, slices[i]);
+        CHECK(vg_png_read(path, &w, &h, 1, &px) == VG_OK && w == W && h == LAST + 1, "%s is %dx%d", path, w, h);
+        free(px);
+    }
+    return 0;
+}
+
+/* A missing frame, a truncated one, one of another size: one clear error
+ * naming the file, and no metrics.json (a stale one is removed). */
+static int check_failure(const char *args, const char *out, const char *file, const char *words)
+{
+    char stale[1400];
+    snprintf(stale, sizeof stale, "%s/metrics.json", out);
+    vg_dir_prepare(out);
+    vg_file_write_atomic(stale, "{}", 2);
+    int code = run_vergence(args);
+    printf("  stderr: %s", g_stderr);
+    CHECK(code != 0, "must fail");
+    CHECK(strstr(g_stderr, file) && strstr(g_stderr, words), "the error must name %s and say '%s'", file, words);
+    CHECK(count_errors(g_stderr) == 1, "exactly one error line, got %d", count_errors(g_stderr));
+    CHECK(!exists(stale), "metrics.json must not exist after a failure");
+    return 0;
+}
+
+static int bad_inputs(void)
+{
+    CHECK(prepare() == 0, "prepare");
+    char args[16384], out[1200], p[1200];
+    path_in(out, sizeof out, "out_bad");
+    /* Missing: frame 61 does not exist. */
+    snprintf(args, sizeof args, "--g '%s/g_%%04d.pfm' --frames 0:61 --out '%s'", g_work, out);
+    if (check_failure(args, out, "g_0061.pfm", "cannot open"))
+        return 1;
+    /* Truncated: a copy of the sequence's g with frame 5 cut short. */
+    for (int t = 0; t <= 10; t++) {
+        char src[1200];
+        uint8_t *data;
+        size_t size;
+        snprintf(src, sizeof src, "%s/g_%04d.pfm", g_work, t);
+        snprintf(p, sizeof p, "%s/trunc_%04d.pfm", g_work, t);
+        CHECK(vg_file_read(src, &data, &size) == VG_OK, "%s", src);
+        CHECK(vg_file_write_atomic(p, data, t == 5 ? size / 2 : size) == VG_OK, "%s", p);
+        free(data);
+    }
+    snprintf(args, sizeof args, "--g '%s/trunc_%%04d.pfm' --frames 0:10 --out '%s'", g_work, out);
+    if (check_failure(args, out, "trunc_0005.pfm", "truncated"))
+        return 1;
+    /* Mismatched size: depth frame 3 is half size. */
+    vg_imagef z;
+    for (int t = 0; t <= 10; t++) {
+        int w = t == 3 ? W / 2 : W, h = t == 3 ? H / 2 : H;
+        CHECK(vg_imagef_alloc(&z, w, h, 1) == VG_OK, "alloc");
+        for (int i = 0; i < w * h; i++)
+            z.data[i] = 2.0f;
+        snprintf(p, sizeof p, "%s/zs_%04d.pfm", g_work, t);
+        CHECK(vg_pfm_write(p, &z) == VG_OK, "%s", p);
+        vg_imagef_free(&z);
+    }
+    snprintf(args, sizeof args, "--g '%s/g_%%04d.pfm' --depth '%s/zs_%%04d.pfm' --frames 0:10 --out '%s'",
+             g_work, g_work, out);
+    return check_failure(args, out, "zs_0003.pfm", "same size");
+}
+
+static int bad_patterns(void)
+{
+    const char *patterns[] = {"in/g.pfm", "in/g_%d_%d.pfm", "in/g_%s.pfm", "in/g_%04x.pfm"};
+    CHECK(vg_dir_prepare(g_work) == VG_OK, "work folder");
+    for (int i = 0; i < 4; i++) {
+        char args[4096];
+        snprintf(args, sizeof args, "--g '%s' --frames 0:3 --out '%s/out_pattern'", patterns[i], g_work);
+        int code = run_vergence(args);
+        printf("  stderr: %s", g_stderr);
+        CHECK(code == 2, "bad pattern '%s' must be an argument error (exit 2), got %d", patterns[i], code);
+        CHECK(count_errors(g_stderr) == 1 && strstr(g_stderr, "--g"), "one error naming --g");
+    }
+    return 0;
+}
+
+/* (b) Files that did not come from this engine: the FlyingThings3D pair
+ * (pixel disparity) and the Sintel flow (with a g of its size). */
+static int third_party(void)
+{
+    CHECK(vg_dir_prepare(g_work) == VG_OK, "work folder");
+    char args[16384], out[1200], path[1400];
+    path_in(out, sizeof out, "out_ft3d");
+    snprintf(args, sizeof args, "--g '" STEREO "flyingthings3d_pair_from_RAFT-3D/disp%%d.pfm' --frames 1:2 "
+             "--g-units px --operator linear --out '%s'", out);
+    CHECK(run_vergence(args) == 0, "FlyingThings3D pair:\n%s", g_stderr);
+    snprintf(path, sizeof path, "%s/metrics.json", out);
+    uint8_t *json;
+    size_t size;
+    CHECK(vg_file_read(path, &json, &size) == VG_OK, "metrics.json");
+    double gmin = json_number((char *)json, "input", "g_min"), gmax = json_number((char *)json, "input", "g_max");
+    double rv = json_number((char *)json, "f", "range_violation");
+    stereo_display d;
+    stereo_display_init(&d, &(stereo_display_desc){0});
+    double want_lo = stereo_vergence_from_dataset_px(&d, 1.133, 0, 960), want_hi = stereo_vergence_from_dataset_px(&d, 108.917, 0, 960);
+    printf("FlyingThings3D: g %.3f .. %.3f arcmin (expected about %.3f .. %.3f), f range violation %g\n", gmin,
+           gmax, want_lo, want_hi, rv);
+    CHECK(fabs(gmin - want_lo) < 0.5 && fabs(gmax - want_hi) < 0.5, "pixel disparity -> vergence");
+    CHECK(rv == 0.0, "f outside the range");
+    free(json);
+    vg_imagef f;
+    snprintf(path, sizeof path, "%s/f_0002.pfm", out);
+    CHECK(vg_pfm_read(path, &f) == VG_OK && f.width == 960 && f.height == 540, "%s", path);
+    vg_imagef_free(&f);
+
+    /* Sintel: its flow drives a g of its own size (1024x436). */
+    vg_imagef g;
+    CHECK(vg_imagef_alloc(&g, 1024, 436, 1) == VG_OK, "alloc");
+    for (int t = 2; t <= 3; t++) {
+        for (int i = 0; i < 1024 * 436; i++)
+            g.data[i] = 250.0f + 20.0f * sinf(0.01f * (i % 1024) + 0.3f * t);
+        snprintf(path, sizeof path, "%s/sintel_g_%04d.pfm", g_work, t);
+        CHECK(vg_pfm_write(path, &g) == VG_OK, "%s", path);
+    }
+    vg_imagef_free(&g);
+    path_in(out, sizeof out, "out_sintel");
+    snprintf(args, sizeof args, "--g '%s/sintel_g_%%04d.pfm' --flow-next '" STEREO
+             "sintel_alley_2_flow_from_faldoi/gt/frame_%%04d.flo' --frames 2:3 --out '%s'", g_work, out);
+    CHECK(run_vergence(args) == 0, "Sintel flow:\n%s", g_stderr);
+    snprintf(path, sizeof path, "%s/metrics.json", out);
+    CHECK(exists(path), "metrics.json");
+    /* The FlyingThings3D g with the Sintel flow: sizes differ. */
+    path_in(out, sizeof out, "out_mixed");
+    snprintf(args, sizeof args, "--g '" STEREO "flyingthings3d_pair_from_RAFT-3D/disp%%d.pfm' --g-units px "
+             "--flow-next '" STEREO "sintel_alley_2_flow_from_faldoi/gt/frame_%%04d.flo' --frames 2:3 --out '%s'", out);
+    return check_failure(args, out, "frame_0002.flo", "same size");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 2)
+        g_exe = argv[2];
+    if (argc > 3)
+        snprintf(g_work, sizeof g_work, "%s", argv[3]);
+    static const vg_test_case cases[] = {
+        {"synthetic_sequence", synthetic_sequence},
+        {"bad_inputs", bad_inputs},
+        {"bad_patterns", bad_patterns},
+        {"third_party", third_party},
+    };
+    return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
+}
