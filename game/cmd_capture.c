@@ -20,18 +20,24 @@
 #include "core/log.h"
 #include "gpu_cli.h"
 #include "render/frame.h"
+#include "shared.h"
 #include "stereo/stereo_display.h"
+#include "warp/warp_metrics.h"
 
 typedef struct capture_opts {
     const char *scene, *out, *dump_graph;
     int frames, camera, stride;
     double time, fps;
     int size[2];
+    int stereo, mode, compose;
+    bool swap_eyes, diffuse, no_reference;
+    double tess_px, tess_error;
     gpu_cli gpu;
 } capture_opts;
 
 static capture_opts o = {
     .frames = 1, .fps = 60, .stride = 10, .size = {960, 540}, .gpu = {.device = -1},
+    .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_ORIGINAL - 1, .compose = FRAME_COMPOSE_SBS - 1,
 };
 
 static const vg_opt k_opts[] = {
@@ -43,6 +49,14 @@ static const vg_opt k_opts[] = {
     {"--size", VG_OPT_SIZE, o.size, "WxH", "image size (default 960x540)", NULL, 0, 0},
     {"--camera", VG_OPT_INT, &o.camera, "N", "camera node of the scene to use (default 0)", NULL, 0, 1000},
     {"--keyframe-stride", VG_OPT_INT, &o.stride, "S", "frames between keyframes (default 10, paper 4.4)", NULL, 1, 1000},
+    {"--stereo-render", VG_OPT_CHOICE, &o.stereo, "HOW", "how the stereo pair is made (default warp)", frame_stereo_names, 0, 0},
+    {"--mode", VG_OPT_CHOICE, &o.mode, "MODE", "disparity shown: g, h or f (default original)", frame_mode_names + 1, 0, 0},
+    {"--output", VG_OPT_CHOICE, &o.compose, "LAYOUT", "how frame_NNNN_stereo.png packs the eyes (default sbs)", frame_compose_names + 1, 0, 0},
+    {"--swap-eyes", VG_OPT_FLAG, &o.swap_eyes, NULL, "exchange left and right in the composed output", NULL, 0, 0},
+    {"--tess-px", VG_OPT_FLOAT, &o.tess_px, "PX", "tessellate edges down to PX pixels (paper: 1); default: error-driven", NULL, 0.05, 1000},
+    {"--tess-error", VG_OPT_FLOAT, &o.tess_error, "PX", "error-driven tessellation tolerance in pixels (default 0.1)", NULL, 0.001, 100},
+    {"--diffuse", VG_OPT_FLAG, &o.diffuse, NULL, "no specular highlights (eyes shade identically)", NULL, 0, 0},
+    {"--no-reference", VG_OPT_FLAG, &o.no_reference, NULL, "skip the two-camera reference (no holes or PSNR figures)", NULL, 0, 0},
     {"--dump-graph", VG_OPT_STRING, &o.dump_graph, "FILE", "print the compiled frame graph and write it as Graphviz DOT to FILE", NULL, 0, 0},
     GPU_CLI_OPTIONS(o.gpu),
 };
@@ -50,6 +64,70 @@ static const vg_opt k_opts[] = {
 /* ------------------------------------------------------------------------- */
 /* Frame files                                                               */
 /* ------------------------------------------------------------------------- */
+
+static vg_status write_rgba_as_rgb(const char *dir, const char *name, const uint8_t *rgba, uint32_t w, uint32_t h)
+{
+    size_t px = (size_t)w * h;
+    uint8_t *rgb = malloc(px * 3);
+    if (!rgb)
+        return VG_ERR_NOMEM;
+    for (size_t i = 0; i < px; i++)
+        memcpy(rgb + 3 * i, rgba + 4 * i, 3);
+    char path[4096];
+    vg_status st = vg_path_join(path, sizeof path, dir, name);
+    if (st == VG_OK)
+        st = vg_png_write(path, (int)w, (int)h, 3, rgb);
+    free(rgb);
+    return st;
+}
+
+/* The cascade debug view (paper Fig. 5): the left eye tinted by the stage
+ * that gave each pixel's vertices their disparity. */
+static vg_status write_cascade(const char *dir, int n, const frame_outputs *fo, uint32_t w, uint32_t h)
+{
+    static const float tint[5][3] = {
+        {1, 1, 1}, {0.25f, 0.85f, 0.3f}, {1.0f, 0.85f, 0.15f}, {1.0f, 0.45f, 0.1f}, {0.75f, 0.2f, 0.9f}};
+    size_t px = (size_t)w * h;
+    uint8_t *rgba = malloc(px * 4);
+    if (!rgba)
+        return VG_ERR_NOMEM;
+    for (size_t i = 0; i < px; i++) {
+        int stage = (int)fo->left_aux[4 * i + 3];
+        stage = stage < 0 || stage > VG_STAGE_CURVE ? 0 : stage;
+        const uint8_t *c = fo->left + 4 * i;
+        float lum = (0.3f * c[0] + 0.59f * c[1] + 0.11f * c[2]) / 255.0f;
+        for (int k = 0; k < 3; k++)
+            rgba[4 * i + k] = stage ? (uint8_t)(255.0f * (0.35f + 0.65f * lum) * tint[stage][k]) : c[k];
+        rgba[4 * i + 3] = 255;
+    }
+    char name[64];
+    snprintf(name, sizeof name, "frame_%04d_cascade.png", n);
+    vg_status st = write_rgba_as_rgb(dir, name, rgba, w, h);
+    free(rgba);
+    return st;
+}
+
+static vg_status write_stereo(const char *dir, int n, const frame_outputs *fo, uint32_t w, uint32_t h)
+{
+    char name[64], path[4096];
+    vg_status st;
+    snprintf(name, sizeof name, "frame_%04d_left.png", n);
+    if ((st = write_rgba_as_rgb(dir, name, fo->left, w, h)))
+        return st;
+    snprintf(name, sizeof name, "frame_%04d_right.png", n);
+    if ((st = write_rgba_as_rgb(dir, name, fo->right, w, h)))
+        return st;
+    snprintf(name, sizeof name, "frame_%04d_stereo.png", n);
+    if ((st = write_rgba_as_rgb(dir, name, fo->stereo, fo->stereo_width, fo->stereo_height)))
+        return st;
+    if ((st = write_cascade(dir, n, fo, w, h)))
+        return st;
+    vg_imagef g = {.width = (int)w, .height = (int)h, .channels = 1, .data = (float *)fo->g};
+    snprintf(name, sizeof name, "frame_%04d_g.pfm", n);
+    if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = vg_pfm_write(path, &g)))
+        return st;
+    return VG_OK;
+}
 
 static vg_status write_frame(const char *dir, int n, const frame_outputs *fo, uint32_t w, uint32_t h)
 {
@@ -105,6 +183,8 @@ static vg_status write_frame(const char *dir, int n, const frame_outputs *fo, ui
     snprintf(name, sizeof name, "frame_%04d_motion_next.flo", n);
     if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = vg_flo_write(path, &next)))
         goto done;
+    if (fo->left)
+        st = write_stereo(dir, n, fo, w, h);
 done:
     free(rgb);
     free(grey);
@@ -140,6 +220,7 @@ typedef struct capture_log {
     double *cpu_ms;               /* frames */
     vg_camera *cameras;           /* frames */
     frame_times *times;           /* frames */
+    warp_metrics warp;            /* stereo captures */
 } capture_log;
 
 static void json_camera(vg_json *j, const vg_camera *c, const frame_times *t)
@@ -153,6 +234,35 @@ static void json_camera(vg_json *j, const vg_camera *c, const frame_times *t)
     vg_json_nums(j, "forward", c->forward, 3);
     vg_json_nums(j, "view", c->view, 16);
     vg_json_nums(j, "proj", c->proj, 16);
+    vg_json_object_end(j);
+}
+
+static void json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m)
+{
+    vg_json_object_begin(j, "stereo");
+    vg_json_str(j, "render", frame_stereo_names[fd->stereo]);
+    vg_json_str(j, "mode", frame_mode_names[fd->mode]);
+    vg_json_str(j, "output", frame_compose_names[fd->compose]);
+    vg_json_bool(j, "swap_eyes", fd->swap_eyes);
+    vg_json_num(j, "tess_px", fd->tess_px);
+    vg_json_num(j, "tess_error", fd->tess_px > 0 ? 0 : fd->tess_error);
+    vg_json_num(j, "interaxial_m", fd->rig.interaxial_m);
+    vg_json_num(j, "convergence_m", fd->rig.convergence_m);
+    vg_json_object_end(j);
+    static const char *const stages[5] = {"none", "direct", "neighborhood", "halton", "curve"};
+    vg_json_object_begin(j, "cascade");
+    for (int s = 1; s <= VG_STAGE_CURVE; s++)
+        vg_json_num(j, stages[s], m->stage_fraction[s]);
+    vg_json_object_end(j);
+    vg_json_object_begin(j, "warp_error_px");
+    vg_json_num(j, "median", m->error_median);
+    vg_json_num(j, "p99", m->error_p99);
+    vg_json_num(j, "p99_curve", m->error_p99_curve);
+    vg_json_object_end(j);
+    vg_json_num(j, "hole_fraction", fd->stereo == FRAME_STEREO_CAMERAS ? 0.0 : m->hole_fraction);
+    vg_json_object_begin(j, "psnr_db");
+    vg_json_num(j, "left", fd->stereo == FRAME_STEREO_CAMERAS ? INFINITY : m->psnr[0]);
+    vg_json_num(j, "right", fd->stereo == FRAME_STEREO_CAMERAS ? INFINITY : m->psnr[1]);
     vg_json_object_end(j);
 }
 
@@ -235,6 +345,8 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
         vg_json_num(&j, "frame_ms_median", median(tmp, log->frames));
     }
     free(tmp);
+    if (fd->stereo != FRAME_STEREO_OFF)
+        json_stereo(&j, fd, &log->warp);
     vg_json_int(&j, "validation_messages", gpu_validation_messages());
     vg_json_object_end(&j);
 
@@ -255,6 +367,10 @@ static vg_status capture(gpu *g, const scene *s)
     frame_desc fd = {
         .width = (uint32_t)o.size[0], .height = (uint32_t)o.size[1], .fps = o.fps,
         .keyframe_stride = o.stride, .camera = o.camera, .readback = true,
+        .stereo = (frame_stereo)o.stereo, .mode = (frame_mode)(o.mode + 1),
+        .compose = (frame_compose)(o.compose + 1), .swap_eyes = o.swap_eyes, .tess_px = o.tess_px,
+        .tess_error = o.tess_error, .diffuse = o.diffuse,
+        .reference = !o.no_reference && o.stereo != FRAME_STEREO_CAMERAS,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);
@@ -286,11 +402,15 @@ static vg_status capture(gpu *g, const scene *s)
         log.cameras[i] = *frame_get_camera(f);
         log.times[i] = *frame_get_times(f);
         st = write_frame(o.out, i, frame_get_outputs(f), d->width, d->height);
+        if (st == VG_OK && d->stereo != FRAME_STEREO_OFF)
+            st = warp_metrics_add(&log.warp, frame_get_outputs(f), d->width, d->height);
     }
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);
+        warp_metrics_finish(&log.warp);
         st = write_json(o.out, s, g, d, &log);
     }
+    warp_metrics_free(&log.warp);
     free(log.pass_ms);
     free(log.cpu_ms);
     free(log.cameras);

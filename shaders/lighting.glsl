@@ -24,3 +24,5 @@ vec3 tonemap(vec3 c)
     c *= u.sky_horizon.w;
     return clamp((c * (2.51 * c + 0.03)) / (c * (2.43 * c + 0.59) + 0.14), 0.0, 1.0);
 }
+
+#include "lighting_srgb.glsl"

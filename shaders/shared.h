@@ -29,7 +29,7 @@ typedef struct vg_gmat4 { float m[16]; } vg_gmat4; /* column-major, as GLSL */
 #define VG_MAX_TEXTURES 16
 
 /* G-buffer colour attachments, in this order. */
-#define VG_GBUFFER_COLOR 0   /* RGBA8 sRGB: lit colour, alpha = saliency */
+#define VG_GBUFFER_COLOR 0   /* RGBA8 UNORM holding sRGB-encoded colour, alpha = saliency */
 #define VG_GBUFFER_DEPTH 1   /* R32F: linear depth along the view axis, metres */
 #define VG_GBUFFER_ID 2      /* R32UI: instance id, 0 = background */
 #define VG_GBUFFER_MOTION 3  /* RGBA32F: pixels to previous keyframe (xy), to next keyframe (zw) */
@@ -49,6 +49,38 @@ VG_STRUCT(vg_frame_ubo) {
     VG_VEC4 sky_horizon;      /* rgb; w = exposure */
     VG_VEC4 ground_color;     /* rgb bounce light from below; w unused */
     VG_VEC4 viewport;         /* width, height, 1/width, 1/height */
+    VG_MAT4 eye_view_proj[2]; /* off-axis cameras of the original rig: left, right */
+    VG_VEC4 rig;              /* gain K (image px), convergence c (m), interaxial b (m), unused */
+    VG_VEC4 display;          /* ipd e (m), distance D (m), metres per image pixel, screen vergence (arcmin) */
+    VG_VEC4 warp;             /* tess px (0 = off), tess error px (0 = off), depth epsilon (relative), Halton radius px */
+    VG_VEC4 warp2;            /* max tessellation level, specular (1) or diffuse only (0), unused, unused */
+};
+
+/* Push-descriptor bindings of set 0 shared by the scene pipelines. */
+#define VG_BINDING_FRAME 0    /* vg_frame_ubo */
+#define VG_BINDING_SHADOW 1   /* sampler2DShadow */
+#define VG_BINDING_DEPTH 2    /* sampler2D: centre linear depth (nearest) */
+#define VG_BINDING_TARGET 3   /* sampler2D: target vergence, arcmin (nearest) */
+#define VG_BINDING_CURVE 4    /* storage buffer: vg_curve */
+
+/* vg_draw_push.flags */
+#define VG_DRAW_RIGHT_EYE 1u  /* warp/cameras: render the right eye */
+
+/* Cascade stages of the warp (paper 4.6, Fig. 5). */
+#define VG_STAGE_NONE 0
+#define VG_STAGE_DIRECT 1
+#define VG_STAGE_NEIGHBORHOOD 2
+#define VG_STAGE_HALTON 3
+#define VG_STAGE_CURVE 4
+
+/* Global depth -> vergence curve (paper 4.6): bins uniform in inverse depth. */
+#define VG_CURVE_BINS 256
+VG_STRUCT(vg_curve) {
+    float inv_depth_near;     /* 1 / smallest depth covered */
+    float inv_depth_far;      /* 1 / largest depth covered */
+    VG_UINT valid;            /* 0: no pairs were seen, the curve is unusable */
+    VG_UINT pad;
+    float vergence[VG_CURVE_BINS]; /* arcmin at bin centres */
 };
 
 /* Per-draw push constants. */
@@ -58,6 +90,23 @@ VG_STRUCT(vg_draw_push) {
     float saliency;           /* 0..1 */
     int texture_index;        /* index into the texture array, -1 for none */
     VG_UINT flags;            /* unused, 0 */
+};
+
+/* compose modes (frame_compose minus one) and push constants. */
+#define VG_COMPOSE_SBS 0
+#define VG_COMPOSE_SBS_HALF 1
+#define VG_COMPOSE_TB 2
+#define VG_COMPOSE_ROWS 3
+#define VG_COMPOSE_COLUMNS 4
+#define VG_COMPOSE_CHECKER 5
+#define VG_COMPOSE_ANAGLYPH 6
+#define VG_COMPOSE_ANAGLYPH_PLAIN 7
+#define VG_COMPOSE_LEFT 8
+#define VG_COMPOSE_RIGHT 9
+VG_STRUCT(vg_compose_push) {
+    VG_UINT mode;             /* VG_COMPOSE_* */
+    VG_UINT swap;             /* 1: exchange the eyes */
+    VG_UINT width, height;    /* of one eye */
 };
 
 #endif

@@ -14,7 +14,7 @@ void main()
 {
     vec4 far = u.inv_view_proj * vec4(v_ndc, 1.0, 1.0);
     vec3 dir = normalize(far.xyz / far.w - u.camera_pos.xyz);
-    o_color = vec4(tonemap(sky_radiance(dir)), 0.0);
+    o_color = vec4(linear_to_srgb(tonemap(sky_radiance(dir))), 0.0);
     o_depth = u.camera_pos.w;
     o_id = 0u;
     o_motion = vec4(0.0);

@@ -29,7 +29,9 @@ vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *d, VkPip
     };
     VkPipelineInputAssemblyStateCreateInfo assembly = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
-        .topology = tess ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+        .topology = tess       ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST
+                    : d->points ? VK_PRIMITIVE_TOPOLOGY_POINT_LIST
+                                : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
     };
     VkPipelineTessellationStateCreateInfo tessellation = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO,
@@ -118,5 +120,33 @@ vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderM
     };
     VK_TRY(vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s", name ? name : "compute pipeline");
+    return VG_OK;
+}
+
+vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorType *types, uint32_t count,
+                                 VkShaderStageFlags stages, uint32_t push_size,
+                                 VkDescriptorSetLayout *set_layout, VkPipelineLayout *layout)
+{
+    VkDescriptorSetLayoutBinding bindings[16];
+    for (uint32_t i = 0; i < count && i < 16; i++)
+        bindings[i] = (VkDescriptorSetLayoutBinding){i, types[i], 1, stages, NULL};
+    VkDescriptorSetLayoutCreateInfo set = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
+        .bindingCount = count < 16 ? count : 16,
+        .pBindings = bindings,
+    };
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set, NULL, set_layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, *set_layout, "%s set layout", name);
+    VkPushConstantRange push = {stages, 0, push_size};
+    VkPipelineLayoutCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = 1,
+        .pSetLayouts = set_layout,
+        .pushConstantRangeCount = push_size ? 1 : 0,
+        .pPushConstantRanges = &push,
+    };
+    VK_TRY(vkCreatePipelineLayout(g->device, &info, NULL, layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, *layout, "%s layout", name);
     return VG_OK;
 }

@@ -11,6 +11,7 @@ typedef struct gpu_graphics_desc {
     const VkVertexInputAttributeDescription *attributes;
     uint32_t attribute_count;
     uint32_t patch_control_points;           /* with tessellation: 3 */
+    bool points;                             /* point list instead of triangle list */
     VkCullModeFlags cull;                    /* 0 = none */
     bool depth_test, depth_write;
     VkCompareOp depth_compare;               /* 0 (NEVER) means LESS */
@@ -28,3 +29,10 @@ vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderM
 
 /* Shader module from an embedded SPIR-V array: GPU_SHADER(g, spv_gbuffer_vert, &m). */
 #define GPU_SHADER(g, spv, out) gpu_shader_create((g), (spv), sizeof(spv), #spv, (out))
+
+/* A push-descriptor set layout of `count` bindings 0..count-1 (types[i] at
+ * binding i) for `stages`, and a pipeline layout of it with push_size bytes
+ * of push constants (0 = none). */
+vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorType *types, uint32_t count,
+                                 VkShaderStageFlags stages, uint32_t push_size,
+                                 VkDescriptorSetLayout *set_layout, VkPipelineLayout *layout);

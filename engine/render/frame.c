@@ -9,9 +9,12 @@
 #include <cglm/cglm.h>
 
 #include "core/log.h"
+#include "disparity/disparity_gpu.h"
 #include "frame_ctx.h"
 #include "gbuffer.h"
 #include "shared.h"
+#include "warp/compose_gpu.h"
+#include "warp/warp_gpu.h"
 
 /* One image copied to the host after the frame. */
 typedef struct readback_item {
@@ -25,6 +28,9 @@ typedef struct readback_item {
 struct frame {
     frame_ctx fc;
     gbuffer_pass *gbuffer;
+    disparity_gpu *disparity;
+    warp_gpu *warp;
+    compose_gpu *compose;
 
     gpu_buffer readback;
     readback_item items[FRAME_MAX_READBACK];
@@ -38,6 +44,11 @@ struct frame {
     rg_res r_readback;
     frame_outputs outputs;
 };
+
+const char *const frame_compose_names[] = {"sbs", "sbs", "sbs-half", "tb", "rows", "columns", "checker",
+                                          "anaglyph", "anaglyph-plain", "left", "right", NULL};
+const char *const frame_stereo_names[] = {"off", "warp", "cameras", "imagewarp", NULL};
+const char *const frame_mode_names[] = {"optimized", "original", "manipulated", "optimized", NULL};
 
 /* ------------------------------------------------------------------------- */
 /* Times                                                                     */
@@ -61,28 +72,6 @@ frame_times frame_times_at(long index, double fps, int stride)
         .index = index, .prev_key = prev, .next_key = next,
         .t = (double)index / fps, .t_prev = (double)prev / fps, .t_next = (double)next / fps,
     };
-}
-
-/* ------------------------------------------------------------------------- */
-/* Shared with pass modules                                                  */
-/* ------------------------------------------------------------------------- */
-
-void frame_ctx_push_scene(const frame_ctx *fc, const rg_context *ctx, rg_res shadow)
-{
-    VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
-    VkDescriptorImageInfo map = {
-        .sampler = fc->shadow_sampler,
-        .imageView = shadow.id ? rg_ctx_view(ctx, shadow) : VK_NULL_HANDLE,
-        .imageLayout = shadow.id ? rg_ctx_layout(ctx, shadow) : VK_IMAGE_LAYOUT_UNDEFINED,
-    };
-    VkWriteDescriptorSet writes[2] = {
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &map},
-    };
-    fc->gpu->cmd_push_descriptor_set(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 0,
-                                     shadow.id ? 2 : 1, writes);
 }
 
 /* ------------------------------------------------------------------------- */
@@ -139,13 +128,32 @@ static vg_status build_graph(frame *f)
     res->indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", fc->sg.indices.size}, &ready_index);
 
     gbuffer_pass_add(f->gbuffer, g, res);
+    bool stereo = fc->desc.stereo != FRAME_STEREO_OFF;
+    uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
+    if (stereo) {
+        disparity_gpu_add(f->disparity, g, res);
+        warp_gpu_add(f->warp, g, res, res->g);
+        compose_gpu_add(f->compose, g, res);
+        compose_size(fc->desc.compose, w, h, &sw, &sh);
+    }
 
-    uint32_t w = fc->desc.width, h = fc->desc.height;
     if (fc->desc.readback) {
         readback_add_item(f, res->color, w, h, 4);
         readback_add_item(f, res->depth, w, h, 4);
         readback_add_item(f, res->ids, w, h, 4);
         readback_add_item(f, res->motion, w, h, 16);
+        if (stereo) {
+            readback_add_item(f, res->g, w, h, 4);
+            readback_add_item(f, res->left, w, h, 4);
+            readback_add_item(f, res->right, w, h, 4);
+            readback_add_item(f, res->left_aux, w, h, 16);
+            readback_add_item(f, res->right_aux, w, h, 16);
+            readback_add_item(f, res->stereo, sw, sh, 4);
+            if (res->ref_left.id) {
+                readback_add_item(f, res->ref_left, w, h, 4);
+                readback_add_item(f, res->ref_right, w, h, 4);
+            }
+        }
         const readback_item *last = &f->items[f->item_count - 1];
         VkDeviceSize size = last->offset + (VkDeviceSize)last->width * last->height * last->texel;
         vg_status st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){
@@ -166,8 +174,22 @@ static vg_status build_graph(frame *f)
             .ids = readback_ptr(f, 2),
             .motion = readback_ptr(f, 3),
         };
+        if (stereo) {
+            f->outputs.g = readback_ptr(f, 4);
+            f->outputs.left = readback_ptr(f, 5);
+            f->outputs.right = readback_ptr(f, 6);
+            f->outputs.left_aux = readback_ptr(f, 7);
+            f->outputs.right_aux = readback_ptr(f, 8);
+            f->outputs.stereo = readback_ptr(f, 9);
+            f->outputs.stereo_width = sw;
+            f->outputs.stereo_height = sh;
+            if (res->ref_left.id) {
+                f->outputs.ref_left = readback_ptr(f, 10);
+                f->outputs.ref_right = readback_ptr(f, 11);
+            }
+        }
     } else {
-        rg_export(g, res->color);
+        rg_export(g, stereo ? res->stereo : res->color);
     }
     vg_status st = rg_compile(g);
     if (st == VG_OK)
@@ -182,14 +204,22 @@ static vg_status build_graph(frame *f)
 static vg_status create_layouts(frame_ctx *fc)
 {
     gpu *g = fc->gpu;
-    VkDescriptorSetLayoutBinding bindings[2] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_ALL_GRAPHICS, NULL},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_ALL_GRAPHICS, NULL},
+    /* Set 0 of every scene pipeline (shared.h VG_BINDING_*): frame UBO,
+     * shadow map, centre depth, target vergence, curve, centre colour, ids. */
+    const VkShaderStageFlags all = VK_SHADER_STAGE_ALL_GRAPHICS;
+    VkDescriptorSetLayoutBinding bindings[7] = {
+        {VG_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, NULL},
+        {VG_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
+        {VG_BINDING_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
+        {VG_BINDING_TARGET, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
+        {VG_BINDING_CURVE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, NULL},
+        {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
+        {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
     };
     VkDescriptorSetLayoutCreateInfo set0 = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
         .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
-        .bindingCount = 2,
+        .bindingCount = 7,
         .pBindings = bindings,
     };
     VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, NULL, &fc->push_layout));
@@ -274,6 +304,22 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.keyframe_stride = 10;
     if (!d.shadow_size)
         d.shadow_size = 2048;
+    if (d.mode == FRAME_MODE_DEFAULT)
+        d.mode = FRAME_MODE_ORIGINAL; /* until h and f are computed on the GPU (issue 4) */
+    if (d.compose == FRAME_COMPOSE_DEFAULT)
+        d.compose = FRAME_COMPOSE_SBS;
+    if (d.tess_px <= 0 && d.tess_error <= 0)
+        d.tess_error = 0.1;
+    if (!d.max_tess_level)
+        d.max_tess_level = 64;
+    if (d.depth_epsilon <= 0)
+        d.depth_epsilon = 0.01;
+    if (d.halton_radius <= 0)
+        d.halton_radius = 24;
+    if (d.rig.interaxial_m <= 0)
+        d.rig.interaxial_m = FRAME_DEFAULT_INTERAXIAL;
+    if (d.rig.convergence_m <= 0)
+        d.rig.convergence_m = FRAME_DEFAULT_CONVERGENCE;
     return d;
 }
 
@@ -289,7 +335,14 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     fc->desc = resolve_defaults(desc);
     fc->slot = -1;
     stereo_display_init(&fc->display, &fc->desc.display);
-    stereo_camera_init(&fc->rig, &fc->desc.rig, &fc->display);
+    if (fc->desc.max_tess_level > g->props.limits.maxTessellationGenerationLevel)
+        fc->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
+    if (fc->desc.mode != FRAME_MODE_ORIGINAL && fc->desc.stereo != FRAME_STEREO_OFF) {
+        vg_error("mode '%s' needs the GPU disparity pipeline, which is not built yet; use --mode original",
+                 frame_mode_names[fc->desc.mode]);
+        free(f);
+        return VG_ERR_UNSUPPORTED;
+    }
 
     vg_status st = scene_gpu_create(g, s, &fc->sg);
     if (st == VG_OK)
@@ -298,6 +351,13 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         st = create_submission(f);
     if (st == VG_OK)
         st = gbuffer_pass_create(fc, &f->gbuffer);
+    if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
+        st = disparity_gpu_create(fc, &f->disparity);
+        if (st == VG_OK)
+            st = warp_gpu_create(fc, &f->warp);
+        if (st == VG_OK)
+            st = compose_gpu_create(fc, &f->compose);
+    }
     if (st == VG_OK)
         st = build_graph(f);
     if (st != VG_OK) {
@@ -316,6 +376,9 @@ void frame_destroy(frame *f)
     gpu *g = fc->gpu;
     vkDeviceWaitIdle(g->device);
     rg_destroy(f->graph);
+    compose_gpu_destroy(f->compose);
+    warp_gpu_destroy(f->warp);
+    disparity_gpu_destroy(f->disparity);
     gbuffer_pass_destroy(f->gbuffer);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         gpu_buffer_destroy(g, &fc->ubo[i]);
@@ -370,6 +433,36 @@ static void light_setup(const frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->ground_color.v, (float[4]){0.30f, 0.27f, 0.22f, 0.0f}, 16);
 }
 
+/* The original rig follows the render camera: its field of view and the
+ * image width; the off-axis eye cameras are the centre camera moved by half
+ * the interaxial along its right axis with the frustum shifted so depth c
+ * lands on the screen (asymmetric frusta, no toe-in). */
+static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
+{
+    const frame_desc *d = &fc->desc;
+    stereo_camera_desc rig = d->rig;
+    rig.hfov_deg = 2.0 * atan(tan(0.5 * fc->cam.yfov) * fc->cam.aspect) * 180.0 / M_PI;
+    rig.image_width = (int)d->width;
+    stereo_camera_init(&fc->rig, &rig, &fc->display);
+    double b = fc->rig.interaxial_m, c = fc->rig.convergence_m;
+    for (int eye = 0; eye < 2; eye++) {
+        double side = eye ? 1.0 : -1.0; /* left eye at -b/2 along the camera's right */
+        mat4 view, proj, vp;
+        memcpy(view, fc->cam.view, sizeof view);
+        memcpy(proj, fc->cam.proj, sizeof proj);
+        view[3][0] -= (float)(side * 0.5 * b);      /* view-space x of every point moves by -side b/2 */
+        proj[2][0] -= (float)(side * proj[0][0] * 0.5 * b / c); /* x_ndc -= -side P00 (b/2) / c */
+        glm_mat4_mul(proj, view, vp);
+        memcpy(u->eye_view_proj[eye].m, vp, sizeof vp);
+    }
+    memcpy(u->rig.v, (float[4]){(float)fc->rig.gain_px, (float)c, (float)b, 0}, 16);
+    memcpy(u->display.v, (float[4]){(float)fc->display.ipd_m, (float)fc->display.distance_m,
+                                    (float)(fc->display.width_m / d->width), (float)fc->display.screen_vergence}, 16);
+    memcpy(u->warp.v, (float[4]){(float)d->tess_px, (float)d->tess_error, (float)d->depth_epsilon,
+                                 (float)d->halton_radius}, 16);
+    memcpy(u->warp2.v, (float[4]){(float)d->max_tess_level, d->diffuse ? 0.0f : 1.0f, 1.0f, 0}, 16);
+}
+
 static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
 {
     memset(u, 0, sizeof *u);
@@ -385,6 +478,7 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
                                      1.0f / (float)fc->desc.height}, 16);
     light_setup(fc, u);
+    stereo_setup(fc, u);
 }
 
 vg_status frame_render(frame *f, long index)

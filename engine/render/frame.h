@@ -23,6 +23,43 @@
 
 typedef struct frame frame;
 
+/* How the stereo pair is made (issue 5, paper 4.6). */
+typedef enum frame_stereo {
+    FRAME_STEREO_OFF = 0,        /* centre eye only (G-buffer) */
+    FRAME_STEREO_WARP,           /* tessellated 3D vertex warping to the target disparity */
+    FRAME_STEREO_CAMERAS,        /* two real off-axis cameras (shows g only) */
+    FRAME_STEREO_IMAGEWARP,      /* forward image warping with a z-buffer (disocclusion holes) */
+} frame_stereo;
+
+/* Which disparity the pair shows (paper: g, h, f). */
+typedef enum frame_mode {
+    FRAME_MODE_DEFAULT = 0,      /* = optimized */
+    FRAME_MODE_ORIGINAL,         /* g: the original stereo camera */
+    FRAME_MODE_MANIPULATED,      /* h: the operator's output */
+    FRAME_MODE_OPTIMIZED,        /* f: motion in depth restored */
+} frame_mode;
+
+/* How the two eyes are packed into one output image. */
+typedef enum frame_compose {
+    FRAME_COMPOSE_DEFAULT = 0,   /* = sbs */
+    FRAME_COMPOSE_SBS,           /* side by side, full width each (2W x H) */
+    FRAME_COMPOSE_SBS_HALF,      /* side by side, half width each (W x H) */
+    FRAME_COMPOSE_TB,            /* top-bottom, full height each (W x 2H) */
+    FRAME_COMPOSE_ROWS,          /* row-interleaved: even rows left (passive polarised panels) */
+    FRAME_COMPOSE_COLUMNS,       /* column-interleaved: even columns left */
+    FRAME_COMPOSE_CHECKER,       /* checkerboard: (x + y) even left */
+    FRAME_COMPOSE_ANAGLYPH,      /* red-cyan, Dubois least-squares matrices */
+    FRAME_COMPOSE_ANAGLYPH_PLAIN,/* red from left, green and blue from right */
+    FRAME_COMPOSE_LEFT,
+    FRAME_COMPOSE_RIGHT,
+    FRAME_COMPOSE_COUNT,
+} frame_compose;
+
+/* Names as on the command line ("sbs", "anaglyph-plain", ...), NULL-terminated. */
+extern const char *const frame_compose_names[];
+extern const char *const frame_stereo_names[];
+extern const char *const frame_mode_names[];
+
 typedef struct frame_desc {
     uint32_t width, height;      /* 0 = 960x540 */
     double fps;                  /* 0 = 60 */
@@ -31,15 +68,39 @@ typedef struct frame_desc {
     bool readback;               /* copy the G-buffer to the host every frame */
     uint32_t shadow_size;        /* 0 = 2048 */
     stereo_display_desc display; /* the display model (zero = paper defaults) */
-    stereo_camera_desc rig;      /* the original stereo camera (zero = ortho-stereo for the display) */
+    stereo_camera_desc rig;      /* the original stereo camera; zero interaxial/convergence =
+                                    FRAME_DEFAULT_INTERAXIAL / _CONVERGENCE; fov and width follow the render */
+    frame_stereo stereo;
+    frame_mode mode;
+    frame_compose compose;
+    bool swap_eyes;
+    double tess_px;              /* edge length target in pixels (paper: 1); 0 = use tess_error */
+    double tess_error;           /* disparity error tolerance in pixels; 0 with tess_px 0 = 0.1 */
+    uint32_t max_tess_level;     /* 0 = 64 (clamped to the device) */
+    double depth_epsilon;        /* cascade: relative depth difference of one surface, 0 = 0.01 */
+    double halton_radius;        /* cascade: Halton search radius in pixels, 0 = 24 */
+    bool diffuse;                /* no specular: eyes shade identically from any viewpoint */
+    bool reference;              /* also render the two-camera reference (holes, PSNR) */
 } frame_desc;
 
-/* Host copies of the G-buffer after frame_render() (readback only). */
+/* The original rig when the scene gives none: a 25 cm interaxial converged at
+ * 6 m puts the paper's scenes (2-40 m) around the screen with more disparity
+ * than a comfortable display takes, so the operators have work to do. */
+#define FRAME_DEFAULT_INTERAXIAL 0.25
+#define FRAME_DEFAULT_CONVERGENCE 6.0
+
+/* Host copies after frame_render() (readback only; NULL when not rendered). */
 typedef struct frame_outputs {
     const uint8_t *color;        /* RGBA8 sRGB, alpha = saliency */
     const float *depth;          /* linear depth, metres; background = far plane */
     const uint32_t *ids;         /* instance id, 0 = background */
     const float *motion;         /* 4 floats per pixel: pixels to prev keyframe (xy), to next (zw) */
+    const float *g, *h, *f;      /* vergence maps, arcmin */
+    const uint8_t *left, *right; /* RGBA8 sRGB; alpha 255 geometry, 128 sky, 0 nothing (hole) */
+    const float *left_aux, *right_aux; /* 4 floats: centre-view x, y (px), target disparity (px), stage */
+    const uint8_t *ref_left, *ref_right; /* the two-camera reference (desc.reference) */
+    const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
+    uint32_t stereo_width, stereo_height;
 } frame_outputs;
 
 /* The times a frame was rendered at. */

@@ -37,7 +37,8 @@ typedef struct frame_resources {
     rg_res color, depth, ids, motion, zbuffer;             /* G-buffer (centre eye) */
     rg_res g, h, f;                                        /* vergence maps, arcmin (R32F) */
     rg_res curve;                                          /* global depth -> vergence curve */
-    rg_res left, right, left_aux, right_aux;               /* eyes: colour, (centre x, y, target px, stage) */
+    rg_res left, right, left_aux, right_aux;               /* eyes: colour, (centre x, y, error px, stage) */
+    rg_res ref_left, ref_right;                            /* two-camera reference eyes */
     rg_res stereo;                                         /* composed output */
 } frame_resources;
 

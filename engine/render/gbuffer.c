@@ -13,7 +13,7 @@
 #include "sky_vert.h"
 
 const VkFormat gbuffer_formats[4] = {
-    [VG_GBUFFER_COLOR] = VK_FORMAT_R8G8B8A8_SRGB,
+    [VG_GBUFFER_COLOR] = VK_FORMAT_R8G8B8A8_UNORM, /* sRGB-encoded by the shader */
     [VG_GBUFFER_DEPTH] = VK_FORMAT_R32_SFLOAT,
     [VG_GBUFFER_ID] = VK_FORMAT_R32_UINT,
     [VG_GBUFFER_MOTION] = VK_FORMAT_R32G32B32A32_SFLOAT,
@@ -37,7 +37,7 @@ static void shadow_execute(const rg_context *ctx, void *user)
     frame_ctx_push_scene(p->fc, ctx, (rg_res){0});
     /* Slope-scaled bias keeps grazing surfaces free of acne. */
     vkCmdSetDepthBias(cmd, 1.0f, 0.0f, 1.75f);
-    scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, true);
+    scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_POSITIONS, 0);
 }
 
 static void gbuffer_execute(const rg_context *ctx, void *user)
@@ -50,7 +50,7 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->sky);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->gbuffer);
-    scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, false);
+    scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_MOTION, 0);
 }
 
 void gbuffer_pass_add(gbuffer_pass *p, rg_graph *g, frame_resources *res)
@@ -108,7 +108,7 @@ vg_status gbuffer_pass_create(frame_ctx *fc, gbuffer_pass **out)
     VkVertexInputAttributeDescription va[8];
     uint32_t nb, na;
     if (st == VG_OK) {
-        scene_gpu_vertex_input(true, vb, &nb, va, &na);
+        scene_gpu_vertex_input(SCENE_INPUT_POSITIONS, vb, &nb, va, &na);
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
             .name = "shadow", .layout = fc->scene_layout, .vert = svert, .bindings = vb,
             .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true,
@@ -119,7 +119,7 @@ vg_status gbuffer_pass_create(frame_ctx *fc, gbuffer_pass **out)
             .name = "sky", .layout = fc->scene_layout, .vert = skyv, .frag = skyf,
             .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, &p->sky);
     if (st == VG_OK) {
-        scene_gpu_vertex_input(false, vb, &nb, va, &na);
+        scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
         /* No culling: single-sided glTF surfaces seen from behind flip their
          * normal in the shader instead of leaving holes in depth and ids. */
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){

@@ -218,31 +218,36 @@ void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_ne
 /* Drawing                                                                   */
 /* ------------------------------------------------------------------------- */
 
-void scene_gpu_vertex_input(bool positions_only, VkVertexInputBindingDescription *b, uint32_t *nb,
+void scene_gpu_vertex_input(scene_input input, VkVertexInputBindingDescription *b, uint32_t *nb,
                             VkVertexInputAttributeDescription *a, uint32_t *na)
 {
-    b[0] = (VkVertexInputBindingDescription){SCENE_BINDING_CURRENT, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
-    a[0] = (VkVertexInputAttributeDescription){0, SCENE_BINDING_CURRENT, VK_FORMAT_R32G32B32_SFLOAT, 0};
-    if (positions_only) {
-        *nb = 1;
-        *na = 1;
+    *nb = *na = 0;
+    b[(*nb)++] = (VkVertexInputBindingDescription){SCENE_BINDING_CURRENT, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    a[(*na)++] = (VkVertexInputAttributeDescription){0, SCENE_BINDING_CURRENT, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    if (input == SCENE_INPUT_POSITIONS)
         return;
+    a[(*na)++] = (VkVertexInputAttributeDescription){1, SCENE_BINDING_CURRENT, VK_FORMAT_R32G32B32_SFLOAT, 12};
+    if (input == SCENE_INPUT_MOTION) {
+        b[(*nb)++] = (VkVertexInputBindingDescription){SCENE_BINDING_PREV, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+        b[(*nb)++] = (VkVertexInputBindingDescription){SCENE_BINDING_NEXT, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+        a[(*na)++] = (VkVertexInputAttributeDescription){2, SCENE_BINDING_PREV, VK_FORMAT_R32G32B32_SFLOAT, 0};
+        a[(*na)++] = (VkVertexInputAttributeDescription){3, SCENE_BINDING_NEXT, VK_FORMAT_R32G32B32_SFLOAT, 0};
     }
-    b[1] = (VkVertexInputBindingDescription){SCENE_BINDING_PREV, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
-    b[2] = (VkVertexInputBindingDescription){SCENE_BINDING_NEXT, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
-    b[3] = (VkVertexInputBindingDescription){SCENE_BINDING_STATIC, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
-    a[1] = (VkVertexInputAttributeDescription){1, SCENE_BINDING_CURRENT, VK_FORMAT_R32G32B32_SFLOAT, 12};
-    a[2] = (VkVertexInputAttributeDescription){2, SCENE_BINDING_PREV, VK_FORMAT_R32G32B32_SFLOAT, 0};
-    a[3] = (VkVertexInputAttributeDescription){3, SCENE_BINDING_NEXT, VK_FORMAT_R32G32B32_SFLOAT, 0};
-    a[4] = (VkVertexInputAttributeDescription){4, SCENE_BINDING_STATIC, VK_FORMAT_R32G32_SFLOAT, 0};
-    a[5] = (VkVertexInputAttributeDescription){5, SCENE_BINDING_STATIC, VK_FORMAT_R32G32B32A32_SFLOAT, 8};
-    *nb = 4;
-    *na = 6;
+    b[(*nb)++] = (VkVertexInputBindingDescription){SCENE_BINDING_STATIC, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    a[(*na)++] = (VkVertexInputAttributeDescription){4, SCENE_BINDING_STATIC, VK_FORMAT_R32G32_SFLOAT, 0};
+    a[(*na)++] = (VkVertexInputAttributeDescription){5, SCENE_BINDING_STATIC, VK_FORMAT_R32G32B32A32_SFLOAT, 8};
 }
 
 void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
-                    bool positions_only)
+                    scene_input input, uint32_t flags)
 {
+    scene_gpu_draw_split(sg, cmd, slot, layout, input, flags, 0);
+}
+
+void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                          scene_input input, uint32_t flags, uint32_t max_triangles)
+{
+    bool positions_only = input == SCENE_INPUT_POSITIONS;
     const scene *s = sg->scene;
     if (!s->index_count)
         return;
@@ -261,12 +266,17 @@ void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipeli
                 .instance_id = in->id,
                 .saliency = in->saliency,
                 .texture_index = m ? m->base_color_texture : -1,
+                .flags = flags,
             };
             if (m)
                 memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);
             vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0,
                                sizeof push, &push);
         }
-        vkCmdDrawIndexed(cmd, p->index_count, 1, in->first_index, (int32_t)in->first_vertex, 0);
+        uint32_t chunk = max_triangles ? 3 * max_triangles : p->index_count;
+        for (uint32_t first = 0; first < p->index_count; first += chunk) {
+            uint32_t count = p->index_count - first < chunk ? p->index_count - first : chunk;
+            vkCmdDrawIndexed(cmd, count, 1, in->first_index + first, (int32_t)in->first_vertex, 0);
+        }
     }
 }

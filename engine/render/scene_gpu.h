@@ -38,12 +38,26 @@ void scene_gpu_destroy(gpu *g, scene_gpu *sg);
 /* Evaluates the scene at t, t_prev and t_next and writes slot's vertices. */
 void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_next);
 
-/* Vertex input of the scene pipelines (all bindings, or only positions). */
-void scene_gpu_vertex_input(bool positions_only, VkVertexInputBindingDescription *bindings,
+/* What a scene pipeline reads (locations: 0 position, 1 normal, 2 previous
+ * position, 3 next position, 4 texcoord, 5 colour). */
+typedef enum scene_input {
+    SCENE_INPUT_DEFAULT = 0,  /* = SCENE_INPUT_SHADE */
+    SCENE_INPUT_POSITIONS,    /* 0 */
+    SCENE_INPUT_SHADE,        /* 0, 1, 4, 5 */
+    SCENE_INPUT_MOTION,       /* 0 .. 5 */
+} scene_input;
+
+void scene_gpu_vertex_input(scene_input input, VkVertexInputBindingDescription *bindings,
                             uint32_t *binding_count, VkVertexInputAttributeDescription *attributes,
                             uint32_t *attribute_count);
 
-/* Binds the slot's buffers and draws every instance; unless positions_only,
- * each instance's vg_draw_push (all graphics stages) precedes its draw. */
+/* Binds the slot's buffers and draws every instance; unless only positions
+ * are read, each instance's vg_draw_push (all graphics stages, with `flags`)
+ * precedes its draw. */
 void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
-                    bool positions_only);
+                    scene_input input, uint32_t flags);
+/* The same as triangle patches, at most max_triangles per draw (0 = no
+ * limit): lavapipe corrupts draws whose tessellation makes over 65,535
+ * vertices (PLATFORM.md). */
+void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                          scene_input input, uint32_t flags, uint32_t max_triangles);

@@ -1,0 +1,108 @@
+/* vergence — compose pass. */
+#include "compose_gpu.h"
+
+#include <stdlib.h>
+
+#include "gpu/pipeline.h"
+#include "shared.h"
+
+#include "compose_comp.h"
+
+struct compose_gpu {
+    frame_ctx *fc;
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipeline;
+    frame_resources *res;
+    uint32_t out_w, out_h;
+};
+
+_Static_assert(FRAME_COMPOSE_SBS - 1 == VG_COMPOSE_SBS && FRAME_COMPOSE_RIGHT - 1 == VG_COMPOSE_RIGHT,
+               "compose mode numbering differs between C and GLSL");
+
+void compose_size(frame_compose mode, uint32_t w, uint32_t h, uint32_t *out_w, uint32_t *out_h)
+{
+    *out_w = mode == FRAME_COMPOSE_SBS || mode == FRAME_COMPOSE_DEFAULT ? 2 * w : w;
+    *out_h = mode == FRAME_COMPOSE_TB ? 2 * h : h;
+}
+
+static void compose_execute(const rg_context *ctx, void *user)
+{
+    compose_gpu *c = user;
+    const frame_resources *r = c->res;
+    VkDescriptorImageInfo img[3] = {
+        {.imageView = rg_ctx_view(ctx, r->left), .imageLayout = rg_ctx_layout(ctx, r->left)},
+        {.imageView = rg_ctx_view(ctx, r->right), .imageLayout = rg_ctx_layout(ctx, r->right)},
+        {.imageView = rg_ctx_view(ctx, r->stereo), .imageLayout = rg_ctx_layout(ctx, r->stereo)},
+    };
+    VkWriteDescriptorSet w[3];
+    for (uint32_t i = 0; i < 3; i++)
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
+                                      .descriptorCount = 1, .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                      .pImageInfo = &img[i]};
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    const frame_desc *d = &c->fc->desc;
+    vg_compose_push push = {
+        .mode = (uint32_t)(d->compose == FRAME_COMPOSE_DEFAULT ? FRAME_COMPOSE_SBS : d->compose) - 1,
+        .swap = d->swap_eyes,
+        .width = d->width,
+        .height = d->height,
+    };
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline);
+    c->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->layout, 0, 3, w);
+    vkCmdPushConstants(cmd, c->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdDispatch(cmd, (c->out_w + 7) / 8, (c->out_h + 7) / 8, 1);
+}
+
+void compose_gpu_add(compose_gpu *c, rg_graph *g, frame_resources *res)
+{
+    c->res = res;
+    const frame_desc *d = &c->fc->desc;
+    compose_size(d->compose, d->width, d->height, &c->out_w, &c->out_h);
+    res->stereo = rg_image(g, &(rg_image_desc){"stereo", VK_FORMAT_R8G8B8A8_UNORM, c->out_w, c->out_h, 1});
+    rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "compose", .type = RG_PASS_COMPUTE,
+                                               .execute = compose_execute, .user = c});
+    rg_use(g, p, res->left, RG_STORAGE_READ);
+    rg_use(g, p, res->right, RG_STORAGE_READ);
+    rg_use(g, p, res->stereo, RG_STORAGE_WRITE);
+}
+
+vg_status compose_gpu_create(frame_ctx *fc, compose_gpu **out)
+{
+    compose_gpu *c = calloc(1, sizeof *c);
+    if (!c)
+        return VG_ERR_NOMEM;
+    c->fc = fc;
+    gpu *g = fc->gpu;
+    static const VkDescriptorType types[3] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                              VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+    vg_status st = gpu_push_layout_create(g, "compose", types, 3, VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(vg_compose_push), &c->set_layout, &c->layout);
+    VkShaderModule m = VK_NULL_HANDLE;
+    if (st == VG_OK)
+        st = GPU_SHADER(g, spv_compose_comp, &m);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, c->layout, m, "compose", &c->pipeline);
+    if (m)
+        vkDestroyShaderModule(g->device, m, NULL);
+    if (st != VG_OK) {
+        compose_gpu_destroy(c);
+        return st;
+    }
+    *out = c;
+    return VG_OK;
+}
+
+void compose_gpu_destroy(compose_gpu *c)
+{
+    if (!c)
+        return;
+    VkDevice dev = c->fc->gpu->device;
+    if (c->pipeline)
+        vkDestroyPipeline(dev, c->pipeline, NULL);
+    if (c->layout)
+        vkDestroyPipelineLayout(dev, c->layout, NULL);
+    if (c->set_layout)
+        vkDestroyDescriptorSetLayout(dev, c->set_layout, NULL);
+    free(c);
+}

@@ -1,0 +1,408 @@
+/* vergence — stereo pair passes: curve, warp, two cameras, image warping. */
+#include "warp_gpu.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "core/log.h"
+
+#include "gpu/pipeline.h"
+#include "render/gbuffer.h"
+#include "shared.h"
+
+#include "cameras_vert.h"
+#include "curve_bins_comp.h"
+#include "curve_range_comp.h"
+#include "curve_resolve_comp.h"
+#include "eye_frag.h"
+#include "eye_sky_frag.h"
+#include "imagewarp_frag.h"
+#include "imagewarp_vert.h"
+#include "sky_vert.h"
+#include "warp_tesc.h"
+#include "warp_tese.h"
+#include "warp_vert.h"
+
+#define CURVE_TILE 64 /* = curve.glsl */
+
+typedef struct curve_push {
+    float far_depth;
+    uint32_t tiles_x, tiles_y, unused;
+} curve_push;
+
+/* What one eye pass draws. */
+typedef enum eye_kind { EYE_WARP, EYE_CAMERAS, EYE_IMAGEWARP } eye_kind;
+
+typedef struct eye_pass {
+    warp_gpu *w;
+    eye_kind kind;
+    bool right;
+} eye_pass;
+
+struct warp_gpu {
+    frame_ctx *fc;
+    VkPipeline warp, cameras, imagewarp, sky;
+    VkDescriptorSetLayout curve_set;
+    VkPipelineLayout curve_layout;
+    VkPipeline curve_range, curve_bins, curve_resolve;
+    uint32_t tiles_x, tiles_y;
+    uint32_t patches_per_draw;
+    eye_pass eyes[6];
+    /* this frame's graph resources */
+    frame_resources *res;
+    rg_res target, tiles_count, tiles_sum;
+};
+
+static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
+
+/* ------------------------------------------------------------------------- */
+/* Curve                                                                     */
+/* ------------------------------------------------------------------------- */
+
+static void push_curve(const warp_gpu *w, const rg_context *ctx, bool images)
+{
+    const frame_resources *r = w->res;
+    VkDescriptorImageInfo depth = {.imageView = rg_ctx_view(ctx, r->depth), .imageLayout = rg_ctx_layout(ctx, r->depth)};
+    VkDescriptorImageInfo target = {.imageView = rg_ctx_view(ctx, w->target), .imageLayout = rg_ctx_layout(ctx, w->target)};
+    VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
+    VkDescriptorBufferInfo count = {rg_ctx_buffer(ctx, w->tiles_count), 0, VK_WHOLE_SIZE};
+    VkDescriptorBufferInfo sum = {rg_ctx_buffer(ctx, w->tiles_sum), 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet wr[5] = {
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &depth},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 1, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &target},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 2, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &curve},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 3, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &count},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 4, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &sum},
+    };
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    /* The resolve pass reads no images. */
+    w->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_layout, 0, images ? 5 : 3,
+                                        images ? wr : wr + 2);
+    curve_push pc = {w->fc->cam.zfar, w->tiles_x, w->tiles_y, 0};
+    vkCmdPushConstants(cmd, w->curve_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+}
+
+static void curve_range_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_range);
+    push_curve(w, ctx, true);
+    vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
+}
+
+static void curve_bins_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_bins);
+    push_curve(w, ctx, true);
+    vkCmdDispatch(rg_ctx_cmd(ctx), w->tiles_x, w->tiles_y, 1);
+}
+
+static void curve_resolve_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_resolve);
+    push_curve(w, ctx, false);
+    vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Eyes                                                                      */
+/* ------------------------------------------------------------------------- */
+
+static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
+{
+    const frame_ctx *fc = w->fc;
+    const frame_resources *r = w->res;
+    VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
+    VkDescriptorImageInfo shadow = {fc->shadow_sampler, rg_ctx_view(ctx, r->shadow), rg_ctx_layout(ctx, r->shadow)};
+    VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
+    VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
+    VkDescriptorImageInfo color = {fc->nearest_clamp, rg_ctx_view(ctx, r->color), rg_ctx_layout(ctx, r->color)};
+    VkDescriptorImageInfo ids = {fc->nearest_clamp, rg_ctx_view(ctx, r->ids), rg_ctx_layout(ctx, r->ids)};
+    VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
+#define W(b, t, field) {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = (b), \
+                        .descriptorCount = 1, .descriptorType = (t), field}
+    VkWriteDescriptorSet wr[7] = {
+        W(VG_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo),
+        W(VG_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow),
+        W(VG_BINDING_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &depth),
+        W(VG_BINDING_TARGET, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &target),
+        W(VG_BINDING_CURVE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &curve),
+        W(5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &color),
+        W(6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &ids),
+    };
+#undef W
+    /* The image-warping baseline reads the G-buffer colour and ids, the
+     * others the shadow map and the curve. */
+    VkWriteDescriptorSet used[7];
+    uint32_t n = 0;
+    used[n++] = wr[0];
+    used[n++] = wr[2];
+    used[n++] = wr[3];
+    if (kind != EYE_IMAGEWARP) {
+        used[n++] = wr[1];
+        used[n++] = wr[4];
+    } else {
+        used[n++] = wr[5];
+        used[n++] = wr[6];
+    }
+    fc->gpu->cmd_push_descriptor_set(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 0, n, used);
+}
+
+static void eye_execute(const rg_context *ctx, void *user)
+{
+    const eye_pass *e = user;
+    warp_gpu *w = e->w;
+    frame_ctx *fc = w->fc;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    uint32_t flags = e->right ? VG_DRAW_RIGHT_EYE : 0;
+    push_eye(w, ctx, e->kind);
+    if (e->kind == EYE_IMAGEWARP) {
+        vg_draw_push push = {.flags = flags};
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->imagewarp);
+        vkCmdPushConstants(cmd, fc->scene_layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof push, &push);
+        vkCmdDraw(cmd, fc->desc.width * fc->desc.height, 1, 0, 0);
+        return;
+    }
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg.texture_set, 0, NULL);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->sky);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (e->kind == EYE_WARP) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp);
+        scene_gpu_draw_split(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags, w->patches_per_draw);
+    } else {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->cameras);
+        scene_gpu_draw(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags);
+    }
+}
+
+static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e, const char *name,
+                    rg_res color, rg_res aux)
+{
+    uint32_t width = w->fc->desc.width, height = w->fc->desc.height;
+    char zname[48];
+    snprintf(zname, sizeof zname, "%s.zbuffer", name);
+    rg_res z = rg_image(g, &(rg_image_desc){zname, GBUFFER_DEPTH_FORMAT, width, height, 1});
+    rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = name, .type = RG_PASS_GRAPHICS, .execute = eye_execute,
+                                               .user = e});
+    rg_use(g, p, res->ubo, RG_UNIFORM);
+    rg_use(g, p, res->depth, RG_SAMPLED);
+    rg_use(g, p, w->target, RG_SAMPLED);
+    if (e->kind == EYE_IMAGEWARP) {
+        rg_use(g, p, res->color, RG_SAMPLED);
+        rg_use(g, p, res->ids, RG_SAMPLED);
+        /* Pixels no splat reaches stay (0, 0, 0, 0): the holes. */
+        rg_use_clear(g, p, color, RG_COLOR_WRITE, (VkClearValue){0});
+    } else {
+        rg_use(g, p, res->vertices, RG_VERTEX);
+        rg_use(g, p, res->statics, RG_VERTEX);
+        rg_use(g, p, res->indices, RG_INDEX);
+        rg_use(g, p, res->shadow, RG_SAMPLED);
+        rg_use(g, p, res->curve, RG_STORAGE_READ);
+        rg_use(g, p, color, RG_COLOR_WRITE); /* the sky covers every pixel first */
+    }
+    rg_use(g, p, aux, RG_COLOR_WRITE);
+    rg_use_clear(g, p, z, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
+}
+
+void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
+{
+    const frame_desc *d = &w->fc->desc;
+    uint32_t width = d->width, height = d->height;
+    w->res = res;
+    w->target = target;
+    if (d->stereo == FRAME_STEREO_OFF)
+        return;
+
+    /* warp.curve: the last stage of the cascade (and of the error measurement). */
+    {
+        res->curve = rg_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)});
+        uint64_t tiles = (uint64_t)w->tiles_x * w->tiles_y * VG_CURVE_BINS * sizeof(uint32_t);
+        w->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
+        w->tiles_sum = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_sum", tiles});
+        rg_pass range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range", .type = RG_PASS_COMPUTE,
+                                                       .execute = curve_range_execute, .user = w});
+        rg_use(g, range, res->depth, RG_STORAGE_READ);
+        rg_use(g, range, target, RG_STORAGE_READ);
+        rg_use(g, range, res->curve, RG_STORAGE_WRITE);
+        rg_pass bins = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.bins", .type = RG_PASS_COMPUTE,
+                                                      .execute = curve_bins_execute, .user = w});
+        rg_use(g, bins, res->depth, RG_STORAGE_READ);
+        rg_use(g, bins, target, RG_STORAGE_READ);
+        rg_use(g, bins, res->curve, RG_STORAGE_READ);
+        rg_use(g, bins, w->tiles_count, RG_STORAGE_WRITE);
+        rg_use(g, bins, w->tiles_sum, RG_STORAGE_WRITE);
+        rg_pass resolve = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.resolve", .type = RG_PASS_COMPUTE,
+                                                         .execute = curve_resolve_execute, .user = w});
+        rg_use(g, resolve, w->tiles_count, RG_STORAGE_READ);
+        rg_use(g, resolve, w->tiles_sum, RG_STORAGE_READ);
+        rg_use(g, resolve, res->curve, RG_STORAGE_READ_WRITE);
+    }
+
+    static const char *const names[3][2] = {
+        {"warp.left", "warp.right"}, {"cameras.left", "cameras.right"}, {"imagewarp.left", "imagewarp.right"}};
+    eye_kind kind = d->stereo == FRAME_STEREO_WARP ? EYE_WARP : d->stereo == FRAME_STEREO_CAMERAS ? EYE_CAMERAS
+                                                                                                 : EYE_IMAGEWARP;
+    res->left = rg_image(g, &(rg_image_desc){"eye.left", WARP_COLOR_FORMAT, width, height, 1});
+    res->right = rg_image(g, &(rg_image_desc){"eye.right", WARP_COLOR_FORMAT, width, height, 1});
+    res->left_aux = rg_image(g, &(rg_image_desc){"eye.left.aux", WARP_AUX_FORMAT, width, height, 1});
+    res->right_aux = rg_image(g, &(rg_image_desc){"eye.right.aux", WARP_AUX_FORMAT, width, height, 1});
+    for (int i = 0; i < 2; i++) {
+        w->eyes[i] = (eye_pass){w, kind, i == 1};
+        add_eye(w, g, res, &w->eyes[i], names[kind][i], i ? res->right : res->left, i ? res->right_aux : res->left_aux);
+    }
+    if (d->reference && kind != EYE_CAMERAS) {
+        res->ref_left = rg_image(g, &(rg_image_desc){"reference.left", WARP_COLOR_FORMAT, width, height, 1});
+        res->ref_right = rg_image(g, &(rg_image_desc){"reference.right", WARP_COLOR_FORMAT, width, height, 1});
+        rg_res aux_l = rg_image(g, &(rg_image_desc){"reference.left.aux", WARP_AUX_FORMAT, width, height, 1});
+        rg_res aux_r = rg_image(g, &(rg_image_desc){"reference.right.aux", WARP_AUX_FORMAT, width, height, 1});
+        for (int i = 0; i < 2; i++) {
+            w->eyes[2 + i] = (eye_pass){w, EYE_CAMERAS, i == 1};
+            add_eye(w, g, res, &w->eyes[2 + i], i ? "reference.right" : "reference.left",
+                    i ? res->ref_right : res->ref_left, i ? aux_r : aux_l);
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------- */
+/* Pipelines                                                                 */
+/* ------------------------------------------------------------------------- */
+
+typedef struct shader_set {
+    VkShaderModule warp_vert, warp_tesc, warp_tese, eye_frag, cameras_vert, sky_vert, eye_sky_frag,
+        imagewarp_vert, imagewarp_frag, curve_range, curve_bins, curve_resolve;
+} shader_set;
+
+static vg_status load_shaders(gpu *g, shader_set *s)
+{
+    vg_status st = GPU_SHADER(g, spv_warp_vert, &s->warp_vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tesc, &s->warp_tesc);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tese, &s->warp_tese);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_eye_frag, &s->eye_frag);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_cameras_vert, &s->cameras_vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &s->sky_vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_eye_sky_frag, &s->eye_sky_frag);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_imagewarp_vert, &s->imagewarp_vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_imagewarp_frag, &s->imagewarp_frag);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_curve_range_comp, &s->curve_range);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_curve_bins_comp, &s->curve_bins);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_curve_resolve_comp, &s->curve_resolve);
+    return st;
+}
+
+static void free_shaders(gpu *g, shader_set *s)
+{
+    VkShaderModule *m = (VkShaderModule *)s;
+    for (size_t i = 0; i < sizeof *s / sizeof *m; i++)
+        if (m[i])
+            vkDestroyShaderModule(g->device, m[i], NULL);
+}
+
+static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
+{
+    frame_ctx *fc = w->fc;
+    gpu *g = fc->gpu;
+    VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
+    VkVertexInputAttributeDescription va[8];
+    uint32_t nb, na;
+    scene_gpu_vertex_input(SCENE_INPUT_SHADE, vb, &nb, va, &na);
+    gpu_graphics_desc eye = {
+        .layout = fc->scene_layout, .bindings = vb, .binding_count = nb, .attributes = va,
+        .attribute_count = na, .depth_test = true, .depth_write = true, .color_formats = k_eye_formats,
+        .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT,
+    };
+    gpu_graphics_desc d = eye;
+    d.name = "warp.stereo";
+    d.vert = s->warp_vert;
+    d.tesc = s->warp_tesc;
+    d.tese = s->warp_tese;
+    d.frag = s->eye_frag;
+    vg_status st = gpu_graphics_pipeline_create(g, &d, &w->warp);
+    if (st == VG_OK) {
+        d = eye;
+        d.name = "cameras";
+        d.vert = s->cameras_vert;
+        d.frag = s->eye_frag;
+        st = gpu_graphics_pipeline_create(g, &d, &w->cameras);
+    }
+    if (st == VG_OK)
+        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
+            .name = "eye sky", .layout = fc->scene_layout, .vert = s->sky_vert, .frag = s->eye_sky_frag,
+            .color_formats = k_eye_formats, .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT}, &w->sky);
+    if (st == VG_OK)
+        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
+            .name = "imagewarp", .layout = fc->scene_layout, .vert = s->imagewarp_vert, .frag = s->imagewarp_frag,
+            .points = true, .depth_test = true, .depth_write = true,
+            .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL, /* the sky splats at depth 1 */
+            .color_formats = k_eye_formats, .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT}, &w->imagewarp);
+
+    static const VkDescriptorType types[5] = {
+        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+    if (st == VG_OK)
+        st = gpu_push_layout_create(g, "warp.curve", types, 5, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(curve_push),
+                                    &w->curve_set, &w->curve_layout);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_range, "warp.curve.range", &w->curve_range);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_bins, "warp.curve.bins", &w->curve_bins);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_resolve, "warp.curve.resolve",
+                                         &w->curve_resolve);
+    return st;
+}
+
+vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
+{
+    *out = NULL;
+    if (fc->desc.stereo == FRAME_STEREO_WARP && !fc->gpu->features.tessellation) {
+        vg_error("%s has no tessellation shaders, which the 3D warp needs (try --stereo-render cameras)",
+                 fc->gpu->props.deviceName);
+        return VG_ERR_DEVICE;
+    }
+    warp_gpu *w = calloc(1, sizeof *w);
+    if (!w)
+        return VG_ERR_NOMEM;
+    w->fc = fc;
+    w->tiles_x = (fc->desc.width + CURVE_TILE - 1) / CURVE_TILE;
+    w->tiles_y = (fc->desc.height + CURVE_TILE - 1) / CURVE_TILE;
+    /* lavapipe corrupts draws tessellated into more than 65,535 vertices; a
+     * level-L triangle patch makes about 0.8 (L + 1)^2 of them there. */
+    uint32_t level = fc->desc.max_tess_level;
+    w->patches_per_draw = fc->gpu->is_cpu ? (uint32_t)(60000.0 / (0.8 * (level + 1) * (level + 1))) : 0;
+    if (fc->gpu->is_cpu && w->patches_per_draw < 1)
+        w->patches_per_draw = 1;
+    shader_set s = {0};
+    vg_status st = load_shaders(fc->gpu, &s);
+    if (st == VG_OK)
+        st = create_pipelines(w, &s);
+    free_shaders(fc->gpu, &s);
+    if (st != VG_OK) {
+        warp_gpu_destroy(w);
+        return st;
+    }
+    *out = w;
+    return VG_OK;
+}
+
+void warp_gpu_destroy(warp_gpu *w)
+{
+    if (!w)
+        return;
+    VkDevice dev = w->fc->gpu->device;
+    VkPipeline pipes[] = {w->warp, w->cameras, w->imagewarp, w->sky, w->curve_range, w->curve_bins, w->curve_resolve};
+    for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
+        if (pipes[i])
+            vkDestroyPipeline(dev, pipes[i], NULL);
+    if (w->curve_layout)
+        vkDestroyPipelineLayout(dev, w->curve_layout, NULL);
+    if (w->curve_set)
+        vkDestroyDescriptorSetLayout(dev, w->curve_set, NULL);
+    free(w);
+}

@@ -1,0 +1,43 @@
+/* vergence — what a stereo capture measures (issue 5), from the readback:
+ *
+ *   cascade        fraction of geometry pixels (both eyes) whose vertices took
+ *                  their disparity from each stage
+ *   warp error     achieved minus target disparity in pixels, per fragment:
+ *                  the eye shader knows its own position and the centre-view
+ *                  position of the surface point it shows, so the achieved
+ *                  disparity is twice their horizontal offset, and the target
+ *                  is the cascade at the centre-view position
+ *   holes          pixels where the two-camera reference shows geometry, away
+ *                  from its silhouettes (all 8 neighbours are geometry too), and
+ *                  the method shows none (sky or nothing): disocclusions, not
+ *                  sub-pixel differences of coverage along an edge
+ *   PSNR           of each eye against the two-camera reference, in dB */
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
+#include "render/frame.h"
+
+typedef struct warp_metrics {
+    /* accumulated */
+    uint64_t stage_pixels[5];          /* VG_STAGE_NONE .. VG_STAGE_CURVE */
+    float *errors, *errors_curve;      /* |error| samples (grown as needed) */
+    size_t error_count, error_cap, curve_count, curve_cap;
+    uint64_t reference_geometry, holes;
+    double sq_error[2];                /* sum of squared 8-bit RGB differences per eye */
+    uint64_t samples[2];
+    /* results of warp_metrics_finish */
+    double stage_fraction[5];
+    double error_median, error_p99, error_p99_curve;
+    double hole_fraction;
+    double psnr[2];                    /* left, right; INFINITY when identical */
+} warp_metrics;
+
+/* Adds one frame (outputs must hold the stereo readback; the reference is optional). */
+vg_status warp_metrics_add(warp_metrics *m, const frame_outputs *o, uint32_t width, uint32_t height);
+void warp_metrics_finish(warp_metrics *m);
+void warp_metrics_free(warp_metrics *m);
+
+/* Peak signal-to-noise ratio of two RGBA8 images over RGB, in dB. */
+double warp_psnr(const uint8_t *a, const uint8_t *b, size_t pixels);

@@ -1,0 +1,45 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Shading of either eye (warp or two cameras), plus what the tests measure:
+// the centre-view position of the surface, the disparity error against the
+// cascade at that position, and the cascade stage of the vertices.
+#include "common.glsl"
+#include "lighting.glsl"
+#include "stereo.glsl"
+
+layout(push_constant, scalar) uniform DrawBlock { vg_draw_push d; };
+layout(set = 0, binding = VG_BINDING_SHADOW) uniform sampler2DShadow shadow_map;
+layout(set = 1, binding = 0) uniform sampler2D textures[VG_MAX_TEXTURES];
+
+#include "cascade.glsl"
+#include "shade.glsl"
+
+layout(location = 0) in vec3 e_world;
+layout(location = 1) in vec3 e_normal;
+layout(location = 2) in vec2 e_uv;
+layout(location = 3) in vec4 e_color;
+layout(location = 4) in vec4 e_centre_clip;
+layout(location = 5) in vec4 e_stage;
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_aux;
+
+void main()
+{
+    vec4 base = surface_base_color(e_color, e_uv);
+    o_color = vec4(shade_surface(e_world, e_normal, gl_FrontFacing, base), 1.0);
+    vec2 centre = centre_pixel(e_centre_clip);
+    float side = (d.flags & VG_DRAW_RIGHT_EYE) != 0u ? 1.0 : -1.0;
+    // Achieved disparity: twice this eye's horizontal offset from the centre view.
+    float achieved = 2.0 * side * (gl_FragCoord.x - centre.x);
+    float error = 0.0;
+    if (u.warp2.z > 0.0)
+        error = achieved - px_from_vergence(cascade(centre, e_centre_clip.w).x);
+    float stage = 0.0, best = 0.0;
+    for (int i = 0; i < 4; i++)
+        if (e_stage[i] > best) {
+            best = e_stage[i];
+            stage = float(i + 1);
+        }
+    o_aux = vec4(centre, error, stage);
+}
