@@ -107,8 +107,11 @@ def case_deterministic():
     ja = capture("content/balloon.gltf", a, frames=3, size="320x180", extra=["--time", "1.5"])
     jb = capture("content/balloon.gltf", b, frames=3, size="320x180", extra=["--time", "1.5"])
     files = sorted(f for f in os.listdir(a) if f.startswith("frame_"))
-    if len(files) != 3 * 6:
-        sys.exit(f"FAIL: {len(files)} frame files, want 18: {files}")
+    kinds = ("color.png", "saliency.png", "depth.pfm", "ids.png", "motion_prev.flo", "motion_next.flo",
+             "left.png", "right.png", "stereo.png", "cascade.png", "g.pfm")
+    want = [f"frame_{i:04d}_{k}" for i in range(3) for k in kinds]
+    if sorted(want) != files:
+        sys.exit(f"FAIL: frame files {files}, want {sorted(want)}")
     match, mismatch, errors = filecmp.cmpfiles(a, b, files, shallow=False)
     if mismatch or errors:
         sys.exit(f"FAIL: files differ between two captures: {mismatch + errors}")
