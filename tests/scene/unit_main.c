@@ -98,15 +98,30 @@ static void base64_encode(const uint8_t *d, size_t n, char *out)
     out[o] = 0;
 }
 
+/* The temporary folder and what was written there, removed at exit. */
+static char g_dir[64], g_written[32][128];
+static int g_written_count;
+
+static void remove_written(void)
+{
+    for (int i = 0; i < g_written_count; i++)
+        unlink(g_written[i]);
+    if (g_dir[0])
+        rmdir(g_dir);
+}
+
 const char *unit_write_gltf(const char *name, const char *json, const void *data, size_t size)
 {
-    static char dir[64], path[128];
-    if (!dir[0]) {
-        strcpy(dir, "/tmp/vergence-scene-unit-XXXXXX");
-        if (!mkdtemp(dir))
+    static char path[128];
+    if (!g_dir[0]) {
+        strcpy(g_dir, "/tmp/vergence-scene-unit-XXXXXX");
+        if (!mkdtemp(g_dir))
             return NULL;
+        atexit(remove_written);
     }
-    snprintf(path, sizeof path, "%s/%s", dir, name);
+    snprintf(path, sizeof path, "%s/%s", g_dir, name);
+    if (g_written_count < 32)
+        snprintf(g_written[g_written_count++], sizeof g_written[0], "%s", path);
     const char *prefix = "data:application/octet-stream;base64,";
     char *uri = malloc(strlen(prefix) + size / 3 * 4 + 8);
     strcpy(uri, prefix);
