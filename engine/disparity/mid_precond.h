@@ -10,7 +10,8 @@
  * on its heaviest tap, exact for static pixels), plus the data and spatial
  * diagonal, restricted to the free variables and raised to at least the true
  * Jacobi diagonal: a pentadiagonal SPD matrix per chain, factored by banded
- * Cholesky. One chain per thread, a fixed walk along it: a gather on a GPU too.
+ * Cholesky. Chains step from keyframe k to k+1, so factor and substitutions
+ * are sweeps over keyframes, each step a gather over one keyframe's nodes.
  * Equations: docs/method.md "Solver". */
 #pragma once
 #include "core/parallel.h"

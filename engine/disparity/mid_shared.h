@@ -39,8 +39,10 @@ typedef unsigned int uint;
 /* Constants                                                                 */
 /* ------------------------------------------------------------------------- */
 
-/* Weber fraction of disparity-velocity discrimination (paper Sec. 4.2). */
+/* Weber fraction of disparity-velocity discrimination (paper Sec. 4.2), and
+ * its inverse (exact in float: the kernels multiply instead of divide). */
 #define MID_WEBER_K 0.08f
+#define MID_INV_WEBER_K 12.5f
 /* a = exp(-10 |dh|) on h normalised to [0,1] over the target range (Sec. 4.1, DESIGN.md). */
 #define MID_EDGE_SHARPNESS 10.0f
 /* The paper's weights (Sec. 4.3). */
@@ -123,14 +125,14 @@ typedef struct mid_taps mid_taps;
 /* p(v) = sign(v) ln(1 + |v|) / k (Sec. 4.2, symmetric form of DESIGN.md). */
 MID_FN float mid_p(float v)
 {
-    float s = v < 0.0f ? -1.0f : 1.0f;
-    return s * mid_log(1.0f + mid_abs(v)) / MID_WEBER_K;
+    float s = v < 0.0f ? -MID_INV_WEBER_K : MID_INV_WEBER_K;
+    return s * mid_log(1.0f + mid_abs(v));
 }
 
 /* dp/dv = 1 / (k (1 + |v|)). */
 MID_FN float mid_dp(float v)
 {
-    return 1.0f / (MID_WEBER_K * (1.0f + mid_abs(v)));
+    return MID_INV_WEBER_K / (1.0f + mid_abs(v));
 }
 
 /* Edge weight a of Sec. 4.1 for a difference of h normalised to the range. */
@@ -145,8 +147,9 @@ MID_FN mid_taps mid_link_taps(mid_link l)
     float w10 = (l.mask & MID_TAP10) != 0u ? l.fx * (1.0f - l.fy) : 0.0f;
     float w01 = (l.mask & MID_TAP01) != 0u ? (1.0f - l.fx) * l.fy : 0.0f;
     float w11 = (l.mask & MID_TAP11) != 0u ? l.fx * l.fy : 0.0f;
+    /* All four taps kept: the bilinear weights already sum to 1. */
     float s = w00 + w10 + w01 + w11;
-    float inv = s > 0.0f ? 1.0f / s : 0.0f;
+    float inv = l.mask == 15u ? 1.0f : (s > 0.0f ? 1.0f / s : 0.0f);
     mid_taps t;
     t.w00 = w00 * inv;
     t.w10 = w10 * inv;

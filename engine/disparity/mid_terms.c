@@ -38,6 +38,28 @@ void mid_lin_free(mid_lin *lin)
     *lin = (mid_lin){0};
 }
 
+/* Grid position of an element, advanced incrementally (no divisions in the loops). */
+typedef struct cursor {
+    int k, x, y;
+} cursor;
+
+static inline cursor cursor_at(const mid_window *w, int i)
+{
+    int p = i % w->ns;
+    return (cursor){i / w->ns, p % w->nx, p / w->nx};
+}
+
+static inline void cursor_next(const mid_window *w, cursor *c)
+{
+    if (++c->x == w->nx) {
+        c->x = 0;
+        if (++c->y == w->ny) {
+            c->y = 0;
+            c->k++;
+        }
+    }
+}
+
 /* ------------------------------------------------------------------------- */
 /* Pass 1: residuals, slopes, adjoint sources, cost                          */
 /* ------------------------------------------------------------------------- */
@@ -57,8 +79,9 @@ static void linearize_block(void *c, int block, int begin, int end)
     const float *f = x->f, *h = w->h;
     const float scale = 2.0f / (float)w->n;
     double sm = 0, ss = 0, st = 0, sa = 0;
-    for (int i = begin; i < end; i++) {
-        int k = i / w->ns, p = i % w->ns, px = p % w->nx, py = p / w->nx;
+    cursor cur = cursor_at(w, begin);
+    for (int i = begin; i < end; i++, cursor_next(w, &cur)) {
+        int k = cur.k, px = cur.x, py = cur.y;
         float e = f[i] - h[i];
         sm += (double)e * e;
         /* c_s over the edges to the right and below, each counted once. */
@@ -187,8 +210,9 @@ static void gather_block(void *c, int block, int begin, int end)
     gather_ctx *x = c;
     const mid_window *w = x->w;
     const float scale = 2.0f / (float)w->n;
-    for (int j = begin; j < end; j++) {
-        int p = j % w->ns, px = p % w->nx, py = p / w->nx;
+    cursor cur = cursor_at(w, begin);
+    for (int j = begin; j < end; j++, cursor_next(w, &cur)) {
+        int px = cur.x, py = cur.y;
         float e = diff_at(x, j);
         /* Weighted Laplacian of (f - h): the normal equations of c_s, i.e. the
          * paper's A_n (4 on the diagonal, -1 per neighbour) with edge weights. */
@@ -236,8 +260,9 @@ static void diagonal_block(void *c, int block, int begin, int end)
     diag_ctx *x = c;
     const mid_window *w = x->w;
     const float scale = 2.0f / (float)w->n;
-    for (int j = begin; j < end; j++) {
-        int p = j % w->ns, px = p % w->nx, py = p / w->nx;
+    cursor cur = cursor_at(w, begin);
+    for (int j = begin; j < end; j++, cursor_next(w, &cur)) {
+        int px = cur.x, py = cur.y;
         float edges = (px + 1 < w->nx ? w->edge_x[j] : 0.0f) + (px > 0 ? w->edge_x[j - 1] : 0.0f) +
                       (py + 1 < w->ny ? w->edge_y[j] : 0.0f) +
                       (py > 0 ? w->edge_y[j - w->nx] : 0.0f);

@@ -1,0 +1,217 @@
+/* bench_solver — the MID solver on a 192x108 x 32-keyframe window (the
+ * paper's 1:5 / 1:10 subsampling of 960x540 at 60 Hz over 5.3 s).
+ *
+ * Prints, from one run of this program:
+ *   - memory bandwidth (STREAM triad) with 1 thread and all threads;
+ *   - solver ms per window (median of runs), 1 thread and all threads, for
+ *     the paper's descent (8 iterations), Gauss-Newton with 8 outer
+ *     iterations, and the default Gauss-Newton budget, with the achieved
+ *     GB/s (compulsory traffic of the passes / time);
+ *   - quality: cost and MID distortion reached by each, against a long
+ *     reference solve.
+ * Usage: bench_solver [runs (default 5)] */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/clock.h"
+#include "core/parallel.h"
+#include "disparity/disp_metrics.h"
+#include "disparity/disp_operator.h"
+#include "disparity/mid_solver.h"
+#include "stereo/stereo_display.h"
+
+#define NX 192
+#define NY 108
+#define NT 32
+#define BALLS 6
+
+/* ------------------------------------------------------------------------- */
+/* Memory bandwidth                                                          */
+/* ------------------------------------------------------------------------- */
+
+typedef struct triad_ctx {
+    float *a;
+    const float *b, *c;
+} triad_ctx;
+
+static void triad_block(void *p, int block, int begin, int end)
+{
+    (void)block;
+    triad_ctx *t = p;
+    for (int i = begin; i < end; i++)
+        t->a[i] = t->b[i] + 3.0f * t->c[i];
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* GB/s of a[i] = b[i] + s c[i] over arrays far larger than the caches. */
+static double stream_triad(vg_pool *pool, int runs)
+{
+    const int n = 1 << 24; /* 64 MB per array */
+    float *a = malloc((size_t)n * 4), *b = malloc((size_t)n * 4), *c = malloc((size_t)n * 4);
+    if (!a || !b || !c)
+        return NAN;
+    for (int i = 0; i < n; i++) {
+        a[i] = 0;
+        b[i] = (float)i;
+        c[i] = 1.0f;
+    }
+    triad_ctx t = {a, b, c};
+    double ms[16];
+    vg_parallel_for(pool, n, 1 << 16, triad_block, &t); /* warm-up */
+    for (int r = 0; r < runs; r++) {
+        double t0 = vg_now_ms();
+        vg_parallel_for(pool, n, 1 << 16, triad_block, &t);
+        ms[r] = vg_now_ms() - t0;
+    }
+    double m = median(ms, runs);
+    free(a);
+    free(b);
+    free(c);
+    return 3.0 * n * 4 / (m * 1e6);
+}
+
+/* ------------------------------------------------------------------------- */
+/* The window                                                                */
+/* ------------------------------------------------------------------------- */
+
+/* Static layers at several depths and balls crossing them in depth while
+ * moving sideways; h from the lang operator per keyframe. */
+static mid_window *bench_window(void)
+{
+    stereo_display d;
+    stereo_display_init(&d, &(stereo_display_desc){0});
+    mid_window *w;
+    if (mid_window_create(&(mid_window_desc){.width = NX, .height = NY, .keyframes = NT,
+                                             .range_lo = (float)(d.screen_vergence - 60),
+                                             .range_hi = (float)(d.screen_vergence + 60)},
+                          &w) != VG_OK)
+        return NULL;
+    for (int k = 0; k < NT; k++)
+        for (int p = 0; p < w->ns; p++) {
+            int x = p % NX, y = p / NX, i = k * w->ns + p;
+            double z = y < NY / 4 ? 3.0 : (y >= NY - NY / 4 ? 1.5 : (x >= NX - 20 ? 0.9 : 10.0));
+            double a = stereo_vergence_from_distance(&d, z), fx = 0, bx = 0;
+            for (int b = 0; b < BALLS; b++) {
+                double u = (double)k / (NT - 1), speed = 0.6 + 0.15 * b;
+                double cx = 10.0 + 25.0 * b + 40.0 * speed * u, cy = 20.0 + 12.0 * b;
+                double dx = x - cx, dy = y - cy;
+                if (dx * dx + dy * dy > 36.0)
+                    continue;
+                /* Alternating constant speed and constant acceleration in depth. */
+                a = b % 2 ? 35.0 + 195.0 * u : 35.0 + 195.0 * u * u;
+                fx = k + 1 < NT ? 40.0 * speed / (NT - 1) : 0;
+                bx = k > 0 ? -40.0 * speed / (NT - 1) : 0;
+            }
+            w->g[i] = (float)a;
+            w->depth[i] = (float)stereo_distance_from_vergence(&d, a);
+            w->flow_fwd[2 * i] = (float)fx;
+            w->flow_bwd[2 * i] = (float)bx;
+        }
+    disp_operator *op;
+    if (disp_operator_create(&(disp_operator_desc){.kind = DISP_OPERATOR_LANG, .screen_vergence = d.screen_vergence,
+                                                    .in_min = 20, .in_max = 260},
+                             &op) != VG_OK) {
+        mid_window_destroy(w);
+        return NULL;
+    }
+    for (int k = 0; k < NT; k++)
+        disp_operator_apply(op, w->g + (size_t)k * w->ns, NULL, w->ns, w->h + (size_t)k * w->ns, NULL);
+    disp_operator_destroy(op);
+    if (mid_window_build(w, NULL) != VG_OK) {
+        mid_window_destroy(w);
+        return NULL;
+    }
+    return w;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Runs                                                                      */
+/* ------------------------------------------------------------------------- */
+
+typedef struct config {
+    const char *name;
+    mid_solve_desc desc;
+} config;
+
+int main(int argc, char **argv)
+{
+    int runs = argc > 1 ? atoi(argv[1]) : 5;
+    runs = runs < 1 ? 1 : (runs > 15 ? 15 : runs);
+    int cores = vg_cpu_count();
+    vg_pool *pools[2] = {NULL, NULL};
+    vg_pool_create(&(vg_pool_desc){.threads = 1}, &pools[0]);
+    vg_pool_create(&(vg_pool_desc){.threads = cores}, &pools[1]);
+    mid_window *w = bench_window();
+    float *f = malloc((size_t)NX * NY * NT * sizeof(float));
+    if (!w || !f || !pools[0] || !pools[1]) {
+        fprintf(stderr, "bench_solver: setup failed\n");
+        return 1;
+    }
+    printf("bench_solver: window %dx%d x %d keyframes = %d unknowns, %u + %u adjoint entries, %d chains\n",
+           NX, NY, NT, w->n, w->fwd_adj.count, w->bwd_adj.count, w->chain_count);
+    int thread_counts[2] = {1, cores};
+    for (int p = 0; p < 2; p++)
+        printf("memory bandwidth (STREAM triad, %d thread%s): %.2f GB/s\n", thread_counts[p],
+               thread_counts[p] > 1 ? "s" : "", stream_triad(pools[p], runs));
+
+    config configs[] = {
+        {"descent, 8 iterations (paper)", {.solver = MID_SOLVER_DESCENT, .iterations = 8}},
+        {"gauss-newton, 8 x 8 CG", {.solver = MID_SOLVER_GAUSS_NEWTON, .iterations = 8, .cg_iterations = 8}},
+        {"gauss-newton default (4 x 8 CG)", {0}},
+    };
+    int nc = (int)(sizeof configs / sizeof configs[0]);
+    mid_solve_stats st;
+    printf("\n%-34s %8s %7s %9s %9s %8s\n", "solver", "threads", "passes", "ms/window", "GB/s", "% triad");
+    for (int c = 0; c < nc; c++)
+        for (int p = 0; p < 2; p++) {
+            double ms[16], triad = stream_triad(pools[p], 3);
+            configs[c].desc.pool = pools[p];
+            for (int r = 0; r < runs; r++) {
+                mid_solve(w, &configs[c].desc, f, &st);
+                ms[r] = st.ms;
+            }
+            double m = median(ms, runs), gbs = st.bytes / (m * 1e6);
+            printf("%-34s %8d %7d %9.1f %9.2f %7.0f%%\n", configs[c].name, thread_counts[p], st.passes, m, gbs,
+                   100 * gbs / triad);
+        }
+
+    /* Quality: against a long reference solve. */
+    mid_solve(w, &(mid_solve_desc){.iterations = 10, .cg_iterations = 60, .pool = pools[1]}, f, &st);
+    double c_ref = st.cost_final;
+    double kkt = mid_projected_gradient_norm(w, (mid_weights){0}, f, pools[1]);
+    disp_metrics m_ref, m_h, m;
+    disp_metrics_window(w, f, NULL, &m_ref);
+    disp_metrics_window(w, w->h, NULL, &m_h);
+    printf("\nreference (10 x 60 CG, %.0f ms): cost %.5g, KKT residual %.2g, MID distortion %.3f JND\n", st.ms,
+           c_ref, kkt, m_ref.mid_distortion_jnd);
+    printf("%-34s %10s %12s %12s %12s\n", "", "cost", "above min", "MID (JND)", "of h's MID");
+    printf("%-34s %10.5g %11.1f%% %12.3f %12.3f\n", "h (f0)", st.cost_initial, 100 * (st.cost_initial / c_ref - 1),
+           m_h.mid_distortion_jnd, 1.0);
+    for (int c = 0; c < nc; c++) {
+        configs[c].desc.pool = pools[1];
+        mid_solve(w, &configs[c].desc, f, &st);
+        disp_metrics_window(w, f, NULL, &m);
+        printf("%-34s %10.5g %11.1f%% %12.3f %12.3f\n", configs[c].name, st.cost_final,
+               100 * (st.cost_final / c_ref - 1), m.mid_distortion_jnd, m.mid_distortion_jnd / m_h.mid_distortion_jnd);
+    }
+    printf("%-34s %10.5g %11.1f%% %12.3f %12.3f\n", "reference", c_ref, 0.0, m_ref.mid_distortion_jnd,
+           m_ref.mid_distortion_jnd / m_h.mid_distortion_jnd);
+    free(f);
+    mid_window_destroy(w);
+    vg_pool_destroy(pools[0]);
+    vg_pool_destroy(pools[1]);
+    return 0;
+}
