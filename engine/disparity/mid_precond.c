@@ -4,9 +4,12 @@
 #include <stdbool.h>
 
 /* Chain links always go from keyframe k to k+1, so the banded Cholesky along
- * every chain is a sweep over keyframes: step k reads only nodes of k-1 and
- * k-2 (forward) or k+1 and k+2 (backward), and is parallel, contiguous and
- * a gather within the keyframe. Assembly is one gather over all nodes. */
+ * every chain is a sweep over keyframes: a node needs only its chain
+ * predecessors (forward) or successors (backward). On the CPU each group of
+ * MID_CHAIN_GROUP chains sweeps its own node list (mid_window: keyframe by
+ * keyframe), one parallel call per sweep; a GPU can equally run one dispatch
+ * per keyframe over that keyframe's nodes. Assembly is one gather over all
+ * nodes. */
 
 typedef struct pc_ctx {
     const mid_window *w;
@@ -14,7 +17,6 @@ typedef struct pc_ctx {
     const mid_lin *lin;
     const float *free_mask, *diag, *r;
     float *l0, *l1, *l2, *z;
-    int base; /* first node of the keyframe of a sweep step */
 } pc_ctx;
 
 /* Coefficients of the residuals of node i along its chain (0 where a
@@ -84,14 +86,15 @@ static void assemble_block(void *c, int block, int begin, int end)
     }
 }
 
-/* Cholesky of the nodes of one keyframe, from their factored predecessors. */
-static void factor_step(void *c, int block, int begin, int end)
+/* Cholesky along the chains of a group, node by node in keyframe order. */
+static void factor_group(void *c, int block, int begin, int end)
 {
     (void)block;
     pc_ctx *x = c;
     const mid_window *w = x->w;
     float *l0 = x->l0, *l1 = x->l1, *l2 = x->l2;
-    for (int i = x->base + begin; i < x->base + end; i++) {
+    for (int o = w->chain_group[begin]; o < w->chain_group[end]; o++) {
+        int i = w->chain_order[o];
         int p1 = w->chain_prev[i], p2 = p1 >= 0 ? w->chain_prev[p1] : -1;
         float a2 = p2 >= 0 ? l2[i] / l0[p2] : 0.0f;
         float a1 = p1 >= 0 ? (l1[i] - a2 * l1[p1]) / l0[p1] : 0.0f;
@@ -109,19 +112,18 @@ void mid_precond_factor(const mid_window *w, mid_weights wt, const mid_lin *lin,
     pc_ctx c = {.w = w, .wt = wt, .lin = lin, .free_mask = free_mask, .diag = diag,
                 .l0 = l0, .l1 = l1, .l2 = l2};
     vg_parallel_for(pool, w->n, MID_BLOCK, assemble_block, &c);
-    for (int k = 0; k < w->nt; k++) {
-        c.base = k * w->ns;
-        vg_parallel_for(pool, w->ns, MID_BLOCK, factor_step, &c);
-    }
+    vg_parallel_for(pool, w->chain_groups, 1, factor_group, &c);
 }
 
-/* L y = r at the nodes of one keyframe (z holds y). */
-static void forward_step(void *c, int block, int begin, int end)
+/* L y = r, then L^T z = y (z holds y in between), along a group's chains. */
+static void solve_group(void *c, int block, int begin, int end)
 {
     (void)block;
     pc_ctx *x = c;
     const mid_window *w = x->w;
-    for (int i = x->base + begin; i < x->base + end; i++) {
+    int first = w->chain_group[begin], last = w->chain_group[end];
+    for (int o = first; o < last; o++) {
+        int i = w->chain_order[o];
         int p1 = w->chain_prev[i], p2 = p1 >= 0 ? w->chain_prev[p1] : -1;
         float v = x->r[i];
         if (p1 >= 0)
@@ -130,15 +132,8 @@ static void forward_step(void *c, int block, int begin, int end)
             v -= x->l2[i] * x->z[p2];
         x->z[i] = v / x->l0[i];
     }
-}
-
-/* L^T z = y at the nodes of one keyframe, from the keyframes after it. */
-static void backward_step(void *c, int block, int begin, int end)
-{
-    (void)block;
-    pc_ctx *x = c;
-    const mid_window *w = x->w;
-    for (int i = x->base + begin; i < x->base + end; i++) {
+    for (int o = last - 1; o >= first; o--) {
+        int i = w->chain_order[o];
         int n1 = w->chain_next[i], n2 = n1 >= 0 ? w->chain_next[n1] : -1;
         float v = x->z[i];
         if (n1 >= 0)
@@ -153,12 +148,5 @@ void mid_precond_apply(const mid_window *w, const float *l0, const float *l1, co
                        const float *r, float *z, vg_pool *pool)
 {
     pc_ctx c = {.w = w, .l0 = (float *)l0, .l1 = (float *)l1, .l2 = (float *)l2, .r = r, .z = z};
-    for (int k = 0; k < w->nt; k++) {
-        c.base = k * w->ns;
-        vg_parallel_for(pool, w->ns, MID_BLOCK, forward_step, &c);
-    }
-    for (int k = w->nt - 1; k >= 0; k--) {
-        c.base = k * w->ns;
-        vg_parallel_for(pool, w->ns, MID_BLOCK, backward_step, &c);
-    }
+    vg_parallel_for(pool, w->chain_groups, 1, solve_group, &c);
 }

@@ -67,6 +67,8 @@ typedef unsigned int uint;
 #define MID_FLOW_TOLERANCE 0.5f
 /* Elements per block of a CPU pass; partial sums are kept per block. */
 #define MID_BLOCK 4096
+/* Chains per group of the CPU preconditioner sweeps. */
+#define MID_CHAIN_GROUP 256
 /* Workgroup size of the GLSL passes. */
 #define MID_LOCAL_SIZE 256
 

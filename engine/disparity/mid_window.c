@@ -61,7 +61,9 @@ vg_status mid_window_create(const mid_window_desc *desc, mid_window **out)
     w->chain_next = calloc((size_t)n, sizeof(int32_t));
     w->chain_prev = calloc((size_t)n, sizeof(int32_t));
     w->chain_head = calloc((size_t)n, sizeof(int32_t));
-    if (!w->chain_next || !w->chain_prev || !w->chain_head ||
+    w->chain_order = calloc((size_t)n, sizeof(int32_t));
+    w->chain_group = calloc((size_t)n / MID_CHAIN_GROUP + 2, sizeof(int32_t));
+    if (!w->chain_next || !w->chain_prev || !w->chain_head || !w->chain_order || !w->chain_group ||
         !w->g || !w->h || !w->depth || !w->flow_fwd || !w->flow_bwd || !w->dt || !w->fwd ||
         !w->bwd || !w->fwd_adj.offset || !w->bwd_adj.offset || !w->edge_x || !w->edge_y ||
         !w->ph || !w->pg_acc || !w->inv_dt_f || !w->inv_dt_b) {
@@ -102,6 +104,8 @@ void mid_window_destroy(mid_window *w)
     free(w->chain_next);
     free(w->chain_prev);
     free(w->chain_head);
+    free(w->chain_order);
+    free(w->chain_group);
     free(w);
 }
 
@@ -259,6 +263,23 @@ static void chains_build(mid_window *w)
     for (int i = 0; i < w->n; i++)
         if (w->chain_prev[i] < 0)
             w->chain_head[w->chain_count++] = i;
+    /* Group the chains and list each group's nodes keyframe by keyframe. */
+    int32_t cursor[MID_CHAIN_GROUP];
+    int out = 0;
+    w->chain_groups = (w->chain_count + MID_CHAIN_GROUP - 1) / MID_CHAIN_GROUP;
+    for (int gi = 0; gi < w->chain_groups; gi++) {
+        int c0 = gi * MID_CHAIN_GROUP, cn = w->chain_count - c0 < MID_CHAIN_GROUP ? w->chain_count - c0 : MID_CHAIN_GROUP;
+        w->chain_group[gi] = out;
+        for (int c = 0; c < cn; c++)
+            cursor[c] = w->chain_head[c0 + c];
+        for (int k = 0; k < w->nt; k++)
+            for (int c = 0; c < cn; c++)
+                if (cursor[c] >= 0 && cursor[c] / w->ns == k) {
+                    w->chain_order[out++] = cursor[c];
+                    cursor[c] = w->chain_next[cursor[c]];
+                }
+    }
+    w->chain_group[w->chain_groups] = out;
 }
 
 /* ------------------------------------------------------------------------- */

@@ -53,6 +53,12 @@ typedef struct mid_window {
     int32_t *chain_next, *chain_prev; /* -1 at the ends */
     int32_t *chain_head;              /* first node of every chain, ascending */
     int chain_count;
+    /* Nodes of each group of MID_CHAIN_GROUP chains (consecutive heads),
+     * keyframe by keyframe: a sweep over a group's list meets every node
+     * after its chain predecessors, so groups run in parallel. */
+    int32_t *chain_order;             /* n */
+    int32_t *chain_group;             /* groups + 1 offsets into chain_order */
+    int chain_groups;
     bool built;
 } mid_window;
 
