@@ -104,6 +104,9 @@ static vg_status write_sequence(const char *dir)
         vg_imagef_alloc(&fp, W, H, 2))
         return VG_ERR_NOMEM;
     vg_status st = VG_OK;
+    uint8_t *sal = malloc(W * H);
+    if (!sal)
+        return VG_ERR_NOMEM;
     for (int t = 0; t <= LAST && st == VG_OK; t++) {
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++) {
@@ -116,6 +119,7 @@ static vg_status write_sequence(const char *dir)
                 fn.data[2 * i] = ball && t < LAST ? (float)(ball_x(t + 1) - ball_x(t)) : 0.0f;
                 fp.data[2 * i] = ball && t > 0 ? (float)(ball_x(t - 1) - ball_x(t)) : 0.0f;
                 fn.data[2 * i + 1] = fp.data[2 * i + 1] = 0.0f;
+                sal[i] = ball ? 255 : 20; /* the moving object is the salient one */
             }
         char p[1200];
         snprintf(p, sizeof p, "%s/g_%04d.pfm", dir, t);
@@ -129,7 +133,11 @@ static vg_status write_sequence(const char *dir)
         snprintf(p, sizeof p, "%s/fp_%04d.flo", dir, t);
         if (st == VG_OK)
             st = vg_flo_write(p, &fp);
+        snprintf(p, sizeof p, "%s/s_%04d.png", dir, t);
+        if (st == VG_OK)
+            st = vg_png_write(p, W, H, 1, sal);
     }
+    free(sal);
     vg_imagef_free(&g);
     vg_imagef_free(&z);
     vg_imagef_free(&fn);
@@ -141,7 +149,7 @@ static int prepare(void)
 {
     CHECK(vg_dir_prepare(g_work) == VG_OK, "work folder %s", g_work);
     char first[1200];
-    path_in(first, sizeof first, "g_0060.pfm");
+    path_in(first, sizeof first, "s_0060.png");
     if (!exists(first))
         CHECK(write_sequence(g_work) == VG_OK, "writing the synthetic sequence");
     return 0;
@@ -195,6 +203,69 @@ static int synthetic_sequence(void)
         CHECK(vg_png_read(path, &w, &h, 1, &px) == VG_OK && w == W && h == LAST + 1, "%s is %dx%d", path, w, h);
         free(px);
     }
+    return 0;
+}
+
+/* h = g inside the target range: g already has g's motion, so every written
+ * frame is g (through the keyframe flows, the solve and both upsamplings). */
+static int given_h_identity(void)
+{
+    CHECK(prepare() == 0, "prepare");
+    char args[16384], out[1200], path[1400];
+    path_in(out, sizeof out, "out_identity");
+    snprintf(args, sizeof args,
+             "--g '%s/g_%%04d.pfm' --h '%s/g_%%04d.pfm' --depth '%s/z_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' "
+             "--flow-prev '%s/fp_%%04d.flo' --frames 0:%d --target-range 270 --out '%s'",
+             g_work, g_work, g_work, g_work, g_work, LAST, out);
+    CHECK(run_vergence(args) == 0, "optimize failed:\n%s", g_stderr);
+    double worst = 0;
+    for (int t = 0; t <= LAST; t++) {
+        vg_imagef f, g;
+        snprintf(path, sizeof path, "%s/f_%04d.pfm", out, t);
+        CHECK(vg_pfm_read(path, &f) == VG_OK, "%s", path);
+        snprintf(path, sizeof path, "%s/g_%04d.pfm", g_work, t);
+        CHECK(vg_pfm_read(path, &g) == VG_OK, "%s", path);
+        for (int i = 0; i < W * H; i++)
+            worst = fmax(worst, fabs(f.data[i] - g.data[i]));
+        vg_imagef_free(&f);
+        vg_imagef_free(&g);
+    }
+    printf("h = g: max |f - g| over %d frames = %.3g arcmin\n", LAST + 1, worst);
+    CHECK(worst <= 1e-3, "f departs from g by %.3g arcmin", worst);
+    return 0;
+}
+
+/* --saliency feeds the operator: h changes (its x-t slice differs), the run
+ * completes and f stays in the range. */
+static int saliency_input(void)
+{
+    CHECK(prepare() == 0, "prepare");
+    char args[16384], out[2][600], path[1400];
+    uint8_t *px[2];
+    double rv = 1;
+    for (int run = 0; run < 2; run++) {
+        path_in(out[run], sizeof out[run], run ? "out_saliency" : "out_plain");
+        snprintf(args, sizeof args, "--g '%s/g_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' %s%s%s --frames 0:%d --out '%s'",
+                 g_work, g_work, run ? "--saliency '" : "", run ? g_work : "", run ? "/s_%04d.png'" : "", LAST, out[run]);
+        CHECK(run_vergence(args) == 0, "optimize failed:\n%s", g_stderr);
+        int w, h;
+        snprintf(path, sizeof path, "%s/xt_h.png", out[run]);
+        CHECK(vg_png_read(path, &w, &h, 1, &px[run]) == VG_OK, "%s", path);
+        snprintf(path, sizeof path, "%s/metrics.json", out[run]);
+        uint8_t *json;
+        size_t size;
+        CHECK(vg_file_read(path, &json, &size) == VG_OK, "%s", path);
+        rv = json_number((char *)json, "f", "range_violation");
+        free(json);
+    }
+    int differ = 0;
+    for (int i = 0; i < W * (LAST + 1); i++)
+        differ += px[0][i] != px[1][i];
+    printf("x-t slice of h: %d of %d pixels change with saliency; f range violation %g\n", differ, W * (LAST + 1), rv);
+    CHECK(differ > 100, "saliency must change h");
+    CHECK(rv == 0.0, "f outside the range");
+    free(px[0]);
+    free(px[1]);
     return 0;
 }
 
@@ -329,6 +400,8 @@ int main(int argc, char **argv)
         snprintf(g_work, sizeof g_work, "%s", argv[3]);
     static const vg_test_case cases[] = {
         {"synthetic_sequence", synthetic_sequence},
+        {"given_h_identity", given_h_identity},
+        {"saliency_input", saliency_input},
         {"bad_inputs", bad_inputs},
         {"bad_patterns", bad_patterns},
         {"third_party", third_party},
