@@ -533,6 +533,10 @@ vg_status disp_offline_run(const disp_offline_desc *d)
         vg_error("%s: cannot remove the previous metrics: %s", path, strerror(errno));
         return VG_ERR_IO;
     }
+    if (!s.has_fn && !s.has_fp)
+        vg_warn("optimize: no --flow-next or --flow-prev: assuming a static camera and scene (zero flow)");
+    else if (!s.has_fn || !s.has_fp)
+        vg_info("optimize: approximating %s by the other flow negated", s.has_fn ? "--flow-prev" : "--flow-next");
     s.frames = d->last - d->first + 1;
     s.stride = d->keyframe_stride > 0 ? d->keyframe_stride : 10;
     s.fps = d->fps > 0 ? d->fps : 60.0;
