@@ -150,3 +150,16 @@ void mid_precond_apply(const mid_window *w, const float *l0, const float *l1, co
     pc_ctx c = {.w = w, .l0 = (float *)l0, .l1 = (float *)l1, .l2 = (float *)l2, .r = r, .z = z};
     vg_parallel_for(pool, w->chain_groups, 1, solve_group, &c);
 }
+
+/* Assembly reads q_f, q_b, m_a, the free mask, diag, two edge arrays and the
+ * chain links and writes the band; the factor sweep reads and rewrites it. */
+double mid_precond_bytes_factor(const mid_window *w)
+{
+    return (double)w->n * (4.0 * 7 + 8.0 + 4.0 * 3 + 4.0 + 4.0 * 6);
+}
+
+/* Forward and backward sweeps: r or z, the band, a chain link, z. */
+double mid_precond_bytes_apply(const mid_window *w)
+{
+    return (double)w->n * 2.0 * (4.0 * 5 + 4.0 + 4.0);
+}

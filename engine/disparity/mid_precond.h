@@ -27,3 +27,7 @@ void mid_precond_factor(const mid_window *w, mid_weights wt, const mid_lin *lin,
 /* z = M^-1 r. */
 void mid_precond_apply(const mid_window *w, const float *l0, const float *l1, const float *l2,
                        const float *r, float *z, vg_pool *pool);
+
+/* Compulsory traffic of a factorisation and of an application (bench). */
+double mid_precond_bytes_factor(const mid_window *w);
+double mid_precond_bytes_apply(const mid_window *w);

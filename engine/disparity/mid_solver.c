@@ -86,10 +86,11 @@ typedef enum vec_op {
 typedef struct vec_ctx {
     vec_op op;
     mid_solver *s;
-    const float *f, *a, *b;
+    const float *f;
     float lo, hi, scalar;
     int jacobi;
     double *partial;
+    mid_solve_stats *stats; /* traffic accounting, may be NULL */
 } vec_ctx;
 
 static inline float clampf(float v, float lo, float hi)
@@ -155,12 +156,22 @@ static void vec_block(void *c, int block, int begin, int end)
     x->partial[2 * block + 1] = acc1;
 }
 
+/* Floats read and written per element by each op (bench traffic). */
+static const int g_op_floats[] = {
+    [OP_CG_START] = 5, [OP_ZP_INIT] = 4, [OP_MASK_DOT] = 4, [OP_CG_UPDATE] = 7,
+    [OP_RZ] = 2,       [OP_P_UPDATE] = 3, [OP_TRIAL] = 4,   [OP_DESCENT] = 4,
+};
+
 /* Runs an element-wise op; returns its sums in fixed block order. */
 static void vec_run(mid_solver *s, vg_pool *pool, vec_ctx c, double *sum0, double *sum1)
 {
     c.s = s;
     c.partial = s->partial;
     vg_parallel_for(pool, s->n, MID_BLOCK, vec_block, &c);
+    if (c.stats) {
+        c.stats->passes++;
+        c.stats->bytes += 4.0 * g_op_floats[c.op] * s->n;
+    }
     double a = 0, b = 0;
     for (int k = 0; k < vg_block_count(s->n, MID_BLOCK); k++) {
         a += s->partial[2 * k];
@@ -209,7 +220,7 @@ static double hessian_product(mid_solver *s, run_state *rs)
     rs->st->passes += 2;
     rs->st->bytes += mid_terms_bytes_direction(rs->w) + mid_terms_bytes_gather(rs->w);
     double php;
-    vec_run(s, rs->pool, (vec_ctx){.op = OP_MASK_DOT}, &php, NULL);
+    vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = OP_MASK_DOT}, &php, NULL);
     return php;
 }
 
@@ -217,9 +228,12 @@ static double hessian_product(mid_solver *s, run_state *rs)
 static double precondition(mid_solver *s, run_state *rs, bool first)
 {
     double rz;
-    if (!rs->jacobi)
+    if (!rs->jacobi) {
         mid_precond_apply(rs->w, s->l0, s->l1, s->l2, s->r, s->z, rs->pool);
-    vec_run(s, rs->pool, (vec_ctx){.op = first ? OP_ZP_INIT : OP_RZ, .jacobi = rs->jacobi}, &rz, NULL);
+        rs->st->passes += 2;
+        rs->st->bytes += mid_precond_bytes_apply(rs->w);
+    }
+    vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = first ? OP_ZP_INIT : OP_RZ, .jacobi = rs->jacobi}, &rz, NULL);
     return rz;
 }
 
@@ -230,11 +244,14 @@ static bool gauss_newton_step(mid_solver *s, run_state *rs, const float *f, doub
 {
     gradient_and_diagonal(s, rs, f);
     double pg2;
-    vec_run(s, rs->pool, (vec_ctx){.op = OP_CG_START, .f = f, .lo = rs->lo, .hi = rs->hi}, NULL, &pg2);
+    vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = OP_CG_START, .f = f, .lo = rs->lo, .hi = rs->hi}, NULL, &pg2);
     if (pg2 == 0.0)
         return false;
-    if (!rs->jacobi)
+    if (!rs->jacobi) {
         mid_precond_factor(rs->w, rs->wt, &s->lin, s->free_mask, s->diag, s->l0, s->l1, s->l2, rs->pool);
+        rs->st->passes += 2;
+        rs->st->bytes += mid_precond_bytes_factor(rs->w);
+    }
     double rz = precondition(s, rs, true);
     if (!(rz > 0.0))
         return false;
@@ -246,20 +263,20 @@ static bool gauss_newton_step(mid_solver *s, run_state *rs, const float *f, doub
         if (!(php > 0.0))
             break;
         double rz_new;
-        vec_run(s, rs->pool, (vec_ctx){.op = OP_CG_UPDATE, .scalar = (float)(rz / php), .jacobi = rs->jacobi},
+        vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = OP_CG_UPDATE, .scalar = (float)(rz / php), .jacobi = rs->jacobi},
                 &rz_new, NULL);
         if (!rs->jacobi)
             rz_new = precondition(s, rs, false);
         if (rz_new <= CG_TOLERANCE * rz0)
             break;
-        vec_run(s, rs->pool, (vec_ctx){.op = OP_P_UPDATE, .scalar = (float)(rz_new / rz)}, NULL, NULL);
+        vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = OP_P_UPDATE, .scalar = (float)(rz_new / rz)}, NULL, NULL);
         rz = rz_new;
     }
     /* Backtracking on the projected arc P(f + t s) with the Armijo test. */
     float t = 1.0f;
     for (int trial = 0; trial < LINE_MAX_TRIALS; trial++, t *= 0.5f) {
         double decrease;
-        vec_run(s, rs->pool, (vec_ctx){.op = OP_TRIAL, .f = f, .lo = rs->lo, .hi = rs->hi, .scalar = t},
+        vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = OP_TRIAL, .f = f, .lo = rs->lo, .hi = rs->hi, .scalar = t},
                 &decrease, NULL);
         double c_try = linearize(s, rs, s->f_try);
         rs->st->line_trials++;
@@ -275,7 +292,7 @@ static bool gauss_newton_step(mid_solver *s, run_state *rs, const float *f, doub
 static void descent_step(mid_solver *s, run_state *rs, const float *f, double *c, float lambda)
 {
     gradient_and_diagonal(s, rs, f);
-    vec_run(s, rs->pool, (vec_ctx){.op = OP_DESCENT, .f = f, .lo = rs->lo, .hi = rs->hi, .scalar = lambda},
+    vec_run(s, rs->pool, (vec_ctx){.stats = rs->st, .op = OP_DESCENT, .f = f, .lo = rs->lo, .hi = rs->hi, .scalar = lambda},
             NULL, NULL);
     *c = linearize(s, rs, s->f_try);
 }

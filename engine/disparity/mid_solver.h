@@ -43,7 +43,7 @@ typedef struct mid_solve_stats {
     int iterations;        /* outer iterations run (a converged solve stops early) */
     int cg_steps;          /* total CG steps */
     int line_trials;       /* total cost evaluations of the line search */
-    int passes;            /* passes over the window (each a full read of it) */
+    int passes;            /* traversals of the window: kernels, vector updates, preconditioner sweeps */
     double cost_initial, cost_final;
     mid_cost_terms terms;  /* at the result */
     double ms;             /* wall time */
