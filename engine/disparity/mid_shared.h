@@ -220,4 +220,14 @@ MID_FN float disp_curve_coord(float depth, float inv_lo, float inv_hi, uint bins
     return u * MID_FLOAT(bins) - 0.5f;
 }
 
+#if defined(__STDC__) || defined(__cplusplus)
+/* The std430 layouts the GLSL side assumes. */
+#include <stddef.h>
+_Static_assert(sizeof(mid_params) == 48 && offsetof(mid_params, w_data) == 16 &&
+                   offsetof(mid_params, range_lo) == 32, "mid_params layout");
+_Static_assert(sizeof(mid_link) == 16 && offsetof(mid_link, mask) == 12, "mid_link layout");
+_Static_assert(sizeof(mid_adj_entry) == 8, "mid_adj_entry layout");
+_Static_assert(sizeof(disp_curve_header) == 16, "disp_curve_header layout");
+#endif
+
 #endif /* VG_MID_SHARED_H */
