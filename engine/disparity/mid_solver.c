@@ -371,10 +371,12 @@ double mid_projected_gradient_norm(const mid_window *w, mid_weights wt, const fl
         free(g);
         return NAN;
     }
+    /* In double: f - g cancels in float when |g| is below f's last digit. */
     double s = 0;
     for (int i = 0; i < w->n; i++) {
-        float d = clampf(f[i] - g[i], w->range_lo, w->range_hi) - f[i];
-        s += (double)d * d;
+        double t = (double)f[i] - g[i];
+        t = t < w->range_lo ? w->range_lo : (t > w->range_hi ? w->range_hi : t);
+        s += (t - f[i]) * (t - f[i]);
     }
     free(g);
     return sqrt(s / w->n);

@@ -211,9 +211,10 @@ static int reference_minimum(const mid_window *w, double *c_ref, float *f_ref)
     if (mid_solve(w, &(mid_solve_desc){.iterations = 12, .cg_iterations = 100}, f_ref, &st) != VG_OK)
         return 1;
     double kkt = mid_projected_gradient_norm(w, (mid_weights){0}, f_ref, NULL);
-    printf("  reference: cost %.6g after %d iterations, %d CG steps; KKT residual %.3g\n", st.cost_final,
-           st.iterations, st.cg_steps, kkt);
-    CHECK(kkt < 1e-5, "the reference solve did not converge: KKT residual %.3g", kkt);
+    double kkt_h = mid_projected_gradient_norm(w, (mid_weights){0}, w->h, NULL);
+    printf("  reference: cost %.6g after %d iterations, %d CG steps; KKT residual %.3g (%.3g at h)\n",
+           st.cost_final, st.iterations, st.cg_steps, kkt, kkt_h);
+    CHECK(kkt < 1e-3 * kkt_h, "the reference solve did not converge: KKT residual %.3g", kkt);
     *c_ref = st.cost_final;
     return 0;
 }
