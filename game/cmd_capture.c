@@ -371,6 +371,7 @@ static vg_status capture(gpu *g, const scene *s)
         .compose = (frame_compose)(o.compose + 1), .swap_eyes = o.swap_eyes, .tess_px = o.tess_px,
         .tess_error = o.tess_error, .diffuse = o.diffuse,
         .reference = !o.no_reference && o.stereo != FRAME_STEREO_CAMERAS,
+        .measure = true,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);

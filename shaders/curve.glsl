@@ -3,21 +3,24 @@
 // bins uniform in inverse depth. Three passes, all in a fixed order so the
 // curve is the same on every run and every device:
 //   range    one workgroup reduces the inverse-depth range
-//   bins     per 64x64 tile: count and fixed-point sum of vergence per bin
-//   resolve  per bin: mean over tiles; empty bins interpolated linearly
-//            between their populated neighbours (the hat reconstruction of
-//            the paper), constant beyond the ends.
+//   bins     per 64x64 tile: count and fixed-point sums of vergence and of
+//            the position inside the bin, per bin
+//   resolve  per bin: centroid over tiles; empty bins take the bin centre and
+//            the value linear between their populated neighbours (the hat
+//            reconstruction of the paper); constant beyond the ends.
 #extension GL_EXT_scalar_block_layout : require
 #include "shared.h"
 
 #define CURVE_TILE 64
 #define CURVE_FIXED 256.0   // vergence fixed point: 1/256 arcmin
+#define CURVE_OFFSET_FIXED 65536.0 // position inside a bin, fixed point
 
 layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
 layout(set = 0, binding = 1, r32f) uniform readonly image2D target_image;
 layout(set = 0, binding = 2, scalar) buffer CurveBlock { vg_curve curve; };
 layout(set = 0, binding = 3, scalar) buffer TileBlock { uint tile_count[]; };
 layout(set = 0, binding = 4, scalar) buffer TileSumBlock { uint tile_sum[]; };
+layout(set = 0, binding = 5, scalar) buffer TileOffsetBlock { uint tile_offset[]; };
 layout(push_constant, scalar) uniform CurvePush {
     float far_depth;   // background depth: pixels at or beyond it are not geometry
     uint tiles_x, tiles_y, unused;

@@ -1,8 +1,8 @@
-#version 460
-#extension GL_GOOGLE_include_directive : require
-// Shading of either eye (warp or two cameras), plus what the tests measure:
-// the centre-view position of the surface, the disparity error against the
-// cascade at that position, and the cascade stage of the vertices.
+// vergence — shading of either eye (warp or two cameras), plus what the tests
+// measure: the centre-view position of the surface, the disparity error
+// against the cascade at that position (EYE_MEASURE only: it binds the
+// depth, target and curve), and the cascade stage of the vertices.
+// Included by eye.frag and eye_measure.frag.
 #include "common.glsl"
 #include "lighting.glsl"
 #include "stereo.glsl"
@@ -11,7 +11,14 @@ layout(push_constant, scalar) uniform DrawBlock { vg_draw_push d; };
 layout(set = 0, binding = VG_BINDING_SHADOW) uniform sampler2DShadow shadow_map;
 layout(set = 1, binding = 0) uniform sampler2D textures[VG_MAX_TEXTURES];
 
+#ifdef EYE_MEASURE
 #include "cascade.glsl"
+#else
+vec2 centre_pixel(vec4 clip)
+{
+    return (clip.xy / clip.w * 0.5 + 0.5) * u.viewport.xy;
+}
+#endif
 #include "shade.glsl"
 
 layout(location = 0) in vec3 e_world;
@@ -26,15 +33,17 @@ layout(location = 1) out vec4 o_aux;
 
 void main()
 {
-    vec4 base = surface_base_color(e_color, e_uv);
-    o_color = vec4(shade_surface(e_world, e_normal, gl_FrontFacing, base), 1.0);
     vec2 centre = centre_pixel(e_centre_clip);
+    vec3 shaded = shade_surface(e_world, e_normal, gl_FrontFacing, surface_base_color(e_color, e_uv));
+    o_color = vec4(shaded, 1.0);
     float side = (d.flags & VG_DRAW_RIGHT_EYE) != 0u ? 1.0 : -1.0;
     // Achieved disparity: twice this eye's horizontal offset from the centre view.
     float achieved = 2.0 * side * (gl_FragCoord.x - centre.x);
     float error = 0.0;
+#ifdef EYE_MEASURE
     if (u.warp2.z > 0.0)
         error = achieved - px_from_vergence(cascade(centre, e_centre_clip.w).x);
+#endif
     float stage = 0.0, best = 0.0;
     for (int i = 0; i < 4; i++)
         if (e_stage[i] > best) {

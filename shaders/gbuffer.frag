@@ -1,38 +1,3 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
-#include "lighting.glsl"
-
-layout(push_constant, scalar) uniform DrawBlock { vg_draw_push d; };
-layout(set = 0, binding = VG_BINDING_SHADOW) uniform sampler2DShadow shadow_map;
-layout(set = 1, binding = 0) uniform sampler2D textures[VG_MAX_TEXTURES];
-
-#include "shade.glsl"
-
-layout(location = 0) in vec3 v_world;
-layout(location = 1) in vec3 v_normal;
-layout(location = 2) in vec2 v_uv;
-layout(location = 3) in vec4 v_color;
-layout(location = 4) in vec4 v_clip_prev;
-layout(location = 5) in vec4 v_clip_next;
-layout(location = 6) in float v_view_depth;
-
-layout(location = VG_GBUFFER_COLOR) out vec4 o_color;
-layout(location = VG_GBUFFER_DEPTH) out float o_depth;
-layout(location = VG_GBUFFER_ID) out uint o_id;
-layout(location = VG_GBUFFER_MOTION) out vec4 o_motion;
-
-vec2 to_pixels(vec4 clip)
-{
-    return (clip.xy / clip.w * 0.5 + 0.5) * u.viewport.xy;
-}
-
-void main()
-{
-    vec4 base = surface_base_color(v_color, v_uv);
-    o_color = vec4(shade_surface(v_world, v_normal, gl_FrontFacing, base), d.saliency);
-    o_depth = v_view_depth;
-    o_id = d.instance_id;
-    vec2 here = gl_FragCoord.xy;
-    o_motion = vec4(to_pixels(v_clip_prev) - here, to_pixels(v_clip_next) - here);
-}
+#include "gbuffer.glsl"

@@ -53,7 +53,7 @@ VG_STRUCT(vg_frame_ubo) {
     VG_VEC4 rig;              /* gain K (image px), convergence c (m), interaxial b (m), unused */
     VG_VEC4 display;          /* ipd e (m), distance D (m), metres per image pixel, screen vergence (arcmin) */
     VG_VEC4 warp;             /* tess px (0 = off), tess error px (0 = off), depth epsilon (relative), Halton radius px */
-    VG_VEC4 warp2;            /* max tessellation level, specular (1) or diffuse only (0), unused, unused */
+    VG_VEC4 warp2;            /* max tessellation level, specular (1) or diffuse only (0), measure (1), unused */
 };
 
 /* Push-descriptor bindings of set 0 shared by the scene pipelines. */
@@ -73,14 +73,17 @@ VG_STRUCT(vg_frame_ubo) {
 #define VG_STAGE_HALTON 3
 #define VG_STAGE_CURVE 4
 
-/* Global depth -> vergence curve (paper 4.6): bins uniform in inverse depth. */
+/* Global depth -> vergence curve (paper 4.6): bins uniform in inverse depth;
+ * each holds the centroid of its pairs (mean inverse depth, mean vergence),
+ * and the curve is linear in inverse depth between consecutive centroids. */
 #define VG_CURVE_BINS 256
 VG_STRUCT(vg_curve) {
     float inv_depth_near;     /* 1 / smallest depth covered */
     float inv_depth_far;      /* 1 / largest depth covered */
     VG_UINT valid;            /* 0: no pairs were seen, the curve is unusable */
     VG_UINT pad;
-    float vergence[VG_CURVE_BINS]; /* arcmin at bin centres */
+    float inv_depth[VG_CURVE_BINS]; /* centroid, 1/m (bin centre for empty bins) */
+    float vergence[VG_CURVE_BINS];  /* arcmin at the centroid */
 };
 
 /* Per-draw push constants. */
@@ -91,6 +94,35 @@ VG_STRUCT(vg_draw_push) {
     int texture_index;        /* index into the texture array, -1 for none */
     VG_UINT flags;            /* unused, 0 */
 };
+
+/* warp.classify: one entry per scene instance. Its flat and tessellated
+ * index lists sit in the instance's own range [first_index, +index_count) of
+ * two output index buffers; indirect draw args: the flat draw of instance i
+ * at i, its tessellated chunks at instance_count + tess_args + c, and after
+ * all commands one uint per instance: how many of its chunks hold triangles. */
+VG_STRUCT(vg_warp_instance) {
+    VG_UINT first_index, index_count, first_vertex, tess_args;
+    VG_UINT tess_chunks, pad0, pad1, pad2;
+};
+/* warp.classify works on chunks of up to 256 triangles of one instance. */
+VG_STRUCT(vg_warp_chunk) {
+    VG_UINT instance, first_triangle, triangle_count, first_chunk; /* first_chunk: the instance's chunk 0 */
+};
+VG_STRUCT(vg_classify_push) {
+    VG_UINT instance_count;
+    VG_UINT chunk_triangles;   /* patches per tessellated draw (lavapipe's vertex limit) */
+    VG_UINT chunk_count;
+    VG_UINT tess_slots;        /* draw commands of all tessellated chunks; per-instance counts follow them */
+};
+#define VG_BINDING_VERTICES 7     /* warp.classify: scene positions (6 floats per vertex) */
+#define VG_BINDING_INDICES 8
+#define VG_BINDING_INSTANCES 9
+#define VG_BINDING_FLAT 10
+#define VG_BINDING_TESS 11
+#define VG_BINDING_ARGS 12
+#define VG_BINDING_CHUNKS 13      /* vg_warp_chunk */
+#define VG_BINDING_KINDS 14       /* per triangle: 0 culled, 1 flat, 2 tessellated */
+#define VG_BINDING_COUNTS 15      /* per chunk: flat and tessellated triangles */
 
 /* compose modes (frame_compose minus one) and push constants. */
 #define VG_COMPOSE_SBS 0

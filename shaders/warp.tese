@@ -29,17 +29,6 @@ void main()
     e_normal = b.x * tc_normal[0] + b.y * tc_normal[1] + b.z * tc_normal[2];
     e_uv = b.x * tc_uv[0] + b.y * tc_uv[1] + b.z * tc_uv[2];
     e_color = b.x * tc_color[0] + b.y * tc_color[1] + b.z * tc_color[2];
-    vec4 clip = u.view_proj * vec4(world, 1.0);
-    e_centre_clip = clip;
-    e_stage = vec4(0.0);
-    if (clip.w > 1e-6) {
-        vec2 c = cascade(centre_pixel(clip), clip.w);
-        float disparity_px = px_from_vergence(c.x);
-        int stage = int(c.y);
-        e_stage[stage - 1] = 1.0;
-        float side = (d.flags & VG_DRAW_RIGHT_EYE) != 0u ? 1.0 : -1.0;
-        // Half the disparity per eye, in clip units: NDC spans 2 over W pixels.
-        clip.x += side * disparity_px * u.viewport.z * clip.w;
-    }
+    vec4 clip = warp_vertex(world, (d.flags & VG_DRAW_RIGHT_EYE) != 0u, e_centre_clip, e_stage);
     gl_Position = clip;
 }

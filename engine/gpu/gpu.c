@@ -312,7 +312,9 @@ static vg_status pick_device(gpu *g, const gpu_desc *desc)
 
 static vg_status create_device(gpu *g, const gpu_desc *desc)
 {
-    VkPhysicalDeviceVulkan11Features f11q = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+    VkPhysicalDeviceVulkan12Features f12q = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceVulkan11Features f11q = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
+                                             .pNext = &f12q};
     VkPhysicalDeviceFeatures2 fq = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &f11q};
     vkGetPhysicalDeviceFeatures2(g->phys, &fq);
     g->features = (gpu_features){
@@ -321,6 +323,8 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
         .multiview_tessellation = f11q.multiviewTessellationShader,
         .timestamps = g->props.limits.timestampComputeAndGraphics,
         .fill_mode_non_solid = fq.features.fillModeNonSolid,
+        .multi_draw_indirect = fq.features.multiDrawIndirect,
+        .draw_indirect_count = f12q.drawIndirectCount,
     };
 
     VkPhysicalDeviceVulkan13Features f13 = {
@@ -334,6 +338,7 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
         .pNext = &f13,
         .hostQueryReset = VK_TRUE,
         .scalarBlockLayout = VK_TRUE,
+        .drawIndirectCount = g->features.draw_indirect_count,
     };
     VkPhysicalDeviceVulkan11Features f11 = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
@@ -347,6 +352,7 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
         .features = {
             .tessellationShader = g->features.tessellation,
             .fillModeNonSolid = g->features.fill_mode_non_solid,
+            .multiDrawIndirect = g->features.multi_draw_indirect,
             .shaderStorageImageWriteWithoutFormat = VK_TRUE,
         },
     };

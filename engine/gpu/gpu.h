@@ -33,6 +33,8 @@ typedef struct gpu_features {
     bool multiview_tessellation;/* multiviewTessellationShader */
     bool timestamps;            /* timestampComputeAndGraphics */
     bool fill_mode_non_solid;   /* wireframe debug views */
+    bool multi_draw_indirect;   /* several indirect draws per call */
+    bool draw_indirect_count;   /* the GPU decides how many indirect draws run */
 } gpu_features;
 
 typedef struct gpu {

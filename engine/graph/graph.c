@@ -60,6 +60,9 @@ rg_state rg_usage_state(rg_usage usage, rg_pass_type type, bool is_image, VkForm
                           VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT, none, true, false};
     case RG_INDEX:
         return (rg_state){VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT, none, true, false};
+    case RG_INDIRECT:
+        return (rg_state){VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT, none, true,
+                          false};
     case RG_TRANSFER_SRC:
         return (rg_state){VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                           is_image ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : none, true, false};
@@ -224,7 +227,7 @@ static bool image_only(rg_usage u)
 
 static bool buffer_only(rg_usage u)
 {
-    return u == RG_UNIFORM || u == RG_VERTEX || u == RG_INDEX;
+    return u == RG_UNIFORM || u == RG_VERTEX || u == RG_INDEX || u == RG_INDIRECT;
 }
 
 static bool is_transfer(rg_usage u)
@@ -522,6 +525,7 @@ static void alias(rg_graph *g)
         case RG_UNIFORM: p->buffer_usage |= VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT; break;
         case RG_VERTEX: p->buffer_usage |= VK_BUFFER_USAGE_VERTEX_BUFFER_BIT; break;
         case RG_INDEX: p->buffer_usage |= VK_BUFFER_USAGE_INDEX_BUFFER_BIT; break;
+        case RG_INDIRECT: p->buffer_usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT; break;
         case RG_TRANSFER_SRC:
             p->image_usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
             p->buffer_usage |= VK_BUFFER_USAGE_TRANSFER_SRC_BIT;

@@ -59,6 +59,7 @@ typedef enum rg_usage {
     RG_UNIFORM,            /* uniform buffer */
     RG_VERTEX,             /* vertex buffer */
     RG_INDEX,              /* index buffer */
+    RG_INDIRECT,           /* indirect draw or dispatch arguments */
     RG_TRANSFER_SRC,
     RG_TRANSFER_DST,
     RG_HOST_READ,          /* final state only: the CPU reads it after the frame */

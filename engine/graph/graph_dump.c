@@ -13,7 +13,8 @@ const char *rg_usage_name(rg_usage u)
         [RG_SAMPLED] = "sampled",           [RG_STORAGE_READ] = "storage-read",
         [RG_STORAGE_WRITE] = "storage-write", [RG_STORAGE_READ_WRITE] = "storage-read-write",
         [RG_UNIFORM] = "uniform",           [RG_VERTEX] = "vertex",
-        [RG_INDEX] = "index",               [RG_TRANSFER_SRC] = "transfer-src",
+        [RG_INDEX] = "index",               [RG_INDIRECT] = "indirect",
+        [RG_TRANSFER_SRC] = "transfer-src",
         [RG_TRANSFER_DST] = "transfer-dst", [RG_HOST_READ] = "host-read",
         [RG_PRESENT] = "present",
     };
@@ -61,6 +62,7 @@ static void stage_names(VkPipelineStageFlags2 s, char *out, size_t cap)
 {
     static const struct { VkPipelineStageFlags2 bit; const char *name; } table[] = {
         {VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, "ALL"},
+        {VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, "INDIRECT"},
         {VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT, "VERTEX_INPUT"},
         {VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, "INDEX_INPUT"},
         {VK_PIPELINE_STAGE_2_PRE_RASTERIZATION_SHADERS_BIT, "PRE_RASTER"},

@@ -460,7 +460,7 @@ static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
                                     (float)(fc->display.width_m / d->width), (float)fc->display.screen_vergence}, 16);
     memcpy(u->warp.v, (float[4]){(float)d->tess_px, (float)d->tess_error, (float)d->depth_epsilon,
                                  (float)d->halton_radius}, 16);
-    memcpy(u->warp2.v, (float[4]){(float)d->max_tess_level, d->diffuse ? 0.0f : 1.0f, 1.0f, 0}, 16);
+    memcpy(u->warp2.v, (float[4]){(float)d->max_tess_level, d->diffuse ? 0.0f : 1.0f, d->measure ? 1.0f : 0.0f, 0}, 16);
 }
 
 static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)

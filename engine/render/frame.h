@@ -81,6 +81,7 @@ typedef struct frame_desc {
     double halton_radius;        /* cascade: Halton search radius in pixels, 0 = 24 */
     bool diffuse;                /* no specular: eyes shade identically from any viewpoint */
     bool reference;              /* also render the two-camera reference (holes, PSNR) */
+    bool measure;                /* eyes compute their disparity error per pixel (aux.z) */
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at

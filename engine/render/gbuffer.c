@@ -7,6 +7,7 @@
 #include "shared.h"
 
 #include "gbuffer_frag.h"
+#include "gbuffer_unlit_frag.h"
 #include "gbuffer_vert.h"
 #include "shadow_vert.h"
 #include "sky_frag.h"
@@ -98,8 +99,13 @@ vg_status gbuffer_pass_create(frame_ctx *fc, gbuffer_pass **out)
         return VG_ERR_NOMEM;
     p->fc = fc;
     VkShaderModule gvert = 0, gfrag = 0, svert = 0, skyv = 0, skyf = 0;
+    /* The lit centre colour is only looked at in captures, mono frames and
+     * the image-warping baseline; a warped stereo frame shades its eyes. */
+    const frame_desc *d = &fc->desc;
+    bool lit = d->readback || d->stereo == FRAME_STEREO_OFF || d->stereo == FRAME_STEREO_IMAGEWARP;
     vg_status st = GPU_SHADER(g, spv_gbuffer_vert, &gvert);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_gbuffer_frag, &gfrag);
+    if (st == VG_OK)
+        st = lit ? GPU_SHADER(g, spv_gbuffer_frag, &gfrag) : GPU_SHADER(g, spv_gbuffer_unlit_frag, &gfrag);
     if (st == VG_OK) st = GPU_SHADER(g, spv_shadow_vert, &svert);
     if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &skyv);
     if (st == VG_OK) st = GPU_SHADER(g, spv_sky_frag, &skyf);

@@ -139,7 +139,8 @@ vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *sg)
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){
             .name = "scene indices", .size = (VkDeviceSize)s->index_count * sizeof(uint32_t),
-            .usage = VK_BUFFER_USAGE_INDEX_BUFFER_BIT, .host_visible = true}, &sg->indices);
+            .usage = VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+            .host_visible = true}, &sg->indices);
     sg->offset_prev = (VkDeviceSize)nv * 6 * sizeof(float);
     sg->offset_next = sg->offset_prev + (VkDeviceSize)nv * 3 * sizeof(float);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT && st == VG_OK; i++) {
@@ -147,7 +148,8 @@ vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *sg)
         snprintf(name, sizeof name, "scene vertices slot %d", i);
         st = gpu_buffer_create(g, &(gpu_buffer_desc){
             .name = name, .size = (VkDeviceSize)nv * 12 * sizeof(float),
-            .usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, .host_visible = true}, &sg->dynamic[i]);
+            .usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+            .host_visible = true}, &sg->dynamic[i]);
     }
     if (st == VG_OK)
         st = upload_textures(g, sg);
@@ -244,35 +246,46 @@ void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipeli
     scene_gpu_draw_split(sg, cmd, slot, layout, input, flags, 0);
 }
 
-void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
-                          scene_input input, uint32_t flags, uint32_t max_triangles)
+void scene_gpu_bind(const scene_gpu *sg, VkCommandBuffer cmd, int slot, scene_input input, VkBuffer indices)
 {
-    bool positions_only = input == SCENE_INPUT_POSITIONS;
-    const scene *s = sg->scene;
-    if (!s->index_count)
-        return;
     VkBuffer buffers[4] = {sg->dynamic[slot].buffer, sg->dynamic[slot].buffer, sg->dynamic[slot].buffer,
                            sg->statics.buffer};
     VkDeviceSize offsets[4] = {0, sg->offset_prev, sg->offset_next, 0};
-    vkCmdBindVertexBuffers(cmd, 0, positions_only ? 1 : 4, buffers, offsets);
-    vkCmdBindIndexBuffer(cmd, sg->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    vkCmdBindVertexBuffers(cmd, 0, input == SCENE_INPUT_POSITIONS ? 1 : 4, buffers, offsets);
+    vkCmdBindIndexBuffer(cmd, indices ? indices : sg->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+}
+
+void scene_gpu_push_instance(const scene_gpu *sg, VkCommandBuffer cmd, VkPipelineLayout layout, int instance,
+                             uint32_t flags)
+{
+    const scene *s = sg->scene;
+    const scene_instance *in = &s->instances[instance];
+    const scene_primitive *p = &s->primitives[in->primitive];
+    const scene_material *m = p->material >= 0 ? &s->materials[p->material] : NULL;
+    vg_draw_push push = {
+        .base_color = {{1, 1, 1, 1}},
+        .instance_id = in->id,
+        .saliency = in->saliency,
+        .texture_index = m ? m->base_color_texture : -1,
+        .flags = flags,
+    };
+    if (m)
+        memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);
+    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof push, &push);
+}
+
+void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                          scene_input input, uint32_t flags, uint32_t max_triangles)
+{
+    const scene *s = sg->scene;
+    if (!s->index_count)
+        return;
+    scene_gpu_bind(sg, cmd, slot, input, VK_NULL_HANDLE);
     for (int i = 0; i < s->instance_count; i++) {
         const scene_instance *in = &s->instances[i];
         const scene_primitive *p = &s->primitives[in->primitive];
-        if (!positions_only) {
-            const scene_material *m = p->material >= 0 ? &s->materials[p->material] : NULL;
-            vg_draw_push push = {
-                .base_color = {{1, 1, 1, 1}},
-                .instance_id = in->id,
-                .saliency = in->saliency,
-                .texture_index = m ? m->base_color_texture : -1,
-                .flags = flags,
-            };
-            if (m)
-                memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);
-            vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0,
-                               sizeof push, &push);
-        }
+        if (input != SCENE_INPUT_POSITIONS)
+            scene_gpu_push_instance(sg, cmd, layout, i, flags);
         uint32_t chunk = max_triangles ? 3 * max_triangles : p->index_count;
         for (uint32_t first = 0; first < p->index_count; first += chunk) {
             uint32_t count = p->index_count - first < chunk ? p->index_count - first : chunk;

@@ -56,6 +56,11 @@ void scene_gpu_vertex_input(scene_input input, VkVertexInputBindingDescription *
  * precedes its draw. */
 void scene_gpu_draw(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
                     scene_input input, uint32_t flags);
+/* Binds the slot's vertex streams and an index buffer (null: the scene's). */
+void scene_gpu_bind(const scene_gpu *sg, VkCommandBuffer cmd, int slot, scene_input input, VkBuffer indices);
+/* Pushes instance's vg_draw_push (material, id, saliency, flags). */
+void scene_gpu_push_instance(const scene_gpu *sg, VkCommandBuffer cmd, VkPipelineLayout layout, int instance,
+                             uint32_t flags);
 /* The same as triangle patches, at most max_triangles per draw (0 = no
  * limit): lavapipe corrupts draws whose tessellation makes over 65,535
  * vertices (PLATFORM.md). */

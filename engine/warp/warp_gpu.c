@@ -15,12 +15,16 @@
 #include "curve_range_comp.h"
 #include "curve_resolve_comp.h"
 #include "eye_frag.h"
+#include "eye_measure_frag.h"
 #include "eye_sky_frag.h"
 #include "imagewarp_frag.h"
 #include "imagewarp_vert.h"
 #include "sky_vert.h"
 #include "warp_tesc.h"
 #include "warp_tese.h"
+#include "warp_classify_comp.h"
+#include "warp_compact_comp.h"
+#include "warp_flat_vert.h"
 #include "warp_vert.h"
 
 #define CURVE_TILE 64 /* = curve.glsl */
@@ -41,7 +45,13 @@ typedef struct eye_pass {
 
 struct warp_gpu {
     frame_ctx *fc;
-    VkPipeline warp, cameras, imagewarp, sky;
+    VkPipeline warp, warp_flat, cameras, imagewarp, sky, classify, compact;
+    VkDescriptorSetLayout classify_set;
+    VkPipelineLayout classify_layout;
+    gpu_buffer instances;        /* vg_warp_instance per scene instance */
+    gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
+    uint32_t chunk_count;
+    uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
     VkDescriptorSetLayout curve_set;
     VkPipelineLayout curve_layout;
     VkPipeline curve_range, curve_bins, curve_resolve;
@@ -50,7 +60,8 @@ struct warp_gpu {
     eye_pass eyes[6];
     /* this frame's graph resources */
     frame_resources *res;
-    rg_res target, tiles_count, tiles_sum;
+    rg_res target, tiles_count, tiles_sum, tiles_offset;
+    rg_res flat_indices, tess_indices, args, kinds, counts;
 };
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
@@ -67,7 +78,8 @@ static void push_curve(const warp_gpu *w, const rg_context *ctx, bool images)
     VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo count = {rg_ctx_buffer(ctx, w->tiles_count), 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo sum = {rg_ctx_buffer(ctx, w->tiles_sum), 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet wr[5] = {
+    VkDescriptorBufferInfo offset = {rg_ctx_buffer(ctx, w->tiles_offset), 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet wr[6] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &depth},
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 1, .descriptorCount = 1,
@@ -78,10 +90,12 @@ static void push_curve(const warp_gpu *w, const rg_context *ctx, bool images)
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &count},
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 4, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &sum},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 5, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &offset},
     };
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     /* The resolve pass reads no images. */
-    w->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_layout, 0, images ? 5 : 3,
+    w->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_layout, 0, images ? 6 : 4,
                                         images ? wr : wr + 2);
     curve_push pc = {w->fc->cam.zfar, w->tiles_x, w->tiles_y, 0};
     vkCmdPushConstants(cmd, w->curve_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
@@ -109,6 +123,101 @@ static void curve_resolve_execute(const rg_context *ctx, void *user)
     vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_resolve);
     push_curve(w, ctx, false);
     vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Classify                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static void push_classify(warp_gpu *w, const rg_context *ctx)
+{
+    const frame_ctx *fc = w->fc;
+    const frame_resources *r = w->res;
+    VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
+    VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
+    VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
+    enum { NB = 10 };
+    VkDescriptorBufferInfo bufs[NB] = {
+        {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, r->vertices), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, r->indices), 0, VK_WHOLE_SIZE},
+        {w->instances.buffer, 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->flat_indices), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->tess_indices), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->args), 0, VK_WHOLE_SIZE},
+        {w->chunks.buffer, 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->kinds), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->counts), 0, VK_WHOLE_SIZE},
+    };
+    static const uint32_t buffer_bindings[NB] = {
+        VG_BINDING_CURVE, VG_BINDING_VERTICES, VG_BINDING_INDICES, VG_BINDING_INSTANCES, VG_BINDING_FLAT,
+        VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS};
+    VkWriteDescriptorSet wr[3 + NB] = {
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_DEPTH, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &depth},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_TARGET, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &target},
+    };
+    for (int i = 0; i < NB; i++)
+        wr[3 + i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                                           .dstBinding = buffer_bindings[i], .descriptorCount = 1,
+                                           .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                           .pBufferInfo = &bufs[i]};
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->classify_layout, 0, 3 + NB, wr);
+    vg_classify_push push = {(uint32_t)fc->scene->instance_count, w->patches_per_draw, w->chunk_count,
+                             w->tess_slots};
+    vkCmdPushConstants(cmd, w->classify_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+}
+
+static void classify_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->classify);
+    push_classify(w, ctx);
+    vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count, 1, 1);
+}
+
+static void compact_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->compact);
+    push_classify(w, ctx);
+    vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count, 1, 1);
+}
+
+/* Flat triangles through the vertex shader, the rest through the
+ * tessellator, both as indirect draws that warp.classify filled in. */
+static void draw_warped(warp_gpu *w, const rg_context *ctx, uint32_t flags)
+{
+    frame_ctx *fc = w->fc;
+    const scene *s = fc->scene;
+    const vg_warp_instance *table = w->instances.mapped;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    VkBuffer args = rg_ctx_buffer(ctx, w->args);
+    const VkDeviceSize stride = sizeof(VkDrawIndexedIndirectCommand);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp_flat);
+    scene_gpu_bind(&fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->flat_indices));
+    for (int i = 0; i < s->instance_count; i++) {
+        scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
+        vkCmdDrawIndexedIndirect(cmd, args, (VkDeviceSize)i * stride, 1, (uint32_t)stride);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp);
+    scene_gpu_bind(&fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->tess_indices));
+    for (int i = 0; i < s->instance_count; i++) {
+        scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
+        VkDeviceSize first = (VkDeviceSize)(s->instance_count + (int)table[i].tess_args) * stride;
+        VkDeviceSize count = (VkDeviceSize)(s->instance_count + (int)w->tess_slots) * stride + 4 * (VkDeviceSize)i;
+        if (fc->gpu->features.draw_indirect_count)
+            vkCmdDrawIndexedIndirectCount(cmd, args, first, args, count, table[i].tess_chunks, (uint32_t)stride);
+        else if (fc->gpu->features.multi_draw_indirect)
+            vkCmdDrawIndexedIndirect(cmd, args, first, table[i].tess_chunks, (uint32_t)stride);
+        else
+            for (uint32_t c = 0; c < table[i].tess_chunks; c++)
+                vkCmdDrawIndexedIndirect(cmd, args, first + c * stride, 1, (uint32_t)stride);
+    }
 }
 
 /* ------------------------------------------------------------------------- */
@@ -142,12 +251,16 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
      * others the shadow map and the curve. */
     VkWriteDescriptorSet used[7];
     uint32_t n = 0;
+    bool maps = kind != EYE_CAMERAS || fc->desc.measure;
     used[n++] = wr[0];
-    used[n++] = wr[2];
-    used[n++] = wr[3];
+    if (maps) {
+        used[n++] = wr[2];
+        used[n++] = wr[3];
+    }
     if (kind != EYE_IMAGEWARP) {
         used[n++] = wr[1];
-        used[n++] = wr[4];
+        if (maps)
+            used[n++] = wr[4];
     } else {
         used[n++] = wr[5];
         used[n++] = wr[6];
@@ -174,8 +287,7 @@ static void eye_execute(const rg_context *ctx, void *user)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->sky);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     if (e->kind == EYE_WARP) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp);
-        scene_gpu_draw_split(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags, w->patches_per_draw);
+        draw_warped(w, ctx, flags);
     } else {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->cameras);
         scene_gpu_draw(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags);
@@ -192,8 +304,13 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = name, .type = RG_PASS_GRAPHICS, .execute = eye_execute,
                                                .user = e});
     rg_use(g, p, res->ubo, RG_UNIFORM);
-    rg_use(g, p, res->depth, RG_SAMPLED);
-    rg_use(g, p, w->target, RG_SAMPLED);
+    /* Two real cameras need the disparity maps only to measure themselves;
+     * without them the graph culls the G-buffer and disparity passes. */
+    bool maps = e->kind != EYE_CAMERAS || w->fc->desc.measure;
+    if (maps) {
+        rg_use(g, p, res->depth, RG_SAMPLED);
+        rg_use(g, p, w->target, RG_SAMPLED);
+    }
     if (e->kind == EYE_IMAGEWARP) {
         rg_use(g, p, res->color, RG_SAMPLED);
         rg_use(g, p, res->ids, RG_SAMPLED);
@@ -202,9 +319,16 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
     } else {
         rg_use(g, p, res->vertices, RG_VERTEX);
         rg_use(g, p, res->statics, RG_VERTEX);
-        rg_use(g, p, res->indices, RG_INDEX);
+        if (e->kind == EYE_WARP) {
+            rg_use(g, p, w->flat_indices, RG_INDEX);
+            rg_use(g, p, w->tess_indices, RG_INDEX);
+            rg_use(g, p, w->args, RG_INDIRECT);
+        } else {
+            rg_use(g, p, res->indices, RG_INDEX);
+        }
         rg_use(g, p, res->shadow, RG_SAMPLED);
-        rg_use(g, p, res->curve, RG_STORAGE_READ);
+        if (maps)
+            rg_use(g, p, res->curve, RG_STORAGE_READ);
         rg_use(g, p, color, RG_COLOR_WRITE); /* the sky covers every pixel first */
     }
     rg_use(g, p, aux, RG_COLOR_WRITE);
@@ -226,6 +350,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         uint64_t tiles = (uint64_t)w->tiles_x * w->tiles_y * VG_CURVE_BINS * sizeof(uint32_t);
         w->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
         w->tiles_sum = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_sum", tiles});
+        w->tiles_offset = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_offset", tiles});
         rg_pass range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range", .type = RG_PASS_COMPUTE,
                                                        .execute = curve_range_execute, .user = w});
         rg_use(g, range, res->depth, RG_STORAGE_READ);
@@ -238,11 +363,48 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         rg_use(g, bins, res->curve, RG_STORAGE_READ);
         rg_use(g, bins, w->tiles_count, RG_STORAGE_WRITE);
         rg_use(g, bins, w->tiles_sum, RG_STORAGE_WRITE);
+        rg_use(g, bins, w->tiles_offset, RG_STORAGE_WRITE);
         rg_pass resolve = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.resolve", .type = RG_PASS_COMPUTE,
                                                          .execute = curve_resolve_execute, .user = w});
         rg_use(g, resolve, w->tiles_count, RG_STORAGE_READ);
         rg_use(g, resolve, w->tiles_sum, RG_STORAGE_READ);
+        rg_use(g, resolve, w->tiles_offset, RG_STORAGE_READ);
         rg_use(g, resolve, res->curve, RG_STORAGE_READ_WRITE);
+    }
+
+    if (d->stereo == FRAME_STEREO_WARP) {
+        const scene *sc = w->fc->scene;
+        uint64_t index_bytes = (uint64_t)(sc->index_count ? sc->index_count : 1) * sizeof(uint32_t);
+        uint64_t arg_bytes = (uint64_t)(sc->instance_count + w->tess_slots + 1) * sizeof(VkDrawIndexedIndirectCommand) +
+                             (uint64_t)sc->instance_count * sizeof(uint32_t);
+        w->flat_indices = rg_buffer(g, &(rg_buffer_desc){"warp.flat_indices", index_bytes});
+        w->tess_indices = rg_buffer(g, &(rg_buffer_desc){"warp.tess_indices", index_bytes});
+        w->args = rg_buffer(g, &(rg_buffer_desc){"warp.draw_args", arg_bytes});
+        w->kinds = rg_buffer(g, &(rg_buffer_desc){"warp.kinds", index_bytes / 3 + 4});
+        w->counts = rg_buffer(g, &(rg_buffer_desc){"warp.counts", (uint64_t)(w->chunk_count + 1) * 8});
+        /* Both passes push the same descriptors; each declares what it touches. */
+        rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = "warp.classify", .type = RG_PASS_COMPUTE,
+                                                     .execute = classify_execute, .user = w});
+        rg_use(g, cls, res->ubo, RG_UNIFORM);
+        rg_use(g, cls, res->depth, RG_SAMPLED);
+        rg_use(g, cls, target, RG_SAMPLED);
+        rg_use(g, cls, res->curve, RG_STORAGE_READ);
+        rg_use(g, cls, res->vertices, RG_STORAGE_READ);
+        rg_use(g, cls, res->indices, RG_STORAGE_READ);
+        rg_use(g, cls, w->kinds, RG_STORAGE_WRITE);
+        rg_use(g, cls, w->counts, RG_STORAGE_WRITE);
+        rg_pass cpt = rg_pass_add(g, &(rg_pass_desc){.name = "warp.compact", .type = RG_PASS_COMPUTE,
+                                                     .execute = compact_execute, .user = w});
+        rg_use(g, cpt, res->depth, RG_SAMPLED);
+        rg_use(g, cpt, target, RG_SAMPLED);
+        rg_use(g, cpt, res->curve, RG_STORAGE_READ);
+        rg_use(g, cpt, res->vertices, RG_STORAGE_READ);
+        rg_use(g, cpt, res->indices, RG_STORAGE_READ);
+        rg_use(g, cpt, w->kinds, RG_STORAGE_READ);
+        rg_use(g, cpt, w->counts, RG_STORAGE_READ);
+        rg_use(g, cpt, w->flat_indices, RG_STORAGE_WRITE);
+        rg_use(g, cpt, w->tess_indices, RG_STORAGE_WRITE);
+        rg_use(g, cpt, w->args, RG_STORAGE_WRITE);
     }
 
     static const char *const names[3][2] = {
@@ -275,16 +437,20 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
 /* ------------------------------------------------------------------------- */
 
 typedef struct shader_set {
-    VkShaderModule warp_vert, warp_tesc, warp_tese, eye_frag, cameras_vert, sky_vert, eye_sky_frag,
+    VkShaderModule warp_vert, warp_flat_vert, warp_classify, warp_compact, warp_tesc, warp_tese, eye_frag, eye_measure_frag, cameras_vert, sky_vert, eye_sky_frag,
         imagewarp_vert, imagewarp_frag, curve_range, curve_bins, curve_resolve;
 } shader_set;
 
 static vg_status load_shaders(gpu *g, shader_set *s)
 {
     vg_status st = GPU_SHADER(g, spv_warp_vert, &s->warp_vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_flat_vert, &s->warp_flat_vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_classify_comp, &s->warp_classify);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_compact_comp, &s->warp_compact);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tesc, &s->warp_tesc);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tese, &s->warp_tese);
     if (st == VG_OK) st = GPU_SHADER(g, spv_eye_frag, &s->eye_frag);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_eye_measure_frag, &s->eye_measure_frag);
     if (st == VG_OK) st = GPU_SHADER(g, spv_cameras_vert, &s->cameras_vert);
     if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &s->sky_vert);
     if (st == VG_OK) st = GPU_SHADER(g, spv_eye_sky_frag, &s->eye_sky_frag);
@@ -322,13 +488,22 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     d.vert = s->warp_vert;
     d.tesc = s->warp_tesc;
     d.tese = s->warp_tese;
-    d.frag = s->eye_frag;
+    /* Measuring costs the fragment shader a second cascade: only captures do it. */
+    VkShaderModule warp_frag = fc->desc.measure ? s->eye_measure_frag : s->eye_frag;
+    d.frag = warp_frag;
     vg_status st = gpu_graphics_pipeline_create(g, &d, &w->warp);
+    if (st == VG_OK) {
+        d = eye;
+        d.name = "warp.stereo flat";
+        d.vert = s->warp_flat_vert;
+        d.frag = warp_frag;
+        st = gpu_graphics_pipeline_create(g, &d, &w->warp_flat);
+    }
     if (st == VG_OK) {
         d = eye;
         d.name = "cameras";
         d.vert = s->cameras_vert;
-        d.frag = s->eye_frag;
+        d.frag = fc->desc.measure ? s->eye_measure_frag : s->eye_frag;
         st = gpu_graphics_pipeline_create(g, &d, &w->cameras);
     }
     if (st == VG_OK)
@@ -342,20 +517,78 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
             .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL, /* the sky splats at depth 1 */
             .color_formats = k_eye_formats, .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT}, &w->imagewarp);
 
-    static const VkDescriptorType types[5] = {
+    static const VkDescriptorType types[6] = {
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     if (st == VG_OK)
-        st = gpu_push_layout_create(g, "warp.curve", types, 5, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(curve_push),
+        st = gpu_push_layout_create(g, "warp.curve", types, 6, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(curve_push),
                                     &w->curve_set, &w->curve_layout);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_range, "warp.curve.range", &w->curve_range);
+    /* warp.classify: the scene bindings of set 0 plus its own buffers. */
+    VkDescriptorType ctypes[VG_BINDING_COUNTS + 1];
+    for (int i = 0; i <= VG_BINDING_COUNTS; i++)
+        ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    ctypes[VG_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
+        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    if (st == VG_OK)
+        st = gpu_push_layout_create(g, "warp.classify", ctypes, VG_BINDING_COUNTS + 1, VK_SHADER_STAGE_COMPUTE_BIT,
+                                    sizeof(vg_classify_push), &w->classify_set, &w->classify_layout);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_classify, "warp.classify", &w->classify);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_compact, "warp.compact", &w->compact);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_bins, "warp.curve.bins", &w->curve_bins);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_resolve, "warp.curve.resolve",
                                          &w->curve_resolve);
     return st;
+}
+
+/* Where each instance's lists and draw commands go (vg_warp_instance). */
+static vg_status create_instance_table(warp_gpu *w)
+{
+    const scene *s = w->fc->scene;
+    size_t n = s->instance_count ? (size_t)s->instance_count : 1;
+    vg_status st = gpu_buffer_create(w->fc->gpu, &(gpu_buffer_desc){
+        .name = "warp instances", .size = n * sizeof(vg_warp_instance),
+        .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true}, &w->instances);
+    if (st != VG_OK)
+        return st;
+    vg_warp_instance *table = w->instances.mapped;
+    w->tess_slots = 0;
+    for (int i = 0; i < s->instance_count; i++) {
+        const scene_instance *in = &s->instances[i];
+        uint32_t count = s->primitives[in->primitive].index_count, triangles = count / 3;
+        uint32_t chunk = w->patches_per_draw ? w->patches_per_draw : (triangles ? triangles : 1);
+        table[i] = (vg_warp_instance){
+            .first_index = in->first_index, .index_count = count, .first_vertex = in->first_vertex,
+            .tess_args = w->tess_slots, .tess_chunks = (triangles + chunk - 1) / chunk,
+        };
+        w->tess_slots += table[i].tess_chunks;
+    }
+    if (!w->patches_per_draw)
+        w->patches_per_draw = UINT32_MAX; /* one draw per instance */
+
+    /* Chunks of at most 256 triangles, instance by instance. */
+    w->chunk_count = 0;
+    for (int i = 0; i < s->instance_count; i++)
+        w->chunk_count += (table[i].index_count / 3 + 255) / 256;
+    st = gpu_buffer_create(w->fc->gpu, &(gpu_buffer_desc){
+        .name = "warp chunks", .size = (w->chunk_count ? w->chunk_count : 1) * sizeof(vg_warp_chunk),
+        .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true}, &w->chunks);
+    if (st != VG_OK)
+        return st;
+    vg_warp_chunk *chunks = w->chunks.mapped;
+    uint32_t k = 0;
+    for (int i = 0; i < s->instance_count; i++) {
+        uint32_t triangles = table[i].index_count / 3, first_chunk = k;
+        for (uint32_t t = 0; t < triangles; t += 256)
+            chunks[k++] = (vg_warp_chunk){(uint32_t)i, t, triangles - t < 256 ? triangles - t : 256, first_chunk};
+    }
+    return VG_OK;
 }
 
 vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
@@ -379,7 +612,9 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
     if (fc->gpu->is_cpu && w->patches_per_draw < 1)
         w->patches_per_draw = 1;
     shader_set s = {0};
-    vg_status st = load_shaders(fc->gpu, &s);
+    vg_status st = create_instance_table(w);
+    if (st == VG_OK)
+        st = load_shaders(fc->gpu, &s);
     if (st == VG_OK)
         st = create_pipelines(w, &s);
     free_shaders(fc->gpu, &s);
@@ -396,7 +631,8 @@ void warp_gpu_destroy(warp_gpu *w)
     if (!w)
         return;
     VkDevice dev = w->fc->gpu->device;
-    VkPipeline pipes[] = {w->warp, w->cameras, w->imagewarp, w->sky, w->curve_range, w->curve_bins, w->curve_resolve};
+    VkPipeline pipes[] = {w->warp, w->warp_flat, w->cameras, w->imagewarp, w->sky, w->classify, w->compact,
+                          w->curve_range, w->curve_bins, w->curve_resolve};
     for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
         if (pipes[i])
             vkDestroyPipeline(dev, pipes[i], NULL);
@@ -404,5 +640,11 @@ void warp_gpu_destroy(warp_gpu *w)
         vkDestroyPipelineLayout(dev, w->curve_layout, NULL);
     if (w->curve_set)
         vkDestroyDescriptorSetLayout(dev, w->curve_set, NULL);
+    if (w->classify_layout)
+        vkDestroyPipelineLayout(dev, w->classify_layout, NULL);
+    if (w->classify_set)
+        vkDestroyDescriptorSetLayout(dev, w->classify_set, NULL);
+    gpu_buffer_destroy(w->fc->gpu, &w->instances);
+    gpu_buffer_destroy(w->fc->gpu, &w->chunks);
     free(w);
 }

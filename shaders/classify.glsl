@@ -1,0 +1,15 @@
+// vergence — warp.classify / warp.compact (shared declarations). Triangles
+// go in chunks of 256 of one instance: classify decides each triangle's
+// kind (0 culled, 1 flat, 2 tessellated) in parallel over all chunks;
+// compact writes each instance's flat and tessellated index lists in the
+// original triangle order (prefix sums, no atomics) and its draw commands.
+layout(set = 0, binding = VG_BINDING_VERTICES, scalar) readonly buffer VertexBlock { float vertices[]; };
+layout(set = 0, binding = VG_BINDING_INDICES, scalar) readonly buffer IndexBlock { uint indices[]; };
+layout(set = 0, binding = VG_BINDING_INSTANCES, scalar) readonly buffer InstanceBlock { vg_warp_instance instances[]; };
+layout(set = 0, binding = VG_BINDING_FLAT, scalar) writeonly buffer FlatBlock { uint flat_indices[]; };
+layout(set = 0, binding = VG_BINDING_TESS, scalar) writeonly buffer TessBlock { uint tess_indices[]; };
+layout(set = 0, binding = VG_BINDING_ARGS, scalar) writeonly buffer ArgsBlock { uint args[]; };
+layout(set = 0, binding = VG_BINDING_CHUNKS, scalar) readonly buffer ChunkBlock { vg_warp_chunk chunks[]; };
+layout(set = 0, binding = VG_BINDING_KINDS, scalar) buffer KindBlock { uint kinds[]; };
+layout(set = 0, binding = VG_BINDING_COUNTS, scalar) buffer CountBlock { uvec2 counts[]; };
+layout(push_constant, scalar) uniform ClassifyBlock { vg_classify_push pc; };
