@@ -113,6 +113,12 @@ void disp_operator_range(const disp_operator *op, double *lo, double *hi)
 {
     *lo = op->lo;
     *hi = op->hi;
+    /* `none` keeps g as it is: its range is wherever g is (with a fixed
+     * domain), so the optimiser's box never forces a change h did not make. */
+    if (op->d.kind == DISP_OPERATOR_NONE && op->d.in_max > op->d.in_min) {
+        *lo = op->d.in_min < *lo ? op->d.in_min : *lo;
+        *hi = op->d.in_max > *hi ? op->d.in_max : *hi;
+    }
 }
 
 /* ------------------------------------------------------------------------- */

@@ -52,7 +52,8 @@ void disp_operator_reset(disp_operator *op);
 /* h for one frame of n pixels; saliency in [0,1] or NULL (uniform). */
 void disp_operator_apply(disp_operator *op, const float *g, const float *saliency, int n, float *h,
                          vg_pool *pool);
-/* The target range [lo, hi] in arcmin. */
+/* The target range [lo, hi] in arcmin; for `none` with a fixed domain, the
+ * hull of the target range and the domain (nothing is compressed). */
 void disp_operator_range(const disp_operator *op, double *lo, double *hi);
 /* The mapping of the last applied frame at vergence x (for tests and plots). */
 double disp_operator_map(const disp_operator *op, double x);

@@ -159,6 +159,44 @@ static int prepare(void)
 /* Cases                                                                     */
 /* ------------------------------------------------------------------------- */
 
+/* `none` manipulates nothing: even where g leaves the comfort range, the
+ * optimiser has no reason to move it, so f = g and motion is untouched. */
+static int operator_none_keeps_g(void)
+{
+    CHECK(prepare() == 0, "prepare");
+    char args[16384], out[1200];
+    path_in(out, sizeof out, "out_none");
+    snprintf(args, sizeof args,
+             "--g '%s/g_%%04d.pfm' --depth '%s/z_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' "
+             "--flow-prev '%s/fp_%%04d.flo' --frames 0:%d --operator none --out '%s' --threads 2",
+             g_work, g_work, g_work, g_work, LAST, out);
+    CHECK(run_vergence(args) == 0, "optimize failed:\n%s", g_stderr);
+    char path[1400];
+    snprintf(path, sizeof path, "%s/metrics.json", out);
+    uint8_t *json;
+    size_t size;
+    CHECK(vg_file_read(path, &json, &size) == VG_OK, "metrics.json");
+    double mf = json_number((char *)json, "f", "mid_distortion_jnd");
+    free(json);
+    double worst = 0;
+    for (int t = 0; t <= LAST; t += 10) {
+        vg_imagef f, g;
+        snprintf(path, sizeof path, "%s/f_%04d.pfm", out, t);
+        CHECK(vg_pfm_read(path, &f) == VG_OK, "%s", path);
+        path_in(path, sizeof path, "g_0000.pfm");
+        snprintf(path + strlen(path) - 8, 9, "%04d.pfm", t);
+        CHECK(vg_pfm_read(path, &g) == VG_OK, "%s", path);
+        for (int i = 0; i < W * H; i++)
+            worst = fmax(worst, fabs((double)f.data[i] - g.data[i]));
+        vg_imagef_free(&f);
+        vg_imagef_free(&g);
+    }
+    printf("operator none: f MID distortion %.4g JND, max |f - g| %.4g arcmin\n", mf, worst);
+    CHECK(mf < 0.05, "f distorts motion in depth: %.4g JND", mf);
+    CHECK(worst < 0.01, "f differs from g by %.4g arcmin", worst);
+    return 0;
+}
+
 static int synthetic_sequence(void)
 {
     CHECK(prepare() == 0, "prepare");
@@ -400,6 +438,7 @@ int main(int argc, char **argv)
         snprintf(g_work, sizeof g_work, "%s", argv[3]);
     static const vg_test_case cases[] = {
         {"synthetic_sequence", synthetic_sequence},
+        {"operator_none_keeps_g", operator_none_keeps_g},
         {"given_h_identity", given_h_identity},
         {"saliency_input", saliency_input},
         {"bad_inputs", bad_inputs},
