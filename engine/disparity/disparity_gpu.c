@@ -54,6 +54,12 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->g, RG_STORAGE_WRITE);
 }
 
+vg_status disparity_gpu_prepare(disparity_gpu *d)
+{
+    (void)d;
+    return VG_OK;
+}
+
 vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
 {
     disparity_gpu *d = calloc(1, sizeof *d);

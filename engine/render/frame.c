@@ -132,7 +132,15 @@ static vg_status build_graph(frame *f)
     uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
     if (stereo) {
         disparity_gpu_add(f->disparity, g, res);
-        warp_gpu_add(f->warp, g, res, res->g);
+        rg_res target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
+                        : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
+                                                                : res->g;
+        if (!target.id) {
+            vg_error("mode '%s' is not available: the disparity passes did not produce its map",
+                     frame_mode_names[fc->desc.mode]);
+            return VG_ERR_UNSUPPORTED;
+        }
+        warp_gpu_add(f->warp, g, res, target);
         compose_gpu_add(f->compose, g, res);
         compose_size(fc->desc.compose, w, h, &sw, &sh);
     }
@@ -142,6 +150,7 @@ static vg_status build_graph(frame *f)
         readback_add_item(f, res->depth, w, h, 4);
         readback_add_item(f, res->ids, w, h, 4);
         readback_add_item(f, res->motion, w, h, 16);
+        int first_map = f->item_count;
         if (stereo) {
             readback_add_item(f, res->g, w, h, 4);
             readback_add_item(f, res->left, w, h, 4);
@@ -153,6 +162,10 @@ static vg_status build_graph(frame *f)
                 readback_add_item(f, res->ref_left, w, h, 4);
                 readback_add_item(f, res->ref_right, w, h, 4);
             }
+            if (res->h.id)
+                readback_add_item(f, res->h, w, h, 4);
+            if (res->f.id)
+                readback_add_item(f, res->f, w, h, 4);
         }
         const readback_item *last = &f->items[f->item_count - 1];
         VkDeviceSize size = last->offset + (VkDeviceSize)last->width * last->height * last->texel;
@@ -183,10 +196,15 @@ static vg_status build_graph(frame *f)
             f->outputs.stereo = readback_ptr(f, 9);
             f->outputs.stereo_width = sw;
             f->outputs.stereo_height = sh;
+            int k = first_map + 6;
             if (res->ref_left.id) {
-                f->outputs.ref_left = readback_ptr(f, 10);
-                f->outputs.ref_right = readback_ptr(f, 11);
+                f->outputs.ref_left = readback_ptr(f, k++);
+                f->outputs.ref_right = readback_ptr(f, k++);
             }
+            if (res->h.id)
+                f->outputs.h = readback_ptr(f, k++);
+            if (res->f.id)
+                f->outputs.f = readback_ptr(f, k++);
         }
     } else {
         rg_export(g, stereo ? res->stereo : res->color);
@@ -337,12 +355,6 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     stereo_display_init(&fc->display, &fc->desc.display);
     if (fc->desc.max_tess_level > g->props.limits.maxTessellationGenerationLevel)
         fc->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
-    if (fc->desc.mode != FRAME_MODE_ORIGINAL && fc->desc.stereo != FRAME_STEREO_OFF) {
-        vg_error("mode '%s' needs the GPU disparity pipeline, which is not built yet; use --mode original",
-                 frame_mode_names[fc->desc.mode]);
-        free(f);
-        return VG_ERR_UNSUPPORTED;
-    }
 
     vg_status st = scene_gpu_create(g, s, &fc->sg);
     if (st == VG_OK)
@@ -499,6 +511,11 @@ vg_status frame_render(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
     fill_ubo(fc, fc->ubo[slot].mapped);
+    if (f->disparity) {
+        vg_status st = disparity_gpu_prepare(f->disparity);
+        if (st != VG_OK)
+            return st;
+    }
 
     rg_bind_buffer(f->graph, f->res.ubo, fc->ubo[slot].buffer);
     rg_bind_buffer(f->graph, f->res.vertices, fc->sg.dynamic[slot].buffer);
