@@ -17,6 +17,7 @@ typedef struct gpu_graphics_desc {
     VkCompareOp depth_compare;               /* 0 (NEVER) means LESS */
     bool depth_bias;                         /* dynamic depth bias */
     bool wireframe;
+    bool blend;                              /* alpha blending (premultiplied: no) on colour 0 */
     const VkFormat *color_formats;
     uint32_t color_count;
     VkFormat depth_format;

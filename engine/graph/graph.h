@@ -158,11 +158,15 @@ vg_status rg_realize(rg_graph *g, struct gpu *gpu);
 /* Binds the external object of an imported resource (each frame if it changes). */
 void rg_bind_image(rg_graph *g, rg_res res, VkImage image, VkImageView view);
 void rg_bind_buffer(rg_graph *g, rg_res res, VkBuffer buffer);
-/* Records every ordered pass with its barriers into cmd. */
-void rg_execute(rg_graph *g, VkCommandBuffer cmd);
-/* After the command buffer completed: GPU ms of each ordered pass (NaN when
- * the device has no timestamps). Returns the number of passes written. */
-uint32_t rg_timings(rg_graph *g, double *ms, uint32_t cap);
+/* Frames in flight that can each hold their own timestamps. */
+#define RG_MAX_SLOTS 2
+
+/* Records every ordered pass with its barriers into cmd; `slot` (below
+ * RG_MAX_SLOTS) picks the timestamp queries of this frame in flight. */
+void rg_execute(rg_graph *g, VkCommandBuffer cmd, uint32_t slot);
+/* After that slot's command buffer completed: GPU ms of each ordered pass
+ * (NaN when the device has no timestamps). Returns the number of passes. */
+uint32_t rg_timings(rg_graph *g, uint32_t slot, double *ms, uint32_t cap);
 
 /* What a pass's execute callback sees. */
 VkCommandBuffer rg_ctx_cmd(const rg_context *ctx);

@@ -90,8 +90,7 @@ struct rg_graph {
 
     /* runtime (graph_vk.c) */
     struct gpu *gpu;
-    VkQueryPool queries;
-    double timings[RG_MAX_PASSES];
+    VkQueryPool queries[RG_MAX_SLOTS];
 };
 
 struct rg_context {

@@ -17,9 +17,11 @@ void rg_unrealize(rg_graph *g)
         gpu_image_destroy(g->gpu, &g->phys[k].image);
         gpu_buffer_destroy(g->gpu, &g->phys[k].buffer);
     }
-    if (g->queries)
-        vkDestroyQueryPool(g->gpu->device, g->queries, NULL);
-    g->queries = VK_NULL_HANDLE;
+    for (int i = 0; i < RG_MAX_SLOTS; i++) {
+        if (g->queries[i])
+            vkDestroyQueryPool(g->gpu->device, g->queries[i], NULL);
+        g->queries[i] = VK_NULL_HANDLE;
+    }
     g->gpu = NULL;
 }
 
@@ -52,10 +54,12 @@ vg_status rg_realize(rg_graph *g, gpu *gpu)
             .queryType = VK_QUERY_TYPE_TIMESTAMP,
             .queryCount = 2 * g->order_count,
         };
-        VK_TRY(vkCreateQueryPool(gpu->device, &q, NULL, &g->queries));
-        GPU_NAME(gpu, VK_OBJECT_TYPE_QUERY_POOL, g->queries, "frame graph timestamps");
-        /* Queries must be reset before their first use (hostQueryReset). */
-        vkResetQueryPool(gpu->device, g->queries, 0, 2 * g->order_count);
+        for (int i = 0; i < RG_MAX_SLOTS; i++) {
+            VK_TRY(vkCreateQueryPool(gpu->device, &q, NULL, &g->queries[i]));
+            GPU_NAME(gpu, VK_OBJECT_TYPE_QUERY_POOL, g->queries[i], "frame graph timestamps %d", i);
+            /* Queries must be reset before their first use (hostQueryReset). */
+            vkResetQueryPool(gpu->device, g->queries[i], 0, 2 * g->order_count);
+        }
     }
     return VG_OK;
 }
@@ -179,16 +183,17 @@ static VkExtent2D begin_rendering(rg_graph *g, VkCommandBuffer cmd, uint32_t pas
     return extent;
 }
 
-void rg_execute(rg_graph *g, VkCommandBuffer cmd)
+void rg_execute(rg_graph *g, VkCommandBuffer cmd, uint32_t slot)
 {
-    if (g->queries)
-        vkCmdResetQueryPool(cmd, g->queries, 0, 2 * g->order_count);
+    VkQueryPool queries = g->queries[slot % RG_MAX_SLOTS];
+    if (queries)
+        vkCmdResetQueryPool(cmd, queries, 0, 2 * g->order_count);
     for (uint32_t o = 0; o < g->order_count; o++) {
         uint32_t p = g->order[o];
         const rg_pass_info *pass = &g->pass[p];
         record_barriers(g, cmd, o);
-        if (g->queries)
-            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, g->queries, 2 * o);
+        if (queries)
+            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, 2 * o);
         rg_context ctx = {.graph = g, .pass = p, .cmd = cmd};
         bool rendering = pass->type == RG_PASS_GRAPHICS;
         if (rendering)
@@ -197,18 +202,19 @@ void rg_execute(rg_graph *g, VkCommandBuffer cmd)
             pass->execute(&ctx, pass->user);
         if (rendering)
             vkCmdEndRendering(cmd);
-        if (g->queries)
-            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, g->queries, 2 * o + 1);
+        if (queries)
+            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, 2 * o + 1);
     }
     record_barriers(g, cmd, g->order_count);
 }
 
-uint32_t rg_timings(rg_graph *g, double *ms, uint32_t cap)
+uint32_t rg_timings(rg_graph *g, uint32_t slot, double *ms, uint32_t cap)
 {
     uint32_t n = g->order_count < cap ? g->order_count : cap;
     uint64_t stamps[2 * RG_MAX_PASSES];
-    bool ok = g->queries &&
-              vkGetQueryPoolResults(g->gpu->device, g->queries, 0, 2 * g->order_count, sizeof stamps, stamps,
+    VkQueryPool queries = g->queries[slot % RG_MAX_SLOTS];
+    bool ok = queries &&
+              vkGetQueryPoolResults(g->gpu->device, queries, 0, 2 * g->order_count, sizeof stamps, stamps,
                                     sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) ==
                   VK_SUCCESS;
     double period = g->gpu ? g->gpu->props.limits.timestampPeriod : 0;

@@ -14,6 +14,7 @@
 #include "gbuffer.h"
 #include "shared.h"
 #include "warp/compose_gpu.h"
+#include "warp/present_gpu.h"
 #include "warp/warp_gpu.h"
 
 /* One image copied to the host after the frame. */
@@ -25,12 +26,16 @@ typedef struct readback_item {
 
 #define FRAME_MAX_READBACK 16
 
+_Static_assert(VG_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "the graph keeps timestamps for every frame in flight");
+
 struct frame {
     frame_ctx fc;
     gbuffer_pass *gbuffer;
     disparity_gpu *disparity;
     warp_gpu *warp;
     compose_gpu *compose;
+    present_pass *present;
+    rg_res r_swapchain;
 
     gpu_buffer readback;
     readback_item items[FRAME_MAX_READBACK];
@@ -43,6 +48,8 @@ struct frame {
     frame_resources res;
     rg_res r_readback;
     frame_outputs outputs;
+    double pass_ms[RG_MAX_PASSES];   /* the last completed frame */
+    uint32_t pass_count;
 };
 
 const char *const frame_compose_names[] = {"sbs", "sbs", "sbs-half", "tb", "rows", "columns", "checker",
@@ -206,6 +213,8 @@ static vg_status build_graph(frame *f)
             if (res->f.id)
                 f->outputs.f = readback_ptr(f, k++);
         }
+    } else if (f->present) {
+        f->r_swapchain = present_pass_add(f->present, g, res);
     } else {
         rg_export(g, stereo ? res->stereo : res->color);
     }
@@ -370,6 +379,9 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         if (st == VG_OK)
             st = compose_gpu_create(fc, &f->compose);
     }
+    if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED && !fc->desc.readback)
+        st = present_pass_create(fc, fc->desc.present_format,
+                                 (VkExtent2D){fc->desc.present_width, fc->desc.present_height}, &f->present);
     if (st == VG_OK)
         st = build_graph(f);
     if (st != VG_OK) {
@@ -388,6 +400,7 @@ void frame_destroy(frame *f)
     gpu *g = fc->gpu;
     vkDeviceWaitIdle(g->device);
     rg_destroy(f->graph);
+    present_pass_destroy(f->present);
     compose_gpu_destroy(f->compose);
     warp_gpu_destroy(f->warp);
     disparity_gpu_destroy(f->disparity);
@@ -493,7 +506,9 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
     stereo_setup(fc, u);
 }
 
-vg_status frame_render(frame *f, long index)
+/* Takes the next slot once the GPU is done with it, evaluates the scene
+ * and fills the slot's constants. */
+static vg_status frame_begin(frame *f, long index)
 {
     frame_ctx *fc = &f->fc;
     gpu *g = fc->gpu;
@@ -503,6 +518,7 @@ vg_status frame_render(frame *f, long index)
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
         f->submitted[slot] = false;
+        f->pass_count = rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
     }
     fc->times = frame_times_at(index, fc->desc.fps, fc->desc.keyframe_stride);
     scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
@@ -511,26 +527,45 @@ vg_status frame_render(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
     fill_ubo(fc, fc->ubo[slot].mapped);
-    if (f->disparity) {
-        vg_status st = disparity_gpu_prepare(f->disparity);
-        if (st != VG_OK)
-            return st;
-    }
+    return f->disparity ? disparity_gpu_prepare(f->disparity) : VG_OK;
+}
 
+/* Records the compiled graph for the current slot. */
+static vg_status frame_record(frame *f, VkCommandBuffer *out)
+{
+    frame_ctx *fc = &f->fc;
+    int slot = fc->slot;
     rg_bind_buffer(f->graph, f->res.ubo, fc->ubo[slot].buffer);
     rg_bind_buffer(f->graph, f->res.vertices, fc->sg.dynamic[slot].buffer);
     rg_bind_buffer(f->graph, f->res.statics, fc->sg.statics.buffer);
     rg_bind_buffer(f->graph, f->res.indices, fc->sg.indices.buffer);
     if (fc->desc.readback)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
-
     VkCommandBuffer cmd = f->cmd[slot];
     VK_TRY(vkResetCommandBuffer(cmd, 0));
     VK_TRY(vkBeginCommandBuffer(cmd, &(VkCommandBufferBeginInfo){
         .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
         .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT}));
-    rg_execute(f->graph, cmd);
+    rg_execute(f->graph, cmd, (uint32_t)slot);
     VK_TRY(vkEndCommandBuffer(cmd));
+    *out = cmd;
+    return VG_OK;
+}
+
+vg_status frame_render(frame *f, long index)
+{
+    if (f->present) {
+        vg_error("frame_render: this frame presents to a window; use frame_present");
+        return VG_ERR_ARG;
+    }
+    VkCommandBuffer cmd;
+    vg_status st = frame_begin(f, index);
+    if (st == VG_OK)
+        st = frame_record(f, &cmd);
+    if (st != VG_OK)
+        return st;
+    gpu *g = f->fc.gpu;
+    int slot = f->fc.slot;
     VkSubmitInfo submit = {
         .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
         .commandBufferCount = 1,
@@ -540,6 +575,55 @@ vg_status frame_render(frame *f, long index)
     f->submitted[slot] = true;
     /* Headless: wait, so outputs and timings belong to this frame. */
     VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
+    VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
+    f->submitted[slot] = false;
+    f->pass_count = rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
+    return VG_OK;
+}
+
+vg_status frame_present(frame *f, long index, const frame_target *target, const struct frame_hud *hud)
+{
+    if (!f->present) {
+        vg_error("frame_present: the frame was created without a swapchain format and extent");
+        return VG_ERR_ARG;
+    }
+    frame_ctx *fc = &f->fc;
+    VkCommandBuffer cmd;
+    vg_status st = frame_begin(f, index);
+    if (st != VG_OK)
+        return st;
+    present_pass_update(f->present, hud);
+    rg_bind_image(f->graph, f->r_swapchain, target->image, target->view);
+    if ((st = frame_record(f, &cmd)) != VG_OK)
+        return st;
+    /* The acquire semaphore is waited on where the graph expects the image
+     * (import_track in graph.c: colour attachment output). */
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    VkSubmitInfo submit = {
+        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+        .waitSemaphoreCount = target->wait ? 1 : 0,
+        .pWaitSemaphores = &target->wait,
+        .pWaitDstStageMask = &wait_stage,
+        .commandBufferCount = 1,
+        .pCommandBuffers = &cmd,
+        .signalSemaphoreCount = target->signal ? 1 : 0,
+        .pSignalSemaphores = &target->signal,
+    };
+    VK_TRY(vkQueueSubmit(fc->gpu->queue, 1, &submit, f->fence[fc->slot]));
+    f->submitted[fc->slot] = true;
+    return VG_OK;
+}
+
+/* Waits for every frame in flight (before resizing or reading timings). */
+vg_status frame_wait_idle(frame *f)
+{
+    for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++)
+        if (f->submitted[i]) {
+            VK_TRY(vkWaitForFences(f->fc.gpu->device, 1, &f->fence[i], VK_TRUE, UINT64_MAX));
+            VK_TRY(vkResetFences(f->fc.gpu->device, 1, &f->fence[i]));
+            f->submitted[i] = false;
+            f->pass_count = rg_timings(f->graph, (uint32_t)i, f->pass_ms, RG_MAX_PASSES);
+        }
     return VG_OK;
 }
 
@@ -551,8 +635,10 @@ rg_graph *frame_get_graph(frame *f) { return f->graph; }
 
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap)
 {
-    uint32_t n = rg_timings(f->graph, ms, cap);
-    for (uint32_t i = 0; i < n; i++)
+    uint32_t n = f->pass_count < cap ? f->pass_count : cap;
+    for (uint32_t i = 0; i < n; i++) {
         names[i] = rg_pass_name(f->graph, rg_order_pass(f->graph, i));
+        ms[i] = f->pass_ms[i];
+    }
     return n;
 }

@@ -82,6 +82,8 @@ typedef struct frame_desc {
     bool diffuse;                /* no specular: eyes shade identically from any viewpoint */
     bool reference;              /* also render the two-camera reference (holes, PSNR) */
     bool measure;                /* eyes compute their disparity error per pixel (aux.z) */
+    VkFormat present_format;     /* windowed: the swapchain format, UNDEFINED = headless */
+    uint32_t present_width, present_height; /* windowed: the swapchain extent */
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at
@@ -122,6 +124,19 @@ const frame_times *frame_get_times(const frame *f);
 const vg_camera *frame_get_camera(const frame *f);  /* at the frame's time */
 const frame_desc *frame_get_desc(const frame *f);
 rg_graph *frame_get_graph(frame *f);
+
+/* Windowed: render frame `index` into an acquired swapchain image and submit
+ * without waiting (two frames in flight). wait is signalled by the acquire,
+ * signal is what vkQueuePresentKHR waits on. The HUD may be NULL. */
+typedef struct frame_target {
+    VkImage image;
+    VkImageView view;
+    VkSemaphore wait, signal;
+} frame_target;
+struct frame_hud;
+vg_status frame_present(frame *f, long index, const frame_target *target, const struct frame_hud *hud);
+/* Waits until no frame is in flight. */
+vg_status frame_wait_idle(frame *f);
 
 /* GPU ms of each pass of the last frame; returns the number of passes. */
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap);

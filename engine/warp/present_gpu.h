@@ -1,0 +1,33 @@
+/* vergence — the end of a windowed frame (DESIGN.md step 10): the composed
+ * stereo image is blitted (scaled to fit) onto the swapchain image, and the
+ * HUD is drawn over it.
+ *
+ *   present.blit  (transfer) res->stereo -> swapchain image
+ *   hud           (graphics) text panels, alpha-blended, on the swapchain image
+ *
+ * The swapchain image is imported: the frame finds it just acquired and
+ * leaves it ready to present. */
+#pragma once
+#include "render/frame_ctx.h"
+
+#define PRESENT_HUD_MAX_LINES 24
+#define PRESENT_HUD_LINE 96
+
+/* Text on top of the picture; lines[0] is the title line. */
+typedef struct frame_hud {
+    bool visible;
+    int line_count;
+    char lines[PRESENT_HUD_MAX_LINES][PRESENT_HUD_LINE];
+    float scale;                 /* 0 = 2 (font pixels per output pixel) */
+    /* A banner in the middle of the picture (pause, feedback), empty for none. */
+    char banner[PRESENT_HUD_LINE];
+} frame_hud;
+
+typedef struct present_pass present_pass;
+
+vg_status present_pass_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_pass **out);
+void present_pass_destroy(present_pass *p);
+/* Declares the swapchain image and the two passes; returns the imported image. */
+rg_res present_pass_add(present_pass *p, rg_graph *g, frame_resources *res);
+/* Builds this frame's HUD geometry (slot = frame_ctx slot). */
+void present_pass_update(present_pass *p, const frame_hud *hud);

@@ -1,0 +1,12 @@
+#version 460
+#extension GL_EXT_scalar_block_layout : require
+// HUD text and panels (quads from stb_easy_font, in output pixels).
+layout(push_constant, scalar) uniform HudBlock { vec2 inv_half_extent; float scale; float pad; } hud;
+layout(location = 0) in vec3 in_pos;
+layout(location = 1) in vec4 in_color;
+layout(location = 0) out vec4 v_color;
+void main()
+{
+    gl_Position = vec4(in_pos.xy * hud.scale * hud.inv_half_extent - 1.0, 0.0, 1.0);
+    v_color = in_color;
+}
