@@ -22,6 +22,7 @@
 #include "render/frame.h"
 #include "shared.h"
 #include "stereo/stereo_display.h"
+#include "warp/curve_cpu.h"
 #include "warp/warp_metrics.h"
 
 typedef struct capture_opts {
@@ -31,6 +32,7 @@ typedef struct capture_opts {
     int size[2];
     int stereo, mode, compose;
     bool swap_eyes, diffuse, no_reference;
+    const char *curve;
     double tess_px, tess_error;
     gpu_cli gpu;
 } capture_opts;
@@ -56,6 +58,7 @@ static const vg_opt k_opts[] = {
     {"--tess-px", VG_OPT_FLOAT, &o.tess_px, "PX", "tessellate edges down to PX pixels (paper: 1); default: error-driven", NULL, 0.05, 1000},
     {"--tess-error", VG_OPT_FLOAT, &o.tess_error, "PX", "error-driven tessellation tolerance in pixels (default 0.1)", NULL, 0.001, 100},
     {"--diffuse", VG_OPT_FLAG, &o.diffuse, NULL, "no specular highlights (eyes shade identically)", NULL, 0, 0},
+    {"--curve", VG_OPT_STRING, &o.curve, "FILE", "use a global curve baked by 'vergence bake-curve'", NULL, 0, 0},
     {"--no-reference", VG_OPT_FLAG, &o.no_reference, NULL, "skip the two-camera reference (no holes or PSNR figures)", NULL, 0, 0},
     {"--dump-graph", VG_OPT_STRING, &o.dump_graph, "FILE", "print the compiled frame graph and write it as Graphviz DOT to FILE", NULL, 0, 0},
     GPU_CLI_OPTIONS(o.gpu),
@@ -125,6 +128,9 @@ static vg_status write_stereo(const char *dir, int n, const frame_outputs *fo, u
     vg_imagef g = {.width = (int)w, .height = (int)h, .channels = 1, .data = (float *)fo->g};
     snprintf(name, sizeof name, "frame_%04d_g.pfm", n);
     if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = vg_pfm_write(path, &g)))
+        return st;
+    snprintf(name, sizeof name, "frame_%04d_curve.bin", n);
+    if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = curve_file_write(path, fo->curve)))
         return st;
     return VG_OK;
 }
@@ -364,6 +370,12 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
 
 static vg_status capture(gpu *g, const scene *s)
 {
+    vg_curve baked;
+    if (o.curve) {
+        vg_status cs = curve_file_read(o.curve, &baked);
+        if (cs != VG_OK)
+            return cs;
+    }
     frame_desc fd = {
         .width = (uint32_t)o.size[0], .height = (uint32_t)o.size[1], .fps = o.fps,
         .keyframe_stride = o.stride, .camera = o.camera, .readback = true,
@@ -372,6 +384,7 @@ static vg_status capture(gpu *g, const scene *s)
         .tess_error = o.tess_error, .diffuse = o.diffuse,
         .reference = !o.no_reference && o.stereo != FRAME_STEREO_CAMERAS,
         .measure = true,
+        .curve = o.curve ? &baked : NULL,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);

@@ -6,3 +6,4 @@
 extern const vg_cmd vg_cmd_info;
 extern const vg_cmd vg_cmd_capture;
 extern const vg_cmd vg_cmd_optimize;
+extern const vg_cmd vg_cmd_bake_curve;

@@ -17,7 +17,7 @@
 #include "warp/present_gpu.h"
 #include "warp/warp_gpu.h"
 
-/* One image copied to the host after the frame. */
+/* One image (or buffer: height 0, width = bytes) copied to the host after the frame. */
 typedef struct readback_item {
     rg_res res;
     uint32_t width, height, texel;
@@ -91,6 +91,11 @@ static void readback_execute(const rg_context *ctx, void *user)
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     for (int i = 0; i < f->item_count; i++) {
         const readback_item *it = &f->items[i];
+        if (!it->height) {
+            VkBufferCopy copy = {.dstOffset = it->offset, .size = it->width};
+            vkCmdCopyBuffer(cmd, rg_ctx_buffer(ctx, it->res), rg_ctx_buffer(ctx, f->r_readback), 1, &copy);
+            continue;
+        }
         VkBufferImageCopy region = {
             .bufferOffset = it->offset,
             .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
@@ -106,7 +111,8 @@ static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint
     VkDeviceSize offset = 0;
     if (f->item_count > 0) {
         const readback_item *last = &f->items[f->item_count - 1];
-        offset = last->offset + (VkDeviceSize)last->width * last->height * last->texel;
+        offset = last->offset + (VkDeviceSize)last->width * (last->height ? last->height * last->texel : 1);
+        offset = (offset + 15) & ~(VkDeviceSize)15;
     }
     f->items[f->item_count++] = (readback_item){res, w, h, texel, offset};
 }
@@ -173,9 +179,10 @@ static vg_status build_graph(frame *f)
                 readback_add_item(f, res->h, w, h, 4);
             if (res->f.id)
                 readback_add_item(f, res->f, w, h, 4);
+            readback_add_item(f, res->curve, sizeof(vg_curve), 0, 0);
         }
         const readback_item *last = &f->items[f->item_count - 1];
-        VkDeviceSize size = last->offset + (VkDeviceSize)last->width * last->height * last->texel;
+        VkDeviceSize size = last->offset + (VkDeviceSize)last->width * (last->height ? last->height * last->texel : 1);
         vg_status st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){
             .name = "frame readback", .size = size, .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
             .host_visible = true}, &f->readback);
@@ -212,6 +219,7 @@ static vg_status build_graph(frame *f)
                 f->outputs.h = readback_ptr(f, k++);
             if (res->f.id)
                 f->outputs.f = readback_ptr(f, k++);
+            f->outputs.curve = readback_ptr(f, k++);
         }
     } else if (f->present) {
         f->r_swapchain = present_pass_add(f->present, g, res);
@@ -541,6 +549,8 @@ static vg_status frame_record(frame *f, VkCommandBuffer *out)
     rg_bind_buffer(f->graph, f->res.indices, fc->sg.indices.buffer);
     if (fc->desc.readback)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
+    if (f->warp)
+        warp_gpu_bind(f->warp, f->graph);
     VkCommandBuffer cmd = f->cmd[slot];
     VK_TRY(vkResetCommandBuffer(cmd, 0));
     VK_TRY(vkBeginCommandBuffer(cmd, &(VkCommandBufferBeginInfo){

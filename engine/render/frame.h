@@ -84,6 +84,7 @@ typedef struct frame_desc {
     bool measure;                /* eyes compute their disparity error per pixel (aux.z) */
     VkFormat present_format;     /* windowed: the swapchain format, UNDEFINED = headless */
     uint32_t present_width, present_height; /* windowed: the swapchain extent */
+    const struct vg_curve *curve; /* a baked global curve instead of the per-frame one (copied) */
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at
@@ -104,6 +105,7 @@ typedef struct frame_outputs {
     const uint8_t *ref_left, *ref_right; /* the two-camera reference (desc.reference) */
     const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
     uint32_t stereo_width, stereo_height;
+    const struct vg_curve *curve; /* the global depth -> vergence curve the warp used */
 } frame_outputs;
 
 /* The times a frame was rendered at. */

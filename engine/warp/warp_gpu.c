@@ -3,6 +3,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/log.h"
 
@@ -50,6 +51,7 @@ struct warp_gpu {
     VkPipelineLayout classify_layout;
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
     gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
+    gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
     uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
     VkDescriptorSetLayout curve_set;
@@ -344,8 +346,12 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
     if (d->stereo == FRAME_STEREO_OFF)
         return;
 
-    /* warp.curve: the last stage of the cascade (and of the error measurement). */
-    {
+    /* warp.curve: the last stage of the cascade (and of the error measurement),
+     * built from this frame's target map unless a baked one was given. */
+    if (w->baked.buffer) {
+        res->curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve.baked", sizeof(vg_curve)},
+                                      &(rg_import_desc){.initial = RG_STORAGE_READ});
+    } else {
         res->curve = rg_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)});
         uint64_t tiles = (uint64_t)w->tiles_x * w->tiles_y * VG_CURVE_BINS * sizeof(uint32_t);
         w->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
@@ -591,6 +597,12 @@ static vg_status create_instance_table(warp_gpu *w)
     return VG_OK;
 }
 
+void warp_gpu_bind(warp_gpu *w, rg_graph *g)
+{
+    if (w->baked.buffer)
+        rg_bind_buffer(g, w->res->curve, w->baked.buffer);
+}
+
 vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
 {
     *out = NULL;
@@ -613,6 +625,14 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
         w->patches_per_draw = 1;
     shader_set s = {0};
     vg_status st = create_instance_table(w);
+    if (st == VG_OK && fc->desc.curve) {
+        st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vg_curve),
+                                                           .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                           .host_visible = true}, &w->baked);
+        if (st == VG_OK)
+            memcpy(w->baked.mapped, fc->desc.curve, sizeof(vg_curve));
+    }
     if (st == VG_OK)
         st = load_shaders(fc->gpu, &s);
     if (st == VG_OK)
@@ -646,5 +666,6 @@ void warp_gpu_destroy(warp_gpu *w)
         vkDestroyDescriptorSetLayout(dev, w->classify_set, NULL);
     gpu_buffer_destroy(w->fc->gpu, &w->instances);
     gpu_buffer_destroy(w->fc->gpu, &w->chunks);
+    gpu_buffer_destroy(w->fc->gpu, &w->baked);
     free(w);
 }

@@ -1,0 +1,131 @@
+/* vergence — global curve on the CPU and its file. */
+#include "curve_cpu.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/io.h"
+#include "core/log.h"
+
+#define CURVE_REACH 16 /* = cascade.glsl */
+
+vg_status curve_cpu_build(const float *depth, const float *vergence, size_t n, vg_curve *out)
+{
+    memset(out, 0, sizeof *out);
+    double lo = INFINITY, hi = 0;
+    for (size_t i = 0; i < n; i++)
+        if (depth[i] > 0 && isfinite(depth[i]) && vergence[i] > 0 && isfinite(vergence[i])) {
+            double q = 1.0 / depth[i];
+            lo = q < lo ? q : lo;
+            hi = q > hi ? q : hi;
+        }
+    if (!(hi > 0))
+        return VG_OK; /* no pairs: valid stays 0 */
+    out->valid = 1;
+    out->inv_depth_far = (float)lo;
+    out->inv_depth_near = hi > lo ? (float)hi : (float)(lo * 1.001 + 1e-6);
+    double span = (double)out->inv_depth_near - out->inv_depth_far;
+    double count[VG_CURVE_BINS] = {0}, sum[VG_CURVE_BINS] = {0}, offset[VG_CURVE_BINS] = {0};
+    for (size_t i = 0; i < n; i++) {
+        if (!(depth[i] > 0 && isfinite(depth[i]) && vergence[i] > 0 && isfinite(vergence[i])))
+            continue;
+        double pos = (1.0 / depth[i] - out->inv_depth_far) / span * VG_CURVE_BINS;
+        pos = pos < 0 ? 0 : pos > VG_CURVE_BINS - 1e-3 ? VG_CURVE_BINS - 1e-3 : pos;
+        int b = (int)pos;
+        count[b] += 1;
+        sum[b] += vergence[i];
+        offset[b] += pos - b;
+    }
+    float q[VG_CURVE_BINS], v[VG_CURVE_BINS];
+    for (int b = 0; b < VG_CURVE_BINS; b++) {
+        double inside = count[b] > 0 ? offset[b] / count[b] : 0.5;
+        q[b] = (float)(out->inv_depth_far + (b + inside) / VG_CURVE_BINS * span);
+        v[b] = count[b] > 0 ? (float)(sum[b] / count[b]) : 0.0f;
+    }
+    for (int b = 0; b < VG_CURVE_BINS; b++) {
+        out->inv_depth[b] = q[b];
+        if (count[b] > 0) {
+            out->vergence[b] = v[b];
+            continue;
+        }
+        int l = b, r = b;
+        while (l >= 0 && count[l] == 0)
+            l--;
+        while (r < VG_CURVE_BINS && count[r] == 0)
+            r++;
+        if (l >= 0 && r < VG_CURVE_BINS)
+            out->vergence[b] = v[l] + (v[r] - v[l]) * (q[b] - q[l]) / (q[r] - q[l]);
+        else
+            out->vergence[b] = l >= 0 ? v[l] : v[r];
+    }
+    return VG_OK;
+}
+
+static float between(const vg_curve *c, int a, int b, float q)
+{
+    float dq = c->inv_depth[b] - c->inv_depth[a];
+    float t = fabsf(dq) > 1e-12f ? (q - c->inv_depth[a]) / dq : 0.0f;
+    return c->vergence[a] + t * (c->vergence[b] - c->vergence[a]);
+}
+
+float curve_cpu_eval(const vg_curve *c, float z)
+{
+    const int last = VG_CURVE_BINS - 1;
+    float q = 1.0f / (z > 1e-6f ? z : 1e-6f);
+    if (q <= c->inv_depth[0])
+        return between(c, 0, CURVE_REACH, q);
+    if (q >= c->inv_depth[last])
+        return between(c, last - CURVE_REACH, last, q);
+    int i = 0;
+    while (i < last - 1 && q > c->inv_depth[i + 1])
+        i++;
+    return between(c, i, i + 1, q);
+}
+
+/* ------------------------------------------------------------------------- */
+/* File                                                                      */
+/* ------------------------------------------------------------------------- */
+
+vg_status curve_file_write(const char *path, const vg_curve *c)
+{
+    uint8_t buf[12 + sizeof(vg_curve)];
+    uint32_t head[3] = {0, 1, VG_CURVE_BINS};
+    memcpy(head, "VGCV", 4);
+    memcpy(buf, head, 12);
+    memcpy(buf + 12, c, sizeof *c);
+    return vg_file_write_atomic(path, buf, sizeof buf);
+}
+
+vg_status curve_file_read(const char *path, vg_curve *c)
+{
+    uint8_t *data;
+    size_t size;
+    vg_status st = vg_file_read(path, &data, &size);
+    if (st != VG_OK)
+        return st;
+    uint32_t head[3];
+    if (size != 12 + sizeof *c) {
+        vg_error("%s: not a vergence curve file (%zu bytes, want %zu)", path, size, 12 + sizeof *c);
+        st = VG_ERR_FORMAT;
+    } else {
+        memcpy(head, data, 12);
+        if (memcmp(data, "VGCV", 4) || head[1] != 1 || head[2] != VG_CURVE_BINS) {
+            vg_error("%s: not a vergence curve file (bad magic, version or bin count)", path);
+            st = VG_ERR_FORMAT;
+        } else {
+            memcpy(c, data + 12, sizeof *c);
+            bool ok = c->valid == 1 && isfinite(c->inv_depth_near) && isfinite(c->inv_depth_far) &&
+                      c->inv_depth_near > c->inv_depth_far && c->inv_depth_far >= 0;
+            for (int b = 0; b < VG_CURVE_BINS && ok; b++)
+                ok = isfinite(c->inv_depth[b]) && isfinite(c->vergence[b]) &&
+                     (b == 0 || c->inv_depth[b] >= c->inv_depth[b - 1]);
+            if (!ok) {
+                vg_error("%s: curve values are not finite or not increasing in inverse depth", path);
+                st = VG_ERR_FORMAT;
+            }
+        }
+    }
+    free(data);
+    return st;
+}
