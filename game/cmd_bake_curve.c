@@ -1,7 +1,7 @@
 /* vergence bake-curve — the global depth -> vergence curve (paper 4.6) built
  * offline from a capture: for every captured frame, Embree tests which scene
- * vertices the centre camera sees (occlusion rays), each visible vertex pairs
- * its depth with the captured disparity map at its pixel, and the pairs of
+ * vertices the centre camera sees (occlusion rays), the pixel of each visible
+ * vertex gives a (depth, disparity) pair from the captured maps, and the pairs of
  * all frames make one curve (warp/curve_cpu.h) that `--curve FILE` loads
  * instead of the per-frame one. */
 #include <math.h>
@@ -161,7 +161,9 @@ static vg_status bake_frame(RTCDevice dev, const scene *s, scene_state *st, cons
         if (fabsf(depth.data[k] - c[3]) > 0.01f * c[3])
             continue;
         (*visible)++;
-        st2 = pairs_add(out, c[3], disp.data[k]);
+        /* The pixel's own depth: the map holds the disparity of that surface
+         * point, not of the vertex a fraction of a pixel away. */
+        st2 = pairs_add(out, depth.data[k], disp.data[k]);
     }
     rtcReleaseScene(rs);
     vg_imagef_free(&depth);

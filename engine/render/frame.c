@@ -345,8 +345,11 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.compose = FRAME_COMPOSE_SBS;
     if (d.tess_px <= 0 && d.tess_error <= 0)
         d.tess_error = 0.1;
+    /* 1-pixel tessellation needs the hardware's full range; error-driven
+     * levels seldom pass 4, and a lower cap packs more patches into each of
+     * lavapipe's bounded draws. */
     if (!d.max_tess_level)
-        d.max_tess_level = 64;
+        d.max_tess_level = d.tess_px > 0 ? 64 : 16;
     if (d.depth_epsilon <= 0)
         d.depth_epsilon = 0.01;
     if (d.halton_radius <= 0)

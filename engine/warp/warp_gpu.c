@@ -212,7 +212,9 @@ static void draw_warped(warp_gpu *w, const rg_context *ctx, uint32_t flags)
         scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
         VkDeviceSize first = (VkDeviceSize)(s->instance_count + (int)table[i].tess_args) * stride;
         VkDeviceSize count = (VkDeviceSize)(s->instance_count + (int)w->tess_slots) * stride + 4 * (VkDeviceSize)i;
-        if (fc->gpu->features.draw_indirect_count)
+        /* lavapipe (Mesa 22.3) loses the draws of vkCmdDrawIndexedIndirectCount
+         * when later passes bind other buffers (docs/architecture.md). */
+        if (fc->gpu->features.draw_indirect_count && !fc->gpu->is_cpu)
             vkCmdDrawIndexedIndirectCount(cmd, args, first, args, count, table[i].tess_chunks, (uint32_t)stride);
         else if (fc->gpu->features.multi_draw_indirect)
             vkCmdDrawIndexedIndirect(cmd, args, first, table[i].tess_chunks, (uint32_t)stride);

@@ -1,0 +1,196 @@
+#!/usr/bin/env python3
+"""Stereo pair tests (issue 5): the 3D warp against two real cameras, its
+disparity accuracy, holes, the image-warping baseline, output modes, the
+error-driven tessellation and the baked curve.
+
+usage: warp_test.py VERGENCE CASE [ARG]
+
+Captures run with validation on (VERGENCE_VALIDATE=1 from CTest). Golden
+images live in tests/golden/; VG_UPDATE_GOLDENS=1 rewrites them.
+"""
+import json
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+GOLDEN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "golden")
+MODES = ["sbs", "sbs-half", "tb", "rows", "columns", "checker", "anaglyph", "anaglyph-plain", "left", "right"]
+
+
+def run(args):
+    p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=900)
+    if p.returncode != 0:
+        sys.exit(f"FAIL: vergence {' '.join(args)} exited {p.returncode}\n{p.stderr}")
+    return p
+
+
+def capture(scene, extra=(), frames=1, size="320x180", time=1.5):
+    out = tempfile.mkdtemp(prefix="vergence_warp_")
+    run(["capture", "--scene", f"content/{scene}.gltf", "--frames", str(frames), "--time", str(time),
+         "--size", size, "--out", out] + list(extra))
+    with open(os.path.join(out, "capture.json")) as f:
+        return out, json.load(f)
+
+
+def png(path):
+    """Decodes an 8-bit RGB/RGBA PNG (stdlib only): width, height, channels, rows of bytes."""
+    d = open(path, "rb").read()
+    w, h, depth, ctype = struct.unpack(">IIBB", d[16:26])
+    if depth != 8 or ctype not in (2, 6):
+        sys.exit(f"FAIL: {path}: unsupported PNG (depth {depth}, type {ctype})")
+    i, idat = 8, b""
+    while i < len(d):
+        n = struct.unpack(">I", d[i:i + 4])[0]
+        if d[i + 4:i + 8] == b"IDAT":
+            idat += d[i + 8:i + 8 + n]
+        i += 12 + n
+    raw, bpp = zlib.decompress(idat), 3 if ctype == 2 else 4
+    stride, rows, prev, p = w * bpp, [], bytearray(w * bpp), 0
+    for _ in range(h):
+        f, line = raw[p], bytearray(raw[p + 1:p + 1 + stride])
+        p += 1 + stride
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0
+            b, c = prev[x], prev[x - bpp] if x >= bpp else 0
+            if f == 1:
+                line[x] = (line[x] + a) & 255
+            elif f == 2:
+                line[x] = (line[x] + b) & 255
+            elif f == 3:
+                line[x] = (line[x] + (a + b) // 2) & 255
+            elif f == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line))
+        prev = line
+    return w, h, bpp, rows
+
+
+# ---------------------------------------------------------------------------
+# Cases
+# ---------------------------------------------------------------------------
+
+def case_accuracy(scene):
+    """Warp with g vs two cameras: PSNR, holes, disparity error; image warping beside it."""
+    _, w = capture(scene, ["--diffuse", "--stereo-render", "warp"], frames=2)
+    _, iw = capture(scene, ["--diffuse", "--stereo-render", "imagewarp"], frames=2)
+    e, p = w["warp_error_px"], w["psnr_db"]
+    print(f"{scene}: PSNR left {p['left']:.1f} dB right {p['right']:.1f} dB; holes warp {w['hole_fraction']:.6f}, "
+          f"imagewarp {iw['hole_fraction']:.6f}; error median {e['median']:.5f} p99 {e['p99']:.5f} "
+          f"p99_curve {e['p99_curve']} px; cascade {w['cascade']}")
+    if not (p["left"] >= 35 and p["right"] >= 35):
+        sys.exit("FAIL: PSNR of the warp against two cameras below 35 dB")
+    if w["hole_fraction"] != 0:
+        sys.exit("FAIL: the warp leaves holes")
+    if not (e["median"] < 0.1 and e["p99"] < 0.25):
+        sys.exit("FAIL: disparity error above median 0.1 / p99 0.25 px")
+    if not iw["hole_fraction"] > w["hole_fraction"]:
+        sys.exit("FAIL: image warping shows no holes where the warp has none: the measure is blind")
+
+
+def case_rows_exact():
+    out, j = capture("cubes", ["--output", "rows"], size="96x54")
+    L, R, S = (png(os.path.join(out, f"frame_0000_{k}.png")) for k in ("left", "right", "stereo"))
+    if not (L[:2] == R[:2] == S[:2]):
+        sys.exit("FAIL: rows output size differs from the eyes")
+    for y in range(S[1]):
+        if S[3][y] != (L if y % 2 == 0 else R)[3][y]:
+            sys.exit(f"FAIL: row {y} of the rows output is not the {'left' if y % 2 == 0 else 'right'} eye's")
+    print(f"rows output: all {S[1]} rows equal the left (even) and right (odd) eyes")
+
+
+def case_golden(mode):
+    out, _ = capture("cubes", ["--output", mode, "--time", "1.0"], size="96x54")
+    got = os.path.join(out, "frame_0000_stereo.png")
+    ref = os.path.join(GOLDEN, f"compose_{mode}.png")
+    if os.environ.get("VG_UPDATE_GOLDENS"):
+        os.makedirs(GOLDEN, exist_ok=True)
+        open(ref, "wb").write(open(got, "rb").read())
+        print(f"updated {ref}")
+        return
+    if not os.path.exists(ref):
+        sys.exit(f"FAIL: no golden image {ref} (run with VG_UPDATE_GOLDENS=1)")
+    a, b = png(got), png(ref)
+    if a[:3] != b[:3]:
+        sys.exit(f"FAIL: {mode}: size {a[:2]} vs golden {b[:2]}")
+    diffs = [abs(x - y) for ra, rb in zip(a[3], b[3]) for x, y in zip(ra, rb)]
+    worst, mean = max(diffs), sum(diffs) / len(diffs)
+    print(f"{mode}: {a[0]}x{a[1]}, max difference {worst}, mean {mean:.4f} (tolerance: max 24, mean 0.5)")
+    # Another driver may round or rasterise an edge pixel differently; the
+    # layout of the eyes must not change.
+    if worst > 24 or mean > 0.5:
+        sys.exit(f"FAIL: {mode} output differs from its golden image")
+
+
+def case_tessellation(scene):
+    """Error-driven tessellation reaches the accuracy of 1-pixel tessellation."""
+    _, one = capture(scene, ["--diffuse", "--tess-px", "1", "--no-reference"], size="240x135")
+    _, err = capture(scene, ["--diffuse", "--no-reference"], size="240x135")
+    a, b = one["warp_error_px"]["p99"], err["warp_error_px"]["p99"]
+    ms = {j["name"]: j["ms_median"] for j in err["passes"]}
+    ms1 = {j["name"]: j["ms_median"] for j in one["passes"]}
+    print(f"{scene}: p99 1-px {a:.5f} px, error-driven {b:.5f} px; warp.left {ms1['warp.left']:.0f} ms -> "
+          f"{ms['warp.left']:.0f} ms")
+    if abs(b - a) > 0.05:
+        sys.exit("FAIL: error-driven p99 differs from 1-px tessellation by more than 0.05 px")
+
+
+def read_curve(path):
+    d = open(path, "rb").read()
+    if d[:4] != b"VGCV":
+        sys.exit(f"FAIL: {path} is not a curve file")
+    near, far = struct.unpack_from("<ff", d, 12)
+    q = struct.unpack_from("<256f", d, 28)
+    v = struct.unpack_from("<256f", d, 28 + 1024)
+    return near, far, q, v
+
+
+def curve_at(c, z):
+    q, v, x = c[2], c[3], 1.0 / z
+    if x <= q[0]:
+        return v[0] + (x - q[0]) * (v[16] - v[0]) / (q[16] - q[0])
+    if x >= q[-1]:
+        return v[-1] + (x - q[-1]) * (v[-1] - v[-17]) / (q[-1] - q[-17])
+    i = 0
+    while x > q[i + 1]:
+        i += 1
+    return v[i] + (x - q[i]) * (v[i + 1] - v[i]) / (q[i + 1] - q[i])
+
+
+def case_bake_curve():
+    out, _ = capture("balloon", frames=5, size="320x180")
+    baked = os.path.join(out, "baked.bin")
+    run(["bake-curve", "--scene", "content/balloon.gltf", "--capture", out, "--out", baked])
+    b = read_curve(baked)
+    worst = 0.0
+    for n in range(5):
+        r = read_curve(os.path.join(out, f"frame_{n:04d}_curve.bin"))
+        lo, hi = max(b[1], r[1]), min(b[0], r[0])
+        if not hi > lo:
+            sys.exit("FAIL: the baked and runtime curves share no depth range")
+        for k in range(200):
+            z = 1.0 / (lo + (hi - lo) * k / 199)
+            worst = max(worst, abs(curve_at(b, z) - curve_at(r, z)))
+    print(f"baked vs runtime curve over 5 frames: max difference {worst:.4f} arcmin")
+    if worst >= 0.5:
+        sys.exit("FAIL: the baked curve departs from the runtime one by 0.5 arcmin or more")
+    # The baked curve drives a capture too.
+    _, j = capture("balloon", ["--curve", baked], size="160x90")
+    if "warp.curve.bins" in [p["name"] for p in j["passes"]]:
+        sys.exit("FAIL: with --curve the frame still builds its own curve")
+    bad = os.path.join(out, "bad.bin")
+    open(bad, "wb").write(b"VGCV" + b"\0" * 20)
+    p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--size", "64x36", "--out",
+                        os.path.join(out, "x"), "--curve", bad], capture_output=True, text=True, timeout=120)
+    errors = [l for l in p.stderr.splitlines() if "error" in l]
+    if not (0 < p.returncode < 128 and len(errors) == 1 and "bad.bin" in errors[0]):
+        sys.exit(f"FAIL: a broken curve file gives exit {p.returncode} and {p.stderr!r}")
+
+
+if __name__ == "__main__":
+    VERGENCE = os.path.abspath(sys.argv[1])
+    fn = globals()["case_" + sys.argv[2]]
+    fn(*sys.argv[3:])
