@@ -23,6 +23,9 @@ struct disp_operator {
 };
 
 static const char *const g_names[] = {"lang", "none", "linear", "lang", "lang-smoothed"};
+_Static_assert(DISP_OPERATOR_NONE == DISP_OP_NONE && DISP_OPERATOR_LINEAR == DISP_OP_LINEAR &&
+                   DISP_OPERATOR_LANG == DISP_OP_LANG && DISP_OPERATOR_LANG_SMOOTHED == DISP_OP_LANG_SMOOTHED,
+               "operator kinds shared with the GPU passes");
 
 disp_operator_kind disp_operator_kind_parse(const char *name)
 {
@@ -51,18 +54,19 @@ vg_status disp_operator_create(const disp_operator_desc *desc, disp_operator **o
     bool study = d.preset == DISP_PRESET_STUDY;
     if (d.kind == DISP_OPERATOR_DEFAULT)
         d.kind = DISP_OPERATOR_LANG;
+    /* Defaults shared with the GPU passes (mid_shared.h). */
     if (!(d.range > 0))
-        d.range = study ? 30.0 : 60.0;
+        d.range = study ? DISP_OP_RANGE_STUDY : DISP_OP_RANGE_COMFORT;
     if (!(d.floor > 0))
-        d.floor = study ? 0.02 : 0.1;
+        d.floor = study ? DISP_OP_FLOOR_STUDY : DISP_OP_FLOOR_COMFORT;
     if (d.bins <= 0)
-        d.bins = 128;
+        d.bins = DISP_OP_BINS;
     if (!(d.blur_bins > 0))
-        d.blur_bins = 1.5;
+        d.blur_bins = DISP_OP_BLUR_BINS;
     if (!(d.saliency_floor > 0))
-        d.saliency_floor = 0.1;
+        d.saliency_floor = DISP_OP_SALIENCY_FLOOR;
     if (!(d.smooth_seconds > 0))
-        d.smooth_seconds = 0.5;
+        d.smooth_seconds = DISP_OP_SMOOTH_SECONDS;
     if (!(d.frame_seconds > 0))
         d.frame_seconds = 1.0 / 60.0;
     op->d = d;

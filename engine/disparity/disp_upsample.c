@@ -229,8 +229,8 @@ static void spatial_block(void *c, int block, int begin, int end)
 void disp_upsample_spatial(const disp_upsample_desc *d, const float *h_full,
                            const float *ratio_coarse, float *f_full, vg_pool *pool)
 {
-    float ss = d->sigma_spatial > 0 ? d->sigma_spatial : 0.5f;
-    float sr = d->sigma_range > 0 ? d->sigma_range : 4.0f;
+    float ss = d->sigma_spatial > 0 ? d->sigma_spatial : MID_SIGMA_SPATIAL;
+    float sr = d->sigma_range > 0 ? d->sigma_range : MID_SIGMA_RANGE;
     space_ctx c = {.d = d, .h = h_full, .ratio = ratio_coarse, .f = f_full,
                    .inv_2ss = 1.0f / (2.0f * ss * ss), .inv_2sr = 1.0f / (2.0f * sr * sr)};
     vg_parallel_for(pool, d->grid.full_h, ROWS_PER_BLOCK, spatial_block, &c);

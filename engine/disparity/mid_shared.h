@@ -72,6 +72,41 @@ typedef unsigned int uint;
 /* Workgroup size of the GLSL passes. */
 #define MID_LOCAL_SIZE 256
 
+/* Keyframe window defaults (paper 4.4): a keyframe every 10 frames, a coarse
+ * sample every 5 pixels. */
+#define MID_KEYFRAME_STRIDE 10
+#define MID_COARSE_STRIDE 5
+/* Gauss-Newton control (mid_solver.c and mid_control.comp): Armijo constant
+ * and halvings of the backtracking line search, relative CG residual that
+ * stops CG, distance to a bound (arcmin) within which a variable can be held. */
+#define MID_LINE_ARMIJO 1e-4f
+#define MID_LINE_TRIALS 12
+#define MID_CG_TOLERANCE 1e-8f
+#define MID_BOUND_EPS 1e-4f
+/* Joint bilateral upsampling (disp_upsample.c): spatial sigma in coarse
+ * pixels, range sigma in arcmin of the guide h. */
+#define MID_SIGMA_SPATIAL 0.5f
+#define MID_SIGMA_RANGE 4.0f
+
+/* Operators h = M(g, saliency) (disp_operator.c); kinds as disp_operator_kind. */
+#define DISP_OP_NONE 1u
+#define DISP_OP_LINEAR 2u
+#define DISP_OP_LANG 3u
+#define DISP_OP_LANG_SMOOTHED 4u
+#define DISP_OP_BINS 128
+#define DISP_OP_MAX_BINS 256
+/* (Unsuffixed: double in the C reference, float in GLSL.) */
+#define DISP_OP_RANGE_COMFORT 60.0  /* half-width of the target range, arcmin (1 degree rule) */
+#define DISP_OP_RANGE_STUDY 30.0
+#define DISP_OP_FLOOR_COMFORT 0.1   /* slope of an empty bin, relative to a uniform one */
+#define DISP_OP_FLOOR_STUDY 0.02
+#define DISP_OP_BLUR_BINS 1.5
+#define DISP_OP_SALIENCY_FLOOR 0.1
+#define DISP_OP_SMOOTH_SECONDS 0.5
+/* The GPU histogram counts integer weights: 8-bit saliency a (0..255) weighs
+ * (0.1 + a / 255) = (255 + 10 a) / 2550 exactly; no saliency weighs 1. */
+#define DISP_OP_WEIGHT_SCALE 2550u
+
 /* Link mask bits: taps base, base+1, base+nx, base+nx+1. Zero = no link. */
 #define MID_TAP00 1u
 #define MID_TAP10 2u
@@ -220,6 +255,173 @@ MID_FN float disp_curve_coord(float depth, float inv_lo, float inv_hi, uint bins
     return u * MID_FLOAT(bins) - 0.5f;
 }
 
+/* ------------------------------------------------------------------------- */
+/* GPU passes (docs/method.md "GPU passes")                                  */
+/* ------------------------------------------------------------------------- */
+
+/* Push constants of every mid_*.comp kernel (window build and solver; 112
+ * bytes). The window is n = ns * nt elements; every array of the solver
+ * arena is `cap` elements long (the largest window). */
+struct mid_push {
+    uint nx, ny, nt, ns;
+    uint n, cap, blocks, op;       /* blocks: workgroups over n; op: the kernel's operation */
+    float w_data, w_spatial, w_temporal, w_accel;
+    float grad_scale, scalar, log_tol, flow_tol; /* scalar: line-search step t or descent lambda */
+    float range_lo, range_hi, dt;                /* dt: seconds between keyframes (gather) */
+    uint nt_prev;                                /* keyframes of the previous window (warm start) */
+    uint range_hull, jacobi, store_first, store_cap; /* store: ring slot of window keyframe 0 */
+    uint publish_from, adj_cap, shift, warm;     /* first window keyframe to publish; warm start:
+                                                    keyframe k takes the last solution's k + shift */
+};
+
+/* Solver state on the GPU (mid_control.comp writes it; 96 bytes). The CPU
+ * solver's scalars and branches (mid_solver.c) become these fields and the
+ * dispatch sizes of the kernels that follow. */
+struct mid_solve_state {
+    float c, c_try, decrease, pg2;     /* cost, trial cost, Armijo decrease, |projected gradient|^2 */
+    float rz, rz0, rz_new, php;        /* CG scalars */
+    float a_cg, b_cg, range_lo, range_hi;
+    uint running, cg_running, accepted, iteration;
+    uint cg_steps, line_trials, g_min_bits, g_max_bits; /* g range of the window (operator none) */
+    float cost_initial, inv_range, unused0, unused1;
+};
+
+/* Indirect dispatch sizes the control kernel writes (3 uints each). */
+#define MID_ARGS_ACTIVE 0u   /* the solve goes on */
+#define MID_ARGS_CG 1u       /* ... and CG goes on */
+#define MID_ARGS_LINE 2u     /* ... and the line search has not accepted a step */
+#define MID_ARGS_COMMIT 3u   /* ... and it has */
+#define MID_ARGS_COUNT 4u
+
+/* Bindings of the solver arena (set 0, one storage buffer range each; arrays
+ * marked x2 hold the forward half then the backward half, each `cap` long). */
+#define MID_B_STATE 0      /* mid_solve_state */
+#define MID_B_ARGS 1       /* dispatch sizes (a separate buffer) */
+#define MID_B_PARTIAL 2    /* 4 floats per workgroup */
+#define MID_B_FIELD 3      /* g, h, depth (3 x cap) */
+#define MID_B_FLOW 4       /* vec2 x2: to keyframe k+1, to k-1 (coarse px) */
+#define MID_B_LINK 5       /* mid_link x2: A_f, A_b */
+#define MID_B_ADJ_OFF 6    /* uint x2 (cap + 1 each): CSR rows of A_f^T, A_b^T */
+#define MID_B_ADJ 7        /* mid_adj_entry x2 (adj_cap each) */
+#define MID_B_CURSOR 8     /* uint x2: row counts, then fill cursors */
+#define MID_B_EDGE 9       /* float x2: a^2 right, below */
+#define MID_B_TARGET 10    /* float x2: ph, pg_acc */
+#define MID_B_INVDT 11     /* float x2 (nt each): 1 / dt forward, backward */
+#define MID_B_CHAIN 12     /* int x2: chain next, prev */
+#define MID_B_HEAVY 13     /* int x2: heaviest forward tap, heaviest backward tap */
+#define MID_B_SCAN 14      /* uint: block sums of the CSR scan */
+#define MID_B_F 15
+#define MID_B_FTRY 16
+#define MID_B_GRAD 17
+#define MID_B_DIAG 18
+#define MID_B_S 19
+#define MID_B_R 20
+#define MID_B_Z 21
+#define MID_B_P 22
+#define MID_B_HP 23
+#define MID_B_FREE 24
+#define MID_B_L 25         /* l0, l1, l2 (3 x cap): line preconditioner factor */
+#define MID_B_LIN 26       /* q_f, q_b, m_a, alpha, beta, c_f, c_b, d_self (8 x cap) */
+#define MID_B_FPREV 27     /* the last solution (warm start, paper 4.5) */
+#define MID_B_STORE 28     /* the keyframe store (a separate buffer) */
+#define MID_B_PUBLISHED 29 /* published ratios f / h (a separate buffer) */
+#define MID_B_COUNT 30
+#define MID_LIN_FIELDS 8u
+#define MID_PARTIAL_FLOATS 8u  /* per workgroup: 4 cost terms, 2 sums of a vector op */
+#define MID_MAX_KEYFRAMES 256u /* MID_B_INVDT holds 2 x this */
+#define MID_SCAN_BLOCK 1024u /* elements per workgroup of the CSR scan */
+
+/* Operations of the kernels (mid_push.op). */
+#define MID_OP_GATHER 0u       /* mid_window: window arrays from the keyframe store */
+#define MID_OP_PREPARE 1u      /* mid_window: only clear the counts (inputs uploaded) */
+#define MID_OP_LINKS 2u        /* mid_window: A_f, A_b rows and CSR counts */
+#define MID_OP_FILL 3u         /* mid_window: CSR entries */
+#define MID_OP_SORT 4u         /* mid_window: each CSR row by source index */
+#define MID_OP_TARGETS 5u      /* mid_window: edge weights, targets, heaviest taps */
+#define MID_OP_CHAINS 6u       /* mid_window: mutual heaviest taps */
+#define MID_OP_SCAN_BLOCKS 10u /* mid_scan */
+#define MID_OP_SCAN_TOP 11u
+#define MID_OP_SCAN_ADD 12u
+#define MID_OP_LIN_F 20u       /* mid_terms: linearise at f */
+#define MID_OP_LIN_FTRY 21u    /* ... at the trial point */
+#define MID_OP_GATHER_GRAD 22u
+#define MID_OP_GATHER_HESS 23u
+#define MID_OP_DIAGONAL 24u
+#define MID_OP_DIRECTION 25u
+#define MID_OP_CG_START 30u    /* mid_vec: element-wise steps of mid_solver.c */
+#define MID_OP_ZP_INIT 31u
+#define MID_OP_CG_UPDATE 32u
+#define MID_OP_RZ 33u
+#define MID_OP_P_UPDATE 34u
+#define MID_OP_TRIAL 35u
+#define MID_OP_DESCENT 36u
+#define MID_OP_COMMIT 37u
+#define MID_OP_INIT 38u
+#define MID_OP_PUBLISH 39u
+#define MID_OP_ASSEMBLE 40u    /* mid_precond */
+#define MID_OP_FACTOR 41u
+#define MID_OP_APPLY 42u
+#define MID_OP_C_RESET 50u     /* mid_control: sums, then the solver's branches */
+#define MID_OP_C_RANGE 51u
+#define MID_OP_C_INIT_COST 52u
+#define MID_OP_C_ITER_BEGIN 53u
+#define MID_OP_C_PG2 54u
+#define MID_OP_C_RZ0 55u
+#define MID_OP_C_PHP 56u
+#define MID_OP_C_RZNEW 57u
+#define MID_OP_C_TRIAL 58u
+#define MID_OP_C_ITER_END 59u
+#define MID_OP_C_DESCENT 60u
+
+/* The keyframe store: a ring of keyframes, each ns coarse samples of
+ * g, h, depth (arcmin, arcmin, m) and flows to the next and previous keyframe
+ * (coarse px, x y interleaved): MID_STORE_FLOATS x ns floats per slot. */
+#define MID_STORE_G 0u
+#define MID_STORE_H 1u
+#define MID_STORE_DEPTH 2u
+#define MID_STORE_FLOW_F 3u  /* 2 floats per sample */
+#define MID_STORE_FLOW_B 5u  /* 2 floats per sample */
+#define MID_STORE_FLOATS 7u
+/* Published solution: a header, then per ring slot ns ratios f / h. */
+struct mid_published {
+    float range_lo, range_hi; /* the range f was solved in (the clamp of upsampling) */
+    uint keyframe_lo, keyframe_hi; /* keyframes published so far (absolute, inclusive) */
+};
+
+/* Operator passes (disparity_operator_*.comp): push constants (96 bytes). */
+struct disp_op_push {
+    uint kind, bins, stride, fixed_domain; /* stride: statistics from every stride-th pixel */
+    float screen_vergence, range_lo, range_hi, floor_slope;
+    float blur_bins, saliency_floor, smooth_alpha, dom_lo; /* smooth_alpha: per call (frame) */
+    float dom_hi, key_alpha, unused0, unused1;             /* key_alpha: per keyframe interval */
+    uint width, height, tiles, tile_height;                /* frame size; keyframe tiles in the atlas */
+    uint store_first, store_cap, frame_entry, unused2;     /* ring slot of tile 0 */
+};
+/* One mapping: its header, then DISP_OP_MAX_BINS + 1 knots (normalised
+ * cumulative mapping in [0, 1]); DISP_OP_STATE_FLOATS floats per entry. */
+struct disp_op_state {
+    float dom_lo, dom_hi, out_lo, out_hi;
+    float scale, has_prev, lo, hi; /* lo, hi: target range */
+};
+#define DISP_OP_STATE_FLOATS 272u
+
+/* Upsampling passes (mid_upsample_*.comp): push constants (64 bytes). */
+struct disp_upsample_push {
+    uint full_w, full_h, stride, nx;
+    uint ny, slot0, slot1, has1;  /* ring slots of the keyframes before (k0) and after (k1) */
+    float tau, log_tol, inv_2ss, inv_2sr;
+    uint at_key, store_cap, unused0, unused1; /* at_key: frame t is keyframe k0 (tau = 0) */
+};
+
+#if defined(__STDC__) || defined(__cplusplus)
+typedef struct mid_push mid_push;
+typedef struct mid_solve_state mid_solve_state;
+typedef struct mid_published mid_published;
+typedef struct disp_op_push disp_op_push;
+typedef struct disp_op_state disp_op_state;
+typedef struct disp_upsample_push disp_upsample_push;
+#endif
+
 #if defined(__STDC__) || defined(__cplusplus)
 /* The std430 layouts the GLSL side assumes. */
 #include <stddef.h>
@@ -228,6 +430,15 @@ _Static_assert(sizeof(mid_params) == 48 && offsetof(mid_params, w_data) == 16 &&
 _Static_assert(sizeof(mid_link) == 16 && offsetof(mid_link, mask) == 12, "mid_link layout");
 _Static_assert(sizeof(mid_adj_entry) == 8, "mid_adj_entry layout");
 _Static_assert(sizeof(disp_curve_header) == 16, "disp_curve_header layout");
+_Static_assert(sizeof(mid_push) == 112 && offsetof(mid_push, w_data) == 32 &&
+                   offsetof(mid_push, publish_from) == 96, "mid_push layout");
+_Static_assert(sizeof(mid_solve_state) == 96 && offsetof(mid_solve_state, running) == 48,
+               "mid_solve_state layout");
+_Static_assert(sizeof(mid_published) == 16, "mid_published layout");
+_Static_assert(sizeof(disp_op_push) == 96 && offsetof(disp_op_push, width) == 64, "disp_op_push layout");
+_Static_assert(sizeof(disp_op_state) == 32 && DISP_OP_STATE_FLOATS >= 8 + DISP_OP_MAX_BINS + 1,
+               "disp_op_state layout");
+_Static_assert(sizeof(disp_upsample_push) == 64, "disp_upsample_push layout");
 #endif
 
 #endif /* VG_MID_SHARED_H */

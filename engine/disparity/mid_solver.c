@@ -8,13 +8,14 @@
 #include "core/log.h"
 #include "mid_precond.h"
 
-/* Armijo constant and halvings of the backtracking line search. */
-#define LINE_ARMIJO 1e-4
-#define LINE_MAX_TRIALS 12
-/* Relative residual at which CG stops early (deterministic: depends only on data). */
-#define CG_TOLERANCE 1e-8
-/* A variable within this distance of a bound (arcmin) can be held there. */
-#define BOUND_EPS 1e-4f
+/* Armijo constant and halvings of the backtracking line search; relative
+ * residual at which CG stops early (deterministic: depends only on data); a
+ * variable within BOUND_EPS arcmin of a bound can be held there. Shared with
+ * the GPU solver (mid_shared.h). */
+#define LINE_ARMIJO MID_LINE_ARMIJO
+#define LINE_MAX_TRIALS MID_LINE_TRIALS
+#define CG_TOLERANCE MID_CG_TOLERANCE
+#define BOUND_EPS MID_BOUND_EPS
 
 struct mid_solver {
     int n;

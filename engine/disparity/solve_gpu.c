@@ -1,0 +1,528 @@
+/* vergence — the keyframe window and its solve on the GPU. */
+#include "solve_gpu.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "gpu/pipeline.h"
+#include "mid_shared.h"
+
+#include "mid_control_comp.h"
+#include "mid_precond_comp.h"
+#include "mid_publish_comp.h"
+#include "mid_scan_comp.h"
+#include "mid_terms_comp.h"
+#include "mid_vec_comp.h"
+#include "mid_window_comp.h"
+
+/* ------------------------------------------------------------------------- */
+/* Steps and their graphs                                                    */
+/* ------------------------------------------------------------------------- */
+
+enum { K_WINDOW, K_SCAN, K_TERMS, K_VEC, K_PRECOND, K_CONTROL, K_PUBLISH, K_COUNT };
+
+/* Dispatch size of an ungated step. */
+enum { SIZE_N = 0, SIZE_SCAN, SIZE_ONE };
+/* Gates: which MID_ARGS_* sizes an indirect dispatch takes (0 = direct). */
+enum { GATE_NONE = 0, GATE_ACTIVE, GATE_CG, GATE_LINE, GATE_COMMIT };
+/* Steps of the line preconditioner or of Jacobi CG only. */
+enum { ONLY_ALL = 0, ONLY_LINES, ONLY_JACOBI };
+
+typedef struct step_def {
+    const char *name;
+    uint8_t kernel, op, gate, size, only;
+} step_def;
+
+#define STEP(name, k, op, gate, size, only) {name, k, op, gate, size, only}
+#define CONTROL(name, op) STEP(name, K_CONTROL, op, GATE_NONE, SIZE_ONE, ONLY_ALL)
+
+/* The window (mid_window_build). */
+static const step_def k_build[] = {
+    CONTROL("control.reset", MID_OP_C_RESET),
+    STEP("window.gather", K_WINDOW, MID_OP_GATHER, GATE_NONE, SIZE_N, ONLY_ALL),
+    CONTROL("control.range", MID_OP_C_RANGE),
+    STEP("window.links", K_WINDOW, MID_OP_LINKS, GATE_NONE, SIZE_N, ONLY_ALL),
+    STEP("scan.blocks", K_SCAN, MID_OP_SCAN_BLOCKS, GATE_NONE, SIZE_SCAN, ONLY_ALL),
+    STEP("scan.top", K_SCAN, MID_OP_SCAN_TOP, GATE_NONE, SIZE_ONE, ONLY_ALL),
+    STEP("scan.add", K_SCAN, MID_OP_SCAN_ADD, GATE_NONE, SIZE_SCAN, ONLY_ALL),
+    STEP("window.fill", K_WINDOW, MID_OP_FILL, GATE_NONE, SIZE_N, ONLY_ALL),
+    STEP("window.sort", K_WINDOW, MID_OP_SORT, GATE_NONE, SIZE_N, ONLY_ALL),
+    STEP("window.targets", K_WINDOW, MID_OP_TARGETS, GATE_NONE, SIZE_N, ONLY_ALL),
+    STEP("window.chains", K_WINDOW, MID_OP_CHAINS, GATE_NONE, SIZE_N, ONLY_ALL),
+};
+/* f0, projected, and its linearisation (mid_solver_run's start). */
+static const step_def k_init[] = {
+    STEP("vec.init", K_VEC, MID_OP_INIT, GATE_NONE, SIZE_N, ONLY_ALL),
+    STEP("terms.linearize", K_TERMS, MID_OP_LIN_F, GATE_NONE, SIZE_N, ONLY_ALL),
+    CONTROL("control.cost", MID_OP_C_INIT_COST),
+};
+/* A Gauss-Newton iteration up to its first CG step (gauss_newton_step). */
+static const step_def k_prologue[] = {
+    CONTROL("control.iteration", MID_OP_C_ITER_BEGIN),
+    STEP("terms.gradient", K_TERMS, MID_OP_GATHER_GRAD, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    STEP("terms.diagonal", K_TERMS, MID_OP_DIAGONAL, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    STEP("vec.cg_start", K_VEC, MID_OP_CG_START, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    CONTROL("control.pg2", MID_OP_C_PG2),
+    STEP("precond.assemble", K_PRECOND, MID_OP_ASSEMBLE, GATE_ACTIVE, SIZE_N, ONLY_LINES),
+    STEP("precond.factor", K_PRECOND, MID_OP_FACTOR, GATE_ACTIVE, SIZE_N, ONLY_LINES),
+    STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_ACTIVE, SIZE_N, ONLY_LINES),
+    STEP("vec.zp_init", K_VEC, MID_OP_ZP_INIT, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    CONTROL("control.rz0", MID_OP_C_RZ0),
+};
+/* One preconditioned CG step. */
+static const step_def k_cg[] = {
+    STEP("terms.direction", K_TERMS, MID_OP_DIRECTION, GATE_CG, SIZE_N, ONLY_ALL),
+    STEP("terms.product", K_TERMS, MID_OP_GATHER_HESS, GATE_CG, SIZE_N, ONLY_ALL),
+    CONTROL("control.php", MID_OP_C_PHP),
+    STEP("vec.cg_update", K_VEC, MID_OP_CG_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
+    STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_CG, SIZE_N, ONLY_LINES),
+    STEP("vec.rz", K_VEC, MID_OP_RZ, GATE_CG, SIZE_N, ONLY_LINES),
+    CONTROL("control.rz", MID_OP_C_RZNEW),
+    STEP("vec.p_update", K_VEC, MID_OP_P_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
+};
+/* One trial of the backtracking line search. */
+static const step_def k_trial[] = {
+    STEP("vec.trial", K_VEC, MID_OP_TRIAL, GATE_LINE, SIZE_N, ONLY_ALL),
+    STEP("terms.linearize", K_TERMS, MID_OP_LIN_FTRY, GATE_LINE, SIZE_N, ONLY_ALL),
+    CONTROL("control.armijo", MID_OP_C_TRIAL),
+};
+static const step_def k_end[] = {
+    STEP("vec.commit", K_VEC, MID_OP_COMMIT, GATE_COMMIT, SIZE_N, ONLY_ALL),
+    CONTROL("control.end", MID_OP_C_ITER_END),
+};
+/* The paper's step (Sec. 4.5) with the Jacobi scaling of DESIGN.md. */
+static const step_def k_descent[] = {
+    STEP("terms.gradient", K_TERMS, MID_OP_GATHER_GRAD, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    STEP("terms.diagonal", K_TERMS, MID_OP_DIAGONAL, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    STEP("vec.descent", K_VEC, MID_OP_DESCENT, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    STEP("terms.linearize", K_TERMS, MID_OP_LIN_FTRY, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    CONTROL("control.descent", MID_OP_C_DESCENT),
+    STEP("vec.commit", K_VEC, MID_OP_COMMIT, GATE_COMMIT, SIZE_N, ONLY_ALL),
+};
+static const step_def k_publish[] = {
+    STEP("publish", K_PUBLISH, MID_OP_PUBLISH, GATE_NONE, SIZE_N, ONLY_ALL),
+};
+
+enum { G_BUILD, G_INIT, G_PROLOGUE, G_CG, G_TRIAL, G_END, G_DESCENT, G_PUBLISH, G_COUNT };
+
+static const struct {
+    const char *name;
+    const step_def *steps;
+    int count;
+    double cost; /* element traversals, for spreading a program over frames */
+} k_graphs[G_COUNT] = {
+#define G(name, arr, cost) {name, arr, (int)(sizeof arr / sizeof arr[0]), cost}
+    G("mid.window.build", k_build, 14.0),
+    G("mid.solve.init", k_init, 3.0),
+    G("mid.solve.prologue", k_prologue, 9.0),
+    G("mid.solve.cg", k_cg, 8.0),
+    G("mid.solve.trial", k_trial, 3.0),
+    G("mid.solve.end", k_end, 1.0),
+    G("mid.solve.descent", k_descent, 7.0),
+    G("mid.solve.publish", k_publish, 1.0),
+#undef G
+};
+
+/* ------------------------------------------------------------------------- */
+/* Module                                                                    */
+/* ------------------------------------------------------------------------- */
+
+typedef struct step_ref {
+    struct mid_gpu *m;
+    const step_def *def;
+} step_ref;
+
+typedef struct item {
+    uint8_t graph, trial;
+} item;
+
+#define MAX_STEPS 64
+
+struct mid_gpu {
+    gpu *gpu;
+    mid_gpu_desc d;
+    uint32_t cap, adj_cap, ns;
+    gpu_buffer arena, args, own_store, own_published;
+    VkBuffer store, published;
+    VkDeviceSize offset[MID_B_COUNT], bytes[MID_B_COUNT];
+    VkDescriptorBufferInfo infos[MID_B_COUNT];
+    VkWriteDescriptorSet writes[MID_B_COUNT];
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipe[K_COUNT];
+    rg_graph *graph[G_COUNT];
+    step_ref refs[G_COUNT][MAX_STEPS];
+
+    /* the program being recorded */
+    mid_push push;
+    bool gather, jacobi;
+    float lambda, trial_t;
+    item *items;
+    int item_count, item_cap;
+};
+
+static void step_execute(const rg_context *ctx, void *user)
+{
+    const step_ref *r = user;
+    mid_gpu *m = r->m;
+    const step_def *s = r->def;
+    if ((s->only == ONLY_LINES && m->jacobi) || (s->only == ONLY_JACOBI && !m->jacobi))
+        return;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipe[s->kernel]);
+    m->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 0, MID_B_COUNT, m->writes);
+    mid_push p = m->push;
+    p.op = s->op == MID_OP_GATHER && !m->gather ? MID_OP_PREPARE : s->op;
+    if (s->op == MID_OP_TRIAL)
+        p.scalar = m->trial_t;
+    else if (s->op == MID_OP_DESCENT)
+        p.scalar = m->lambda;
+    vkCmdPushConstants(cmd, m->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof p, &p);
+    if (s->gate != GATE_NONE) {
+        vkCmdDispatchIndirect(cmd, m->args.buffer, (VkDeviceSize)(s->gate - 1) * 3 * sizeof(uint32_t));
+    } else if (s->size == SIZE_ONE) {
+        vkCmdDispatch(cmd, 1, 1, 1);
+    } else if (s->size == SIZE_SCAN) {
+        vkCmdDispatch(cmd, (p.n + 1 + MID_SCAN_BLOCK - 1) / MID_SCAN_BLOCK, 2, 1);
+    } else {
+        vkCmdDispatch(cmd, p.blocks, 1, 1);
+    }
+}
+
+/* One pass per step: the graph derives the barrier between each pair. */
+static vg_status graph_build(mid_gpu *m, int gi)
+{
+    rg_graph *g = m->graph[gi] = rg_create();
+    if (!g)
+        return VG_ERR_NOMEM;
+    rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
+    rg_import_desc ind = {.initial = RG_INDIRECT, .final = RG_INDIRECT};
+    rg_res arena = rg_import_buffer(g, &(rg_buffer_desc){"mid.arena", m->arena.size}, &rw);
+    rg_res args = rg_import_buffer(g, &(rg_buffer_desc){"mid.args", m->args.size}, &ind);
+    rg_res store = {0}, published = {0};
+    for (int i = 0; i < k_graphs[gi].count; i++) {
+        const step_def *s = &k_graphs[gi].steps[i];
+        m->refs[gi][i] = (step_ref){m, s};
+        rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = s->name, .type = RG_PASS_COMPUTE,
+                                                   .execute = step_execute, .user = &m->refs[gi][i]});
+        rg_use(g, p, arena, RG_STORAGE_READ_WRITE);
+        if (s->kernel == K_CONTROL)
+            rg_use(g, p, args, RG_STORAGE_READ_WRITE);
+        else if (s->gate != GATE_NONE)
+            rg_use(g, p, args, RG_INDIRECT);
+        /* Every pass whose kernel reads the store (mid_window) or writes the
+         * published ratios declares it: synchronization validation looks at
+         * what a pipeline could touch, not at what this dispatch does. */
+        if (s->kernel == K_WINDOW) {
+            if (!store.id)
+                store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", m->d.store_size}, &rw);
+            rg_use(g, p, store, RG_STORAGE_READ);
+        }
+        if (s->kernel == K_PUBLISH) {
+            if (!published.id)
+                published = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", m->d.published_size}, &rw);
+            rg_use(g, p, published, RG_STORAGE_READ_WRITE);
+        }
+    }
+    vg_status st = rg_compile(g);
+    if (st == VG_OK)
+        st = rg_realize(g, m->gpu);
+    if (st != VG_OK)
+        return st;
+    rg_bind_buffer(g, arena, m->arena.buffer);
+    rg_bind_buffer(g, args, m->args.buffer);
+    if (store.id)
+        rg_bind_buffer(g, store, m->store);
+    if (published.id)
+        rg_bind_buffer(g, published, m->published);
+    return VG_OK;
+}
+
+/* Byte sizes of the arena's arrays (mid_shared.h MID_B_*). */
+static void arena_layout(mid_gpu *m)
+{
+    VkDeviceSize n = m->cap, f = sizeof(float), blocks = (n + MID_LOCAL_SIZE - 1) / MID_LOCAL_SIZE;
+    VkDeviceSize sz[MID_B_COUNT] = {
+        [MID_B_STATE] = sizeof(mid_solve_state),
+        [MID_B_PARTIAL] = blocks * MID_PARTIAL_FLOATS * f,
+        [MID_B_FIELD] = 3 * n * f,
+        [MID_B_FLOW] = 4 * n * f,
+        [MID_B_LINK] = 2 * n * sizeof(mid_link),
+        [MID_B_ADJ_OFF] = 2 * (n + 1) * f,
+        [MID_B_ADJ] = 2 * (VkDeviceSize)m->adj_cap * sizeof(mid_adj_entry),
+        [MID_B_CURSOR] = 2 * n * f,
+        [MID_B_EDGE] = 2 * n * f,
+        [MID_B_TARGET] = 2 * n * f,
+        [MID_B_INVDT] = 2 * MID_MAX_KEYFRAMES * f,
+        [MID_B_CHAIN] = 2 * n * f,
+        [MID_B_HEAVY] = 2 * n * f,
+        [MID_B_SCAN] = 2 * ((n + 1) / MID_SCAN_BLOCK + 1) * f,
+        [MID_B_L] = 3 * n * f,
+        [MID_B_LIN] = MID_LIN_FIELDS * n * f,
+    };
+    int singles[] = {MID_B_F, MID_B_FTRY, MID_B_GRAD, MID_B_DIAG, MID_B_S, MID_B_R, MID_B_Z,
+                     MID_B_P, MID_B_HP, MID_B_FREE, MID_B_FPREV};
+    for (size_t i = 0; i < sizeof singles / sizeof singles[0]; i++)
+        sz[singles[i]] = n * f;
+    VkDeviceSize at = 0;
+    for (int b = 0; b < MID_B_COUNT; b++) {
+        if (b == MID_B_ARGS || b == MID_B_STORE || b == MID_B_PUBLISHED)
+            continue;
+        m->offset[b] = at;
+        m->bytes[b] = sz[b];
+        at += (sz[b] + 255) & ~(VkDeviceSize)255;
+    }
+    m->arena.size = at;
+}
+
+static void descriptors_init(mid_gpu *m)
+{
+    for (int b = 0; b < MID_B_COUNT; b++) {
+        VkDescriptorBufferInfo info = {m->arena.buffer, m->offset[b], m->bytes[b]};
+        if (b == MID_B_ARGS)
+            info = (VkDescriptorBufferInfo){m->args.buffer, 0, VK_WHOLE_SIZE};
+        else if (b == MID_B_STORE)
+            info = (VkDescriptorBufferInfo){m->store, 0, VK_WHOLE_SIZE};
+        else if (b == MID_B_PUBLISHED)
+            info = (VkDescriptorBufferInfo){m->published, 0, VK_WHOLE_SIZE};
+        m->infos[b] = info;
+        m->writes[b] = (VkWriteDescriptorSet){
+            .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = (uint32_t)b, .descriptorCount = 1,
+            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &m->infos[b]};
+    }
+}
+
+static vg_status pipelines_create(mid_gpu *m)
+{
+    /* Every binding a storage buffer (more than gpu_push_layout_create takes). */
+    gpu *g = m->gpu;
+    VkDescriptorSetLayoutBinding bindings[MID_B_COUNT];
+    for (uint32_t b = 0; b < MID_B_COUNT; b++)
+        bindings[b] = (VkDescriptorSetLayoutBinding){b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+                                                     VK_SHADER_STAGE_COMPUTE_BIT, NULL};
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &(VkDescriptorSetLayoutCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
+        .bindingCount = MID_B_COUNT, .pBindings = bindings}, NULL, &m->set_layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, m->set_layout, "mid set layout");
+    VK_TRY(vkCreatePipelineLayout(g->device, &(VkPipelineLayoutCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, .setLayoutCount = 1, .pSetLayouts = &m->set_layout,
+        .pushConstantRangeCount = 1,
+        .pPushConstantRanges = &(VkPushConstantRange){VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(mid_push)}},
+        NULL, &m->layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, m->layout, "mid layout");
+    vg_status st = VG_OK;
+    static const struct {
+        const uint32_t *code;
+        size_t size;
+        const char *name;
+    } src[K_COUNT] = {
+        [K_WINDOW] = {spv_mid_window_comp, sizeof spv_mid_window_comp, "mid.window"},
+        [K_SCAN] = {spv_mid_scan_comp, sizeof spv_mid_scan_comp, "mid.scan"},
+        [K_TERMS] = {spv_mid_terms_comp, sizeof spv_mid_terms_comp, "mid.terms"},
+        [K_VEC] = {spv_mid_vec_comp, sizeof spv_mid_vec_comp, "mid.vec"},
+        [K_PRECOND] = {spv_mid_precond_comp, sizeof spv_mid_precond_comp, "mid.precond"},
+        [K_CONTROL] = {spv_mid_control_comp, sizeof spv_mid_control_comp, "mid.control"},
+        [K_PUBLISH] = {spv_mid_publish_comp, sizeof spv_mid_publish_comp, "mid.publish"},
+    };
+    for (int k = 0; k < K_COUNT && st == VG_OK; k++) {
+        VkShaderModule mod = VK_NULL_HANDLE;
+        st = gpu_shader_create(m->gpu, src[k].code, src[k].size, src[k].name, &mod);
+        if (st == VG_OK)
+            st = gpu_compute_pipeline_create(m->gpu, m->layout, mod, src[k].name, &m->pipe[k]);
+        if (mod)
+            vkDestroyShaderModule(m->gpu->device, mod, NULL);
+    }
+    return st;
+}
+
+vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out)
+{
+    *out = NULL;
+    if (desc->nx < 2 || desc->ny < 2 || desc->max_keyframes < 1 || desc->max_keyframes > (int)MID_MAX_KEYFRAMES) {
+        vg_error("GPU MID window: %dx%d x %d keyframes is out of range (at least 2x2, 1..%u keyframes)",
+                 desc->nx, desc->ny, desc->max_keyframes, MID_MAX_KEYFRAMES);
+        return VG_ERR_ARG;
+    }
+    mid_gpu *m = calloc(1, sizeof *m);
+    if (!m)
+        return VG_ERR_NOMEM;
+    m->gpu = g;
+    m->d = *desc;
+    m->ns = (uint32_t)(desc->nx * desc->ny);
+    m->cap = m->ns * (uint32_t)desc->max_keyframes;
+    m->adj_cap = 4 * m->cap; /* every source has at most four taps */
+    arena_layout(m);
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    vg_status st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid arena", .size = m->arena.size,
+                                                           .usage = usage, .host_visible = desc->host_visible},
+                                     &m->arena);
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid dispatch sizes",
+                                                     .size = MID_ARGS_COUNT * 3 * sizeof(uint32_t),
+                                                     .usage = usage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT},
+                               &m->args);
+    /* Without a frame (tests), small buffers of its own stand in. */
+    if (st == VG_OK && !desc->store)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid store (none)", .size = 256, .usage = usage},
+                               &m->own_store);
+    if (st == VG_OK && !desc->published)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid published (none)", .size = 256, .usage = usage},
+                               &m->own_published);
+    m->store = desc->store ? desc->store : m->own_store.buffer;
+    m->published = desc->published ? desc->published : m->own_published.buffer;
+    if (!desc->store)
+        m->d.store_size = 256;
+    if (!desc->published)
+        m->d.published_size = 256;
+    if (st == VG_OK) {
+        descriptors_init(m);
+        st = pipelines_create(m);
+    }
+    for (int gi = 0; gi < G_COUNT && st == VG_OK; gi++)
+        st = graph_build(m, gi);
+    if (st != VG_OK) {
+        mid_gpu_destroy(m);
+        return st;
+    }
+    *out = m;
+    return VG_OK;
+}
+
+void mid_gpu_destroy(mid_gpu *m)
+{
+    if (!m)
+        return;
+    VkDevice dev = m->gpu->device;
+    for (int gi = 0; gi < G_COUNT; gi++)
+        rg_destroy(m->graph[gi]);
+    for (int k = 0; k < K_COUNT; k++)
+        if (m->pipe[k])
+            vkDestroyPipeline(dev, m->pipe[k], NULL);
+    if (m->layout)
+        vkDestroyPipelineLayout(dev, m->layout, NULL);
+    if (m->set_layout)
+        vkDestroyDescriptorSetLayout(dev, m->set_layout, NULL);
+    gpu_buffer_destroy(m->gpu, &m->arena);
+    gpu_buffer_destroy(m->gpu, &m->args);
+    gpu_buffer_destroy(m->gpu, &m->own_store);
+    gpu_buffer_destroy(m->gpu, &m->own_published);
+    free(m->items);
+    free(m);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Programs                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static void add_item(mid_gpu *m, int graph, int trial)
+{
+    if (m->item_count == m->item_cap) {
+        int cap = m->item_cap ? 2 * m->item_cap : 256;
+        item *p = realloc(m->items, (size_t)cap * sizeof *p);
+        if (!p)
+            return; /* the program ends early; logged below */
+        m->items = p;
+        m->item_cap = cap;
+    }
+    m->items[m->item_count++] = (item){(uint8_t)graph, (uint8_t)trial};
+}
+
+void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
+{
+    uint32_t nt = (uint32_t)s->keyframes, n = m->ns * nt;
+    if (n > m->cap) {
+        vg_error("GPU MID window: %u keyframes exceed the capacity (%d)", nt, m->d.max_keyframes);
+        nt = (uint32_t)m->d.max_keyframes;
+        n = m->cap;
+    }
+    mid_weights w = mid_weights_resolve(s->weights);
+    mid_solver_kind kind = s->solver == MID_SOLVER_DEFAULT ? MID_SOLVER_GAUSS_NEWTON : s->solver;
+    float occ = s->occlusion_tolerance > 0 ? s->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
+    m->push = (mid_push){
+        .nx = (uint32_t)m->d.nx, .ny = (uint32_t)m->d.ny, .nt = nt, .ns = m->ns,
+        .n = n, .cap = m->cap, .blocks = (n + MID_LOCAL_SIZE - 1) / MID_LOCAL_SIZE,
+        .w_data = w.data, .w_spatial = w.spatial, .w_temporal = w.temporal, .w_accel = w.accel,
+        .grad_scale = 2.0f / (float)n, .log_tol = logf(1.0f + occ),
+        .flow_tol = s->flow_tolerance > 0 ? s->flow_tolerance : MID_FLOW_TOLERANCE,
+        .range_lo = s->range_lo, .range_hi = s->range_hi,
+        .dt = s->keyframe_seconds > 0 ? s->keyframe_seconds : (float)MID_KEYFRAME_STRIDE / 60.0f,
+        .nt_prev = (uint32_t)(s->prev_keyframes > 0 ? s->prev_keyframes : 0),
+        .range_hull = s->range_hull, .jacobi = s->precond == MID_PRECOND_JACOBI,
+        .store_first = s->store_first, .store_cap = s->store_cap ? s->store_cap : 1,
+        .publish_from = (uint32_t)(s->publish_from > 0 ? s->publish_from : 0), .adj_cap = m->adj_cap,
+        .shift = (uint32_t)s->shift, .warm = s->warm && s->prev_keyframes > 0,
+    };
+    m->gather = s->gather;
+    m->jacobi = s->precond == MID_PRECOND_JACOBI;
+    m->lambda = s->step > 0 ? s->step : MID_DESCENT_STEP;
+    int iterations = s->iterations > 0 ? s->iterations
+                     : kind == MID_SOLVER_DESCENT ? MID_DESCENT_ITERATIONS : MID_GN_ITERATIONS;
+    int cg = s->cg_steps > 0 ? s->cg_steps : MID_GN_CG_STEPS;
+    m->item_count = 0;
+    add_item(m, G_BUILD, 0);
+    add_item(m, G_INIT, 0);
+    for (int it = 0; it < iterations; it++) {
+        if (kind == MID_SOLVER_DESCENT) {
+            add_item(m, G_DESCENT, 0);
+            continue;
+        }
+        add_item(m, G_PROLOGUE, 0);
+        for (int j = 0; j < cg; j++)
+            add_item(m, G_CG, 0);
+        for (int t = 0; t < MID_LINE_TRIALS; t++)
+            add_item(m, G_TRIAL, t);
+        add_item(m, G_END, 0);
+    }
+    if (s->publish)
+        add_item(m, G_PUBLISH, 0);
+}
+
+int mid_gpu_item_count(const mid_gpu *m) { return m->item_count; }
+
+double mid_gpu_item_cost(const mid_gpu *m, int i)
+{
+    if (i < 0 || i >= m->item_count)
+        return 0.0;
+    const item *it = &m->items[i];
+    /* Trials after the first are usually skipped (their dispatch size is 0). */
+    if (it->graph == G_TRIAL && it->trial > 0)
+        return 0.2;
+    return k_graphs[it->graph].cost;
+}
+
+void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+{
+    for (int i = first < 0 ? 0 : first; i < last && i < m->item_count; i++) {
+        const item *it = &m->items[i];
+        m->trial_t = ldexpf(1.0f, -(int)it->trial); /* t = 1, 1/2, 1/4, ... as the CPU's t *= 0.5f */
+        rg_execute(m->graph[it->graph], cmd, slot);
+    }
+}
+
+VkBuffer mid_gpu_arena(const mid_gpu *m) { return m->arena.buffer; }
+VkDeviceSize mid_gpu_arena_size(const mid_gpu *m) { return m->arena.size; }
+VkBuffer mid_gpu_args(const mid_gpu *m) { return m->args.buffer; }
+uint32_t mid_gpu_capacity(const mid_gpu *m) { return m->cap; }
+uint32_t mid_gpu_adj_capacity(const mid_gpu *m) { return m->adj_cap; }
+
+void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes)
+{
+    if (!m->arena.mapped || binding < 0 || binding >= MID_B_COUNT || binding == MID_B_ARGS ||
+        binding == MID_B_STORE || binding == MID_B_PUBLISHED)
+        return NULL;
+    if (bytes)
+        *bytes = m->bytes[binding];
+    return (uint8_t *)m->arena.mapped + m->offset[binding];
+}
+
+void mid_gpu_dump(const mid_gpu *m, FILE *out)
+{
+    for (int gi = 0; gi < G_COUNT; gi++) {
+        fprintf(out, "%s:\n", k_graphs[gi].name);
+        rg_dump_text(m->graph[gi], out);
+    }
+}

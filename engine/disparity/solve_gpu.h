@@ -1,0 +1,81 @@
+/* vergence — the keyframe window and its solve on the GPU (DESIGN.md steps
+ * 5-6, paper 4.3-4.5): mid_window_build() and mid_solver_run() of the CPU
+ * reference as compute kernels over one buffer, the solver arena.
+ *
+ * The Gauss-Newton solve is hundreds of dependent dispatches, with branches
+ * that depend on data (CG stops, the line search accepts). Each kind of step
+ * is a small frame graph of its own (one dispatch per pass, so the graph
+ * derives every barrier), recorded into the caller's command buffer as many
+ * times as the program says; the branches run on the GPU (mid_control.comp)
+ * as indirect dispatch sizes, so no readback is ever needed.
+ *
+ * A solve is a program: build, init, iterations, publish. Its items can be
+ * recorded all at once (tests, the first frame) or spread over the frames of
+ * a keyframe interval (the frame: paper 4.5's real-time solver, amortised).
+ * Equations: docs/method.md "GPU passes". */
+#pragma once
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gpu/gpu.h"
+#include "graph/graph.h"
+#include "mid_solver.h"
+
+typedef struct mid_gpu_desc {
+    int nx, ny;            /* coarse grid */
+    int max_keyframes;     /* capacity of a window (at most MID_MAX_KEYFRAMES) */
+    bool host_visible;     /* arena in host-visible memory (tests read and write it) */
+    VkBuffer store;        /* keyframe store ring (mid.window's gather); may be null */
+    VkBuffer published;    /* published ratios (the publish step); may be null */
+    VkDeviceSize store_size, published_size;
+} mid_gpu_desc;
+
+/* One solve. Zero = defaults (the CPU reference's: Gauss-Newton 4 x 8, lines). */
+typedef struct mid_gpu_solve {
+    int keyframes;                  /* n_t of this window */
+    float range_lo, range_hi;       /* target range, arcmin */
+    bool range_hull;                /* widen the range to hold g (operator none) */
+    float occlusion_tolerance;      /* 0 = MID_OCCLUSION_TOLERANCE */
+    float flow_tolerance;           /* 0 = MID_FLOW_TOLERANCE */
+    bool gather;                    /* window inputs from the store; false: already in the arena */
+    float keyframe_seconds;         /* dt of the gathered window */
+    uint32_t store_first, store_cap;/* ring slot of window keyframe 0, ring size */
+    mid_solver_kind solver;
+    mid_precond_kind precond;
+    int iterations, cg_steps;       /* 0 = MID_GN_ITERATIONS / MID_DESCENT_ITERATIONS, MID_GN_CG_STEPS */
+    float step;                     /* descent lambda, 0 = MID_DESCENT_STEP */
+    mid_weights weights;            /* all zero = the paper's */
+    bool warm;                      /* start from the last solution (paper 4.5) */
+    int shift;                      /* ... whose keyframe k + shift is this window's k */
+    int prev_keyframes;             /* n_t of the last solution */
+    bool publish;                   /* end with the publish step */
+    int publish_from;               /* first window keyframe whose ratio is published */
+} mid_gpu_solve;
+
+typedef struct mid_gpu mid_gpu;
+
+vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out);
+void mid_gpu_destroy(mid_gpu *m);
+
+/* Starts a program for one window (no GPU work). */
+void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *solve);
+/* Items of the program and their estimated cost (element traversals). */
+int mid_gpu_item_count(const mid_gpu *m);
+double mid_gpu_item_cost(const mid_gpu *m, int item);
+/* Records items [first, last) into cmd (outside any render pass); slot picks
+ * the timestamp queries of the frame in flight. */
+void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
+
+/* The arena and the dispatch-size buffer, for the frame graph's declarations. */
+VkBuffer mid_gpu_arena(const mid_gpu *m);
+VkDeviceSize mid_gpu_arena_size(const mid_gpu *m);
+VkBuffer mid_gpu_args(const mid_gpu *m);
+/* Host pointer to an array of the arena (MID_B_*), host_visible arenas only;
+ * its byte size in *bytes. */
+void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes);
+/* Element capacity (array stride) and CSR entries per direction. */
+uint32_t mid_gpu_capacity(const mid_gpu *m);
+uint32_t mid_gpu_adj_capacity(const mid_gpu *m);
+
+/* The step graphs, for the documentation's dumps. */
+void mid_gpu_dump(const mid_gpu *m, FILE *out);

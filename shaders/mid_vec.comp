@@ -1,0 +1,75 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// mid.solve: the element-wise steps of mid_solver.c (vec_block), with
+// workgroup sums where the CPU keeps block sums, plus the solve's start
+// (f0 = h or the warm start, paper 4.5).
+#include "mid_arena.glsl"
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    bool inside = i < pc.n;
+    float lo = st.range_lo, hi = st.range_hi;
+    float acc0 = 0.0, acc1 = 0.0;
+    if (inside) {
+        switch (pc.op) {
+        case MID_OP_CG_START: {
+            // Projected Newton (Bertsekas 1982): a variable at a bound whose
+            // gradient pushes outward stays there this iteration.
+            float f = vf[i], g = vgrad[i];
+            bool held = (f <= lo + MID_BOUND_EPS && g > 0.0) || (f >= hi - MID_BOUND_EPS && g < 0.0);
+            float m = held ? 0.0 : 1.0;
+            vfree[i] = m;
+            vr[i] = -g * m;
+            vs[i] = 0.0;
+            float pg = clamp(f - g, lo, hi) - f;
+            acc1 = pg * pg;
+            break;
+        }
+        case MID_OP_ZP_INIT:
+            if (pc.jacobi != 0u)
+                vz[i] = vr[i] / vdiag[i];
+            vp[i] = vz[i];
+            acc0 = vr[i] * vz[i];
+            break;
+        case MID_OP_CG_UPDATE:
+            vs[i] += st.a_cg * vp[i];
+            vr[i] -= st.a_cg * vhp[i];
+            if (pc.jacobi != 0u) {
+                vz[i] = vr[i] / vdiag[i];
+                acc0 = vr[i] * vz[i];
+            }
+            break;
+        case MID_OP_RZ:
+            acc0 = vr[i] * vz[i];
+            break;
+        case MID_OP_P_UPDATE:
+            vp[i] = vz[i] + st.b_cg * vp[i];
+            break;
+        case MID_OP_TRIAL:
+            vftry[i] = clamp(vf[i] + pc.scalar * vs[i], lo, hi);
+            acc0 = vgrad[i] * (vftry[i] - vf[i]);
+            break;
+        case MID_OP_DESCENT:
+            vftry[i] = clamp(vf[i] - pc.scalar * vgrad[i] / vdiag[i], lo, hi);
+            acc0 = vgrad[i] * (vftry[i] - vf[i]);
+            break;
+        case MID_OP_COMMIT:
+            vf[i] = vftry[i];
+            break;
+        case MID_OP_INIT: {
+            // f0 = h (Sec. 4.5), or the last solution where the slid window
+            // overlaps the previous one, projected into the range.
+            int src = int(i / pc.ns) + int(pc.shift);
+            float init = pc.warm != 0u && src >= 0 && src < int(pc.nt_prev) ? fprev[uint(src) * pc.ns + i % pc.ns] : H(i);
+            vf[i] = clamp(init, lo, hi);
+            break;
+        }
+        default:
+            break;
+        }
+    }
+    if (pc.op == MID_OP_CG_START || pc.op == MID_OP_ZP_INIT || pc.op == MID_OP_RZ || pc.op == MID_OP_TRIAL ||
+        pc.op == MID_OP_DESCENT || (pc.op == MID_OP_CG_UPDATE && pc.jacobi != 0u))
+        reduce4(vec4(acc0, acc1, 0.0, 0.0), 4u, 2u);
+}
