@@ -28,6 +28,7 @@ void main()
     }
     if (t == 0u) {
         curve.valid = s_hi[0] > 0.0 ? 1u : 0u;
+        curve.pad = 0u;
         curve.inv_depth_far = s_hi[0] > 0.0 ? s_lo[0] : 0.0;
         // A single depth still needs a span to index bins.
         curve.inv_depth_near = s_hi[0] > s_lo[0] ? s_hi[0] : curve.inv_depth_far * 1.001 + 1e-6;
