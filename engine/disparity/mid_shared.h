@@ -395,8 +395,15 @@ struct disp_op_push {
     float blur_bins, saliency_floor, smooth_alpha, dom_lo; /* smooth_alpha: per call (frame) */
     float dom_hi, key_alpha, unused0, unused1;             /* key_alpha: per keyframe interval */
     uint width, height, tiles, tile_height;                /* frame size; keyframe tiles in the atlas */
-    uint store_first, store_cap, frame_entry, unused2;     /* ring slot of tile 0 */
+    uint store_first, store_cap, entry, flags;             /* ring slot of tile 0; state entry; DISP_OP_FLAG_* */
 };
+#define DISP_OP_FLAG_NO_SALIENCY 1u /* every pixel weighs 1 */
+#define DISP_OP_FLAG_RESET 2u       /* forget the temporal state (lang-smoothed) */
+/* State entries: the frame's mapping, the keyframes' running mapping, then
+ * one per keyframe tile rendered this frame. */
+#define DISP_OP_ENTRY_FRAME 0u
+#define DISP_OP_ENTRY_CHAIN 1u
+#define DISP_OP_ENTRY_TILE0 2u
 /* One mapping: its header, then DISP_OP_MAX_BINS + 1 knots (normalised
  * cumulative mapping in [0, 1]); DISP_OP_STATE_FLOATS floats per entry. */
 struct disp_op_state {

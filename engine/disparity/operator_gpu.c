@@ -1,0 +1,240 @@
+/* vergence — disparity.operator on the GPU. */
+#include "operator_gpu.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "gpu/pipeline.h"
+#include "mid_shared.h"
+#include "shared.h"
+
+#include "disparity_fit_comp.h"
+#include "disparity_map_comp.h"
+#include "mid_keyframe_fit_comp.h"
+#include "mid_keyframe_store_comp.h"
+
+enum { P_FIT, P_MAP, P_TILES_FIT, P_TILES_STORE, P_COUNT };
+
+struct op_gpu {
+    gpu *gpu;
+    op_gpu_desc d;
+    disp_op_push push;
+    double lo, hi;
+    bool reset_frame, reset_tiles;
+    gpu_buffer state;
+    VkDescriptorSetLayout set[P_COUNT];
+    VkPipelineLayout layout[P_COUNT];
+    VkPipeline pipe[P_COUNT];
+};
+
+vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out)
+{
+    *out = NULL;
+    /* The CPU reference resolves the defaults and checks the range. */
+    disp_operator *ref;
+    vg_status st = disp_operator_create(&desc->op, &ref);
+    if (st != VG_OK)
+        return st;
+    op_gpu *o = calloc(1, sizeof *o);
+    if (!o) {
+        disp_operator_destroy(ref);
+        return VG_ERR_NOMEM;
+    }
+    o->gpu = g;
+    o->d = *desc;
+    disp_operator_range(ref, &o->lo, &o->hi);
+    disp_operator_destroy(ref);
+    const disp_operator_desc *d = &desc->op;
+    bool study = d->preset == DISP_PRESET_STUDY;
+    double range = d->range > 0 ? d->range : study ? DISP_OP_RANGE_STUDY : DISP_OP_RANGE_COMFORT;
+    double frame_s = d->frame_seconds > 0 ? d->frame_seconds : 1.0 / 60.0;
+    double key_s = desc->keyframe_seconds > 0 ? desc->keyframe_seconds : MID_KEYFRAME_STRIDE / 60.0;
+    double tau = d->smooth_seconds > 0 ? d->smooth_seconds : DISP_OP_SMOOTH_SECONDS;
+    int bins = d->bins > 0 ? d->bins : DISP_OP_BINS;
+    if (bins > DISP_OP_MAX_BINS) {
+        vg_error("GPU operator: %d bins (at most %d)", bins, DISP_OP_MAX_BINS);
+        free(o);
+        return VG_ERR_ARG;
+    }
+    o->push = (disp_op_push){
+        .kind = d->kind == DISP_OPERATOR_DEFAULT ? DISP_OP_LANG : (uint32_t)d->kind,
+        .bins = (uint32_t)bins,
+        .stride = desc->stride ? desc->stride : 1,
+        .fixed_domain = d->in_max > d->in_min,
+        .screen_vergence = (float)d->screen_vergence,
+        .range_lo = (float)(d->screen_vergence - range),
+        .range_hi = (float)(d->screen_vergence + range),
+        .floor_slope = (float)(d->floor > 0 ? d->floor : study ? DISP_OP_FLOOR_STUDY : DISP_OP_FLOOR_COMFORT),
+        .blur_bins = (float)(d->blur_bins > 0 ? d->blur_bins : DISP_OP_BLUR_BINS),
+        .saliency_floor = (float)(d->saliency_floor > 0 ? d->saliency_floor : DISP_OP_SALIENCY_FLOOR),
+        .smooth_alpha = (float)exp(-frame_s / tau),
+        .key_alpha = (float)exp(-key_s / tau),
+        .dom_lo = (float)d->in_min,
+        .dom_hi = (float)d->in_max,
+        .flags = desc->no_saliency ? DISP_OP_FLAG_NO_SALIENCY : 0,
+    };
+    /* The integer histogram weights assume the default saliency floor. */
+    if (fabs(o->push.saliency_floor - DISP_OP_SALIENCY_FLOOR) > 1e-6 && !desc->no_saliency)
+        vg_warn("GPU operator: saliency floor %g is not the default; the GPU uses %g", o->push.saliency_floor,
+                DISP_OP_SALIENCY_FLOOR);
+    o->reset_frame = o->reset_tiles = true;
+    size_t entries = DISP_OP_ENTRY_TILE0 + desc->max_tiles;
+    st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "disparity.operator state",
+                                                 .size = entries * DISP_OP_STATE_FLOATS * sizeof(float),
+                                                 .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                           &o->state);
+    if (st == VG_OK)
+        memset(o->state.mapped, 0, entries * DISP_OP_STATE_FLOATS * sizeof(float));
+
+    static const VkDescriptorType IMG = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, BUF = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                  UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    static const VkDescriptorType types[P_COUNT][5] = {
+        [P_FIT] = {IMG, IMG, BUF}, [P_MAP] = {IMG, BUF, IMG},
+        [P_TILES_FIT] = {UBO, IMG, IMG, BUF}, [P_TILES_STORE] = {UBO, IMG, IMG, BUF, BUF}};
+    static const uint32_t counts[P_COUNT] = {3, 3, 4, 5};
+    static const char *const names[P_COUNT] = {"disparity.operator.fit", "disparity.operator",
+                                               "mid.keyframes.fit", "mid.keyframes.store"};
+    const struct { const uint32_t *code; size_t size; } spv[P_COUNT] = {
+        {spv_disparity_fit_comp, sizeof spv_disparity_fit_comp},
+        {spv_disparity_map_comp, sizeof spv_disparity_map_comp},
+        {spv_mid_keyframe_fit_comp, sizeof spv_mid_keyframe_fit_comp},
+        {spv_mid_keyframe_store_comp, sizeof spv_mid_keyframe_store_comp},
+    };
+    for (int p = 0; p < P_COUNT && st == VG_OK; p++) {
+        VkShaderModule m = VK_NULL_HANDLE;
+        st = gpu_push_layout_create(g, names[p], types[p], counts[p], VK_SHADER_STAGE_COMPUTE_BIT,
+                                    sizeof(disp_op_push), &o->set[p], &o->layout[p]);
+        if (st == VG_OK)
+            st = gpu_shader_create(g, spv[p].code, spv[p].size, names[p], &m);
+        if (st == VG_OK)
+            st = gpu_compute_pipeline_create(g, o->layout[p], m, names[p], &o->pipe[p]);
+        if (m)
+            vkDestroyShaderModule(g->device, m, NULL);
+    }
+    if (st != VG_OK) {
+        op_gpu_destroy(o);
+        return st;
+    }
+    *out = o;
+    return VG_OK;
+}
+
+void op_gpu_destroy(op_gpu *o)
+{
+    if (!o)
+        return;
+    VkDevice dev = o->gpu->device;
+    for (int p = 0; p < P_COUNT; p++) {
+        if (o->pipe[p])
+            vkDestroyPipeline(dev, o->pipe[p], NULL);
+        if (o->layout[p])
+            vkDestroyPipelineLayout(dev, o->layout[p], NULL);
+        if (o->set[p])
+            vkDestroyDescriptorSetLayout(dev, o->set[p], NULL);
+    }
+    gpu_buffer_destroy(o->gpu, &o->state);
+    free(o);
+}
+
+void op_gpu_reset(op_gpu *o) { o->reset_frame = o->reset_tiles = true; }
+
+void op_gpu_range(const op_gpu *o, double *lo, double *hi)
+{
+    *lo = o->lo;
+    *hi = o->hi;
+}
+
+VkBuffer op_gpu_state(const op_gpu *o) { return o->state.buffer; }
+VkDeviceSize op_gpu_state_size(const op_gpu *o) { return o->state.size; }
+
+/* ------------------------------------------------------------------------- */
+/* Recording                                                                 */
+/* ------------------------------------------------------------------------- */
+
+typedef struct binding {
+    VkDescriptorType type;
+    const VkDescriptorImageInfo *image;
+    VkBuffer buffer;
+} binding;
+
+static void push(op_gpu *o, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_op_push *pc)
+{
+    VkWriteDescriptorSet w[5];
+    VkDescriptorBufferInfo bufs[5];
+    for (uint32_t i = 0; i < n; i++) {
+        bufs[i] = (VkDescriptorBufferInfo){b[i].buffer, 0, VK_WHOLE_SIZE};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
+                                      .descriptorCount = 1, .descriptorType = b[i].type};
+        if (b[i].image)
+            w[i].pImageInfo = b[i].image;
+        else
+            w[i].pBufferInfo = &bufs[i];
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, o->pipe[p]);
+    o->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, o->layout[p], 0, n, w);
+    vkCmdPushConstants(cmd, o->layout[p], VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
+}
+
+#define IMG(info) {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (info), VK_NULL_HANDLE}
+#define BUF(buf) {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf)}
+#define UBO(buf) {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, (buf)}
+
+void op_gpu_record_fit(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+                       const VkDescriptorImageInfo *color, uint32_t width, uint32_t height)
+{
+    disp_op_push pc = o->push;
+    pc.width = width;
+    pc.height = height;
+    pc.entry = DISP_OP_ENTRY_FRAME;
+    if (o->reset_frame)
+        pc.flags |= DISP_OP_FLAG_RESET;
+    o->reset_frame = false;
+    binding b[3] = {IMG(g), IMG(color), BUF(o->state.buffer)};
+    push(o, cmd, P_FIT, b, 3, &pc);
+    vkCmdDispatch(cmd, 1, 1, 1);
+}
+
+void op_gpu_record_map(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+                       const VkDescriptorImageInfo *h, uint32_t width, uint32_t height)
+{
+    disp_op_push pc = o->push;
+    pc.width = width;
+    pc.height = height;
+    pc.entry = DISP_OP_ENTRY_FRAME;
+    binding b[3] = {IMG(g), BUF(o->state.buffer), IMG(h)};
+    push(o, cmd, P_MAP, b, 3, &pc);
+    vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+}
+
+static disp_op_push tiles_push(const op_gpu *o, const op_gpu_tiles *t)
+{
+    disp_op_push pc = o->push;
+    pc.width = t->tile_w;
+    pc.tile_height = t->tile_h;
+    pc.height = t->tile_h * t->tiles;
+    pc.tiles = t->tiles;
+    pc.store_first = t->store_first;
+    pc.store_cap = t->store_cap ? t->store_cap : 1;
+    return pc;
+}
+
+void op_gpu_record_tiles_fit(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t)
+{
+    disp_op_push pc = tiles_push(o, t);
+    if (o->reset_tiles)
+        pc.flags |= DISP_OP_FLAG_RESET;
+    o->reset_tiles = false;
+    binding b[4] = {UBO(t->ubo), IMG(t->depth), IMG(t->color), BUF(o->state.buffer)};
+    push(o, cmd, P_TILES_FIT, b, 4, &pc);
+    vkCmdDispatch(cmd, 1, 1, 1);
+}
+
+void op_gpu_record_tiles_store(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t)
+{
+    disp_op_push pc = tiles_push(o, t);
+    binding b[5] = {UBO(t->ubo), IMG(t->depth), IMG(t->motion), BUF(o->state.buffer), BUF(t->store)};
+    push(o, cmd, P_TILES_STORE, b, 5, &pc);
+    vkCmdDispatch(cmd, (t->tile_w + 7) / 8, (t->tile_h * t->tiles + 7) / 8, 1);
+}

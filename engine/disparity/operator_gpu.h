@@ -1,0 +1,57 @@
+/* vergence — disparity.operator on the GPU (DESIGN.md step 4): h = M(g,
+ * saliency) with the CPU reference's operators (disp_operator.c): none,
+ * linear, lang, lang-smoothed, for full-resolution frames and for the
+ * keyframes rendered at coarse resolution (tiles of an atlas).
+ *
+ * A fit (one workgroup per image) computes the mapping, a map applies it.
+ * The frame's statistics come from the samples of the solver's coarse grid
+ * (stride), the same samples a keyframe has, so at a keyframe the frame's
+ * mapping and the keyframe's are the same mapping (stride 1 is exactly the
+ * CPU reference on every pixel). The mappings live in a small persistent
+ * buffer (mid_shared.h disp_op_state entries). */
+#pragma once
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "disp_operator.h"
+#include "gpu/gpu.h"
+
+typedef struct op_gpu_desc {
+    disp_operator_desc op;      /* kind, preset, screen vergence, range, domain, ... (CPU meaning) */
+    double keyframe_seconds;    /* lang-smoothed at the keyframe rate, 0 = 10 / 60 s */
+    uint32_t stride;            /* statistics of a frame from every stride-th pixel, 0 = 1 */
+    uint32_t max_tiles;         /* keyframes fitted at once, 0 = none */
+    bool no_saliency;           /* every pixel weighs 1 (the CPU's saliency = NULL) */
+} op_gpu_desc;
+
+typedef struct op_gpu op_gpu;
+
+vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out);
+void op_gpu_destroy(op_gpu *o);
+/* The next fit starts without temporal state (lang-smoothed). */
+void op_gpu_reset(op_gpu *o);
+/* The target range (disp_operator_range without a fixed domain). */
+void op_gpu_range(const op_gpu *o, double *lo, double *hi);
+
+VkBuffer op_gpu_state(const op_gpu *o);
+VkDeviceSize op_gpu_state_size(const op_gpu *o);
+
+/* Frame: fit to g (and the saliency in colour's alpha), then map g to h.
+ * Images as storage images in the given layouts. */
+void op_gpu_record_fit(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+                       const VkDescriptorImageInfo *color, uint32_t width, uint32_t height);
+void op_gpu_record_map(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+                       const VkDescriptorImageInfo *h, uint32_t width, uint32_t height);
+
+/* Keyframes: `tiles` coarse renders stacked in an atlas of tile_w x tile_h
+ * tiles (depth, colour with saliency, motion in coarse pixels), in time
+ * order; the store gets them in ring slots store_first, store_first + 1, ... */
+typedef struct op_gpu_tiles {
+    VkBuffer ubo;                               /* vg_frame_ubo: rig and display for g */
+    const VkDescriptorImageInfo *depth, *color, *motion;
+    uint32_t tiles, tile_w, tile_h;
+    VkBuffer store;
+    uint32_t store_first, store_cap;
+} op_gpu_tiles;
+void op_gpu_record_tiles_fit(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t);
+void op_gpu_record_tiles_store(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t);
