@@ -5,7 +5,8 @@
  * 3.7.3 "Skins", 3.11 "Animations"):
  *   1. every node's local TRS and morph weights at rest (node weights
  *      override mesh weights);
- *   2. every animation channel overwrites its node's T, R, S or weights;
+ *   2. every animation channel overwrites its node's T, R, S or weights,
+ *      then the pose hook (run-time motion, scene_set_pose_hook) may;
  *   3. world matrices in parent-before-child order;
  *   4. joint matrices world(joint) * inverseBind per skin;
  *   5. per instance: base + sum of weighted target deltas (object space),
@@ -272,6 +273,8 @@ void scene_evaluate(const scene *s, float t, scene_state *st)
     st->t = t;
     pose_rest(s, st);
     pose_animate(s, t, st);
+    if (s->pose_hook)
+        s->pose_hook(s->pose_user, s, t, st->local);
     pose_world(s, st);
     pose_joints(s, st);
     place_instances(s, st);
@@ -287,4 +290,18 @@ void scene_evaluate(const scene *s, float t, scene_state *st)
             st->bounds_min[k] = fminf(st->bounds_min[k], v);
             st->bounds_max[k] = fmaxf(st->bounds_max[k], v);
         }
+}
+
+void scene_set_pose_hook(scene *s, scene_pose_fn fn, void *user)
+{
+    s->pose_hook = fn;
+    s->pose_user = fn ? user : NULL;
+}
+
+int scene_find_node(const scene *s, const char *name)
+{
+    for (int i = 0; i < s->node_count; i++)
+        if (!strcmp(s->nodes[i].name, name))
+            return i;
+    return -1;
 }

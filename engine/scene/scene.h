@@ -139,6 +139,10 @@ typedef struct scene_instance {
     uint32_t first_index;    /* into scene.indices (global index buffer) */
 } scene_instance;
 
+/* A pose hook (scene_set_pose_hook): moves nodes at run time. */
+struct scene;
+typedef void (*scene_pose_fn)(void *user, const struct scene *s, float t, float *local);
+
 typedef struct scene {
     char path[512];
     int node_count, mesh_count, primitive_count, material_count, texture_count;
@@ -167,6 +171,8 @@ typedef struct scene {
     float bounds_min[3], bounds_max[3]; /* world-space bounds of all vertices at t = 0 */
     float duration;          /* end of the longest animation, 0 when static */
     bool animated;           /* has animation channels, skinned instances or non-zero morph weights */
+    scene_pose_fn pose_hook; /* added for run-time motion: see scene_set_pose_hook (NULL = none) */
+    void *pose_user;
 } scene;
 
 /* Evaluated scene at one time. Arrays are owned by the state. */
@@ -195,6 +201,17 @@ void scene_state_free(scene_state *st);
 /* Never allocates; t outside [0, duration] holds the first/last keys; a
  * non-finite t is treated as 0. */
 void scene_evaluate(const scene *s, float t, scene_state *st);
+
+/* Run-time motion (the game's ball): scene_evaluate calls fn after the
+ * animation channels and before the hierarchy is composed, with every node's
+ * local T (3), R (4, x y z w), S (3) at t (node i at local + 10 i), and fn
+ * may rewrite them. Motion set this way is a function of t like any
+ * animation, so evaluations at other times (motion vectors, look-ahead
+ * keyframes) see it too; fn must therefore depend on t only. NULL removes
+ * the hook. Bounds in the scene (at t = 0, from loading) do not change. */
+void scene_set_pose_hook(scene *s, scene_pose_fn fn, void *user);
+/* Index of the first node named `name`, or -1. */
+int scene_find_node(const scene *s, const char *name);
 
 /* ------------------------------------------------------------------------- */
 /* Cameras                                                                   */
