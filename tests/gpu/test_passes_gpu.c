@@ -7,7 +7,10 @@
 #include <string.h>
 
 #include "disparity/disp_operator.h"
+#include "disparity/disp_upsample.h"
+#include "disparity/mid_shared.h"
 #include "disparity/operator_gpu.h"
+#include "disparity/upsample_gpu.h"
 #include "disparity/testlib.h"
 #include "harness.h"
 #include "stereo/stereo_display.h"
@@ -131,6 +134,171 @@ static int operator_linear(void) { return operator_agrees(DISP_OPERATOR_LINEAR, 
 static int operator_lang(void) { return operator_agrees(DISP_OPERATOR_LANG, 2); }
 static int operator_lang_smoothed(void) { return operator_agrees(DISP_OPERATOR_LANG_SMOOTHED, 4); }
 
+
+/* ------------------------------------------------------------------------- */
+/* Upsampling                                                                */
+/* ------------------------------------------------------------------------- */
+
+#define UP_W 160
+#define UP_H 90
+#define UP_STRIDE 5
+
+typedef struct up_test {
+    ups_gpu *u;
+    ups_gpu_frame fr;
+    rg_res depth, motion, h, f, ratio, store, published;
+} up_test;
+
+static void up_time_execute(const rg_context *ctx, void *user)
+{
+    up_test *t = user;
+    VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion);
+    ups_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, rg_ctx_buffer(ctx, t->store),
+                        rg_ctx_buffer(ctx, t->published), rg_ctx_buffer(ctx, t->ratio));
+}
+
+static void up_space_execute(const rg_context *ctx, void *user)
+{
+    up_test *t = user;
+    VkDescriptorImageInfo h = image_info(ctx, t->h), f = image_info(ctx, t->f);
+    ups_gpu_record_space(t->u, rg_ctx_cmd(ctx), &t->fr, &h, rg_ctx_buffer(ctx, t->published),
+                         rg_ctx_buffer(ctx, t->ratio), &f);
+}
+
+/* A frame between two keyframes: a far slanted background, a near box and a
+ * disc that move (some pixels leave the frame), keyframe depths that differ
+ * where the frame disoccludes, smooth keyframe ratios. */
+static void up_inputs(float *depth, float *motion, float *h, const disp_grid *grid, float *z0, float *z1,
+                      float *r0, float *r1)
+{
+    unsigned s = 5u;
+    for (int y = 0; y < UP_H; y++)
+        for (int x = 0; x < UP_W; x++) {
+            int i = y * UP_W + x;
+            bool box = x >= 40 && x < 80 && y >= 20 && y < 60;
+            double dx = x - 120, dy = y - 40;
+            bool disc = dx * dx + dy * dy < 300;
+            depth[i] = disc ? 6.0f : box ? 3.0f : 20.0f + 0.05f * (float)y;
+            float *m = motion + 4 * (size_t)i;
+            m[0] = disc ? 8.0f : box ? -3.0f : 0.0f;
+            m[1] = disc ? -2.0f : 0.0f;
+            m[2] = disc ? 40.0f : box ? 4.0f : 0.0f; /* the disc leaves the frame towards k1 */
+            m[3] = disc ? 3.0f : box ? 1.0f : 0.0f;
+            h[i] = (float)(330.0 - 300.0 / depth[i] + rnd_uniform(&s, -1.0f, 1.0f) + 2.0 * sin(0.3 * x));
+        }
+    for (int q = 0; q < grid->nx * grid->ny; q++) {
+        int qx = q % grid->nx, qy = q / grid->nx;
+        float zc = depth[disp_grid_py(grid, qy) * UP_W + disp_grid_px(grid, qx)];
+        z0[q] = qx > 20 && qx < 24 ? zc * 1.6f : zc; /* disoccluded strip in k0 */
+        z1[q] = qy < 3 ? zc * 0.5f : zc;
+        r0[q] = (float)(1.0 + 0.06 * sin(0.2 * qx + 0.3 * qy));
+        r1[q] = (float)(1.0 + 0.05 * cos(0.25 * qx - 0.1 * qy));
+    }
+}
+
+static int upsample_agrees(float tau, bool at_key)
+{
+    disp_grid grid;
+    disp_grid_init(&grid, UP_W, UP_H, UP_STRIDE);
+    int nc = grid.nx * grid.ny, np = UP_W * UP_H;
+    float *depth = malloc(np * sizeof(float)), *motion = malloc(4 * (size_t)np * sizeof(float));
+    float *h = malloc(np * sizeof(float)), *f = malloc(np * sizeof(float)), *flow = malloc(2 * (size_t)np * sizeof(float));
+    float *z0 = malloc(nc * sizeof(float)), *z1 = malloc(nc * sizeof(float)), *r0 = malloc(nc * sizeof(float));
+    float *r1 = malloc(nc * sizeof(float)), *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
+    float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
+    up_inputs(depth, motion, h, &grid, z0, z1, r0, r1);
+    /* CPU: positions tracked by one step of the flow to each keyframe. */
+    disp_upsample_desc ud = {.grid = grid, .range_lo = 200, .range_hi = 345};
+    disp_grid_sample(&grid, depth, 1, zc);
+    disp_grid_positions(&grid, pos0);
+    disp_grid_positions(&grid, pos1);
+    for (int c = 0; c < 2 && !at_key; c++) {
+        for (int i = 0; i < np; i++) {
+            flow[2 * i] = motion[4 * i + 2 * c];
+            flow[2 * i + 1] = motion[4 * i + 2 * c + 1];
+        }
+        disp_flow_advect(flow, UP_W, UP_H, c ? pos1 : pos0, nc);
+    }
+    disp_upsample_temporal(&ud, tau, zc, pos0, r0, z0, at_key ? NULL : pos1, r1, z1, rt, NULL);
+    disp_upsample_spatial(&ud, h, rt, f, NULL);
+
+    harness hs;
+    CHECK(harness_open(&hs) == 0, "harness");
+    up_test t = {.fr = {.width = UP_W, .height = UP_H, .stride = UP_STRIDE, .tau = tau, .at_key = at_key,
+                        .has1 = true, .slot0 = 1, .slot1 = 0}};
+    CHECK(ups_gpu_create(hs.gpu, &t.u) == VG_OK, "GPU upsampling");
+    t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
+    t.motion = harness_image_add(&hs, "motion", VK_FORMAT_R32G32B32A32_SFLOAT, UP_W, UP_H, true, false);
+    t.h = harness_image_add(&hs, "h", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
+    t.f = harness_image_add(&hs, "f", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, false, true);
+    CHECK(harness_upload(&hs) == 0, "upload");
+    /* The keyframe store and the published ratios, two ring slots each. */
+    gpu_buffer store, pub;
+    size_t store_floats = 2 * MID_STORE_FLOATS * (size_t)nc;
+    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "store", .size = store_floats * sizeof(float),
+                                                        .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                            &store) == VG_OK, "store");
+    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "published", .size = sizeof(mid_published) + 2 * nc * sizeof(float),
+                                                        .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                            &pub) == VG_OK, "published");
+    float *sf = store.mapped, *pr = (float *)((mid_published *)pub.mapped + 1);
+    memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z0, nc * sizeof(float));
+    memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z1, nc * sizeof(float));
+    memcpy(pr + nc, r0, nc * sizeof(float));
+    memcpy(pr, r1, nc * sizeof(float));
+    *(mid_published *)pub.mapped = (mid_published){.range_lo = ud.range_lo, .range_hi = ud.range_hi};
+    rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
+    t.store = rg_import_buffer(hs.graph, &(rg_buffer_desc){"mid.store", store.size}, &rw);
+    t.published = rg_import_buffer(hs.graph, &(rg_buffer_desc){"mid.published", pub.size}, &rw);
+    t.ratio = rg_buffer(hs.graph, &(rg_buffer_desc){"mid.ratio", (uint64_t)nc * sizeof(float)});
+    rg_pass time = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "mid.upsample.time", .type = RG_PASS_COMPUTE,
+                                                          .execute = up_time_execute, .user = &t});
+    rg_use(hs.graph, time, t.depth, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.motion, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.store, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.published, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.ratio, RG_STORAGE_WRITE);
+    rg_pass space = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "mid.upsample.space", .type = RG_PASS_COMPUTE,
+                                                           .execute = up_space_execute, .user = &t});
+    rg_use(hs.graph, space, t.h, RG_STORAGE_READ);
+    rg_use(hs.graph, space, t.published, RG_STORAGE_READ);
+    rg_use(hs.graph, space, t.ratio, RG_STORAGE_READ);
+    rg_use(hs.graph, space, t.f, RG_STORAGE_WRITE);
+    CHECK(harness_build(&hs) == 0, "graph");
+    rg_bind_buffer(hs.graph, t.store, store.buffer);
+    rg_bind_buffer(hs.graph, t.published, pub.buffer);
+    memcpy(harness_data(&hs, t.depth), depth, np * sizeof(float));
+    memcpy(harness_data(&hs, t.motion), motion, 4 * (size_t)np * sizeof(float));
+    memcpy(harness_data(&hs, t.h), h, np * sizeof(float));
+    CHECK(harness_run(&hs) == 0, "run");
+    const float *fg = harness_data(&hs, t.f);
+    double worst = 0, corr = 0;
+    int at = 0, clamped = 0;
+    for (int i = 0; i < np; i++) {
+        double e = fabs((double)fg[i] - f[i]);
+        if (e > worst) {
+            worst = e;
+            at = i;
+        }
+        corr = fmax(corr, fabs((double)f[i] - h[i]));
+        clamped += f[i] == ud.range_lo || f[i] == ud.range_hi;
+    }
+    printf("upsampling tau %.2f%s: max |f_gpu - f_cpu| %.3g arcmin at (%d, %d): %.4f vs %.4f; correction up to %.1f arcmin, %d clamped\n",
+           tau, at_key ? " (keyframe)" : "", worst, at % UP_W, at / UP_W, fg[at], f[at], corr, clamped);
+    CHECK(worst < AGREEMENT_ARCMIN, "GPU and CPU upsampling differ by %.3g arcmin", worst);
+    ups_gpu_destroy(t.u);
+    gpu_buffer_destroy(hs.gpu, &store);
+    gpu_buffer_destroy(hs.gpu, &pub);
+    CHECK(harness_close(&hs) == 0, "validation messages");
+    free(depth); free(motion); free(h); free(f); free(flow); free(z0); free(z1); free(r0); free(r1);
+    free(zc); free(rt); free(pos0); free(pos1);
+    return 0;
+}
+
+static int upsample_between(void) { return upsample_agrees(0.3f, false); }
+static int upsample_late(void) { return upsample_agrees(0.8f, false); }
+static int upsample_keyframe(void) { return upsample_agrees(0.0f, true); }
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
@@ -138,6 +306,9 @@ int main(int argc, char **argv)
         {"operator_linear", operator_linear},
         {"operator_lang", operator_lang},
         {"operator_lang_smoothed", operator_lang_smoothed},
+        {"upsample_between", upsample_between},
+        {"upsample_late", upsample_late},
+        {"upsample_keyframe", upsample_keyframe},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }

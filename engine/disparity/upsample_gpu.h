@@ -1,0 +1,36 @@
+/* vergence — mid.upsample on the GPU (DESIGN.md step 7, paper 4.4): the
+ * solver's coarse keyframe correction f / h to this frame's full-resolution
+ * f, as disp_upsample.c: in time along the G-buffer's motion to the two
+ * nearest keyframes with the depth occlusion test, in space by joint
+ * bilateral upsampling guided by the full-resolution h. Processing is linear
+ * in the output pixels (paper 4.5). */
+#pragma once
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gpu/gpu.h"
+
+typedef struct ups_gpu ups_gpu;
+
+/* Where this frame is between its keyframes, and where they are stored. */
+typedef struct ups_gpu_frame {
+    uint32_t width, height, stride;  /* full resolution; the coarse grid's stride */
+    float tau;                       /* (t - t0) / (t1 - t0) */
+    bool at_key;                     /* t is keyframe k0 itself */
+    bool has1;                       /* keyframe k1 is available */
+    uint32_t slot0, slot1;           /* ring slots of k0, k1 (store and published ratios) */
+    float occlusion_tolerance;       /* relative depth, 0 = MID_OCCLUSION_TOLERANCE */
+    float sigma_spatial, sigma_range;/* 0 = MID_SIGMA_SPATIAL, MID_SIGMA_RANGE */
+} ups_gpu_frame;
+
+vg_status ups_gpu_create(gpu *g, ups_gpu **out);
+void ups_gpu_destroy(ups_gpu *u);
+
+/* Coarse ratio of the frame (nx * ny floats in ratio) from depth, motion
+ * (RGBA32F: px to the previous keyframe xy, to the next zw), the keyframe
+ * store and the published ratios. */
+void ups_gpu_record_time(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *depth,
+                         const VkDescriptorImageInfo *motion, VkBuffer store, VkBuffer published, VkBuffer ratio);
+/* Full-resolution f from h and the coarse ratio, clamped to the published range. */
+void ups_gpu_record_space(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *h,
+                          VkBuffer published, VkBuffer ratio, const VkDescriptorImageInfo *out);

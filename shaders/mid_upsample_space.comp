@@ -1,0 +1,51 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// mid.upsample.space: joint bilateral upsampling (Kopf et al. 2007) of the
+// frame's coarse ratio, guided by the full-resolution h, over the 4 x 4
+// coarse samples around each pixel; f = clamp(h R, the solve's range)
+// (disp_upsample_spatial()). Every detail of h finer than the grid stays.
+#include "mid_upsample.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 0, r32f) uniform readonly image2D h_image;
+layout(set = 0, binding = 1, scalar) readonly buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
+layout(set = 0, binding = 2) readonly buffer RatioBlock { float ratio_t[]; };
+layout(set = 0, binding = 3, r32f) uniform writeonly image2D f_image;
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x >= int(up.full_w) || p.y >= int(up.full_h))
+        return;
+    float hv = imageLoad(h_image, p).r;
+    float s2 = float(up.stride / 2u), inv_s = 1.0 / float(up.stride);
+    float cx = (float(p.x) - s2) * inv_s, cy = (float(p.y) - s2) * inv_s;
+    int bx = int(floor(cx)) - 1, by = int(floor(cy)) - 1;
+    float acc = 0.0, wsum = 0.0, best_d = 1e30, best_r = 1.0;
+    for (int j = 0; j < 4; j++) {
+        int qy = by + j;
+        if (qy < 0 || qy >= int(up.ny))
+            continue;
+        for (int k = 0; k < 4; k++) {
+            int qx = bx + k;
+            if (qx < 0 || qx >= int(up.nx))
+                continue;
+            float dx = cx - float(qx), dy = cy - float(qy), d2 = dx * dx + dy * dy;
+            // The guide of a coarse sample is h at its full-resolution pixel.
+            float dr = hv - imageLoad(h_image, ivec2(grid_px(qx), grid_py(qy))).r;
+            float w = exp(-d2 * up.inv_2ss - dr * dr * up.inv_2sr);
+            float r = ratio_t[qy * int(up.nx) + qx];
+            acc += w * r;
+            wsum += w;
+            if (d2 < best_d) {
+                best_d = d2;
+                best_r = r;
+            }
+        }
+    }
+    // No neighbour on this surface (a structure thinner than the grid): the
+    // nearest sample's correction.
+    float f = hv * (wsum > 1e-20 ? acc / wsum : best_r);
+    if (pub.range_hi > pub.range_lo)
+        f = min(max(f, pub.range_lo), pub.range_hi);
+    imageStore(f_image, p, vec4(f));
+}

@@ -1,0 +1,92 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// mid.upsample.time: the ratio at the coarse samples of this frame, from the
+// two nearest keyframes along the motion (the G-buffer's exact motion to the
+// previous and next keyframe), each keyframe's ratio sampled bilinearly over
+// the taps that pass the depth test, weighted by temporal distance; a
+// keyframe that fails (occluded, out of frame) drops out
+// (disp_upsample_temporal()).
+#include "mid_upsample.glsl"
+layout(local_size_x = 64) in;
+layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D motion_image;
+layout(set = 0, binding = 2) readonly buffer StoreBlock { float store[]; };
+layout(set = 0, binding = 3, scalar) readonly buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
+layout(set = 0, binding = 4) writeonly buffer RatioBlock { float ratio_t[]; };
+
+const float LOST = -1.0e30;
+
+// One step of disp_flow_advect() from a pixel centre: lost (LOST) when the
+// target leaves the frame by more than half a pixel, else clamped into it.
+vec2 advect(ivec2 x, vec2 m)
+{
+    vec2 p = vec2(x) + m;
+    if (!(p.x >= -0.5 && p.x <= float(up.full_w) - 0.5 && p.y >= -0.5 && p.y <= float(up.full_h) - 0.5))
+        return vec2(LOST);
+    return vec2(min(max(p.x, 0.0), float(up.full_w - 1u)), min(max(p.y, 0.0), float(up.full_h - 1u)));
+}
+
+float key_ratio(uint slot, int q) { return pub_ratio[slot * up.nx * up.ny + uint(q)]; }
+float key_depth(uint slot, int q)
+{
+    return store[slot * MID_STORE_FLOATS * up.nx * up.ny + MID_STORE_DEPTH * up.nx * up.ny + uint(q)];
+}
+
+// The keyframe's ratio at a full-resolution position: bilinear over the
+// coarse samples, keeping only taps on the same surface (sample_keyframe()).
+vec2 sample_keyframe(vec2 pos, float z, uint slot, bool test_depth)
+{
+    if (pos.x == LOST)
+        return vec2(1.0, 0.0);
+    float s2 = float(up.stride / 2u);
+    float cx = min(max((pos.x - s2) / float(up.stride), 0.0), float(up.nx - 1u));
+    float cy = min(max((pos.y - s2) / float(up.stride), 0.0), float(up.ny - 1u));
+    int x0 = int(cx), y0 = int(cy);
+    float fx = cx - float(x0), fy = cy - float(y0);
+    float acc = 0.0, wsum = 0.0;
+    for (int t = 0; t < 4; t++) {
+        int x = x0 + (t & 1), y = y0 + (t >> 1);
+        float w = ((t & 1) != 0 ? fx : 1.0 - fx) * ((t >> 1) != 0 ? fy : 1.0 - fy);
+        if (w <= 0.0 || x >= int(up.nx) || y >= int(up.ny))
+            continue;
+        int q = y * int(up.nx) + x;
+        float d = key_depth(slot, q);
+        if (test_depth && !(z > 0.0 && d > 0.0 && abs(log(d / z)) <= up.log_tol))
+            continue;
+        acc += w * key_ratio(slot, q);
+        wsum += w;
+    }
+    return vec2(wsum > 0.0 ? acc / wsum : 1.0, wsum);
+}
+
+void main()
+{
+    int q = int(gl_GlobalInvocationID.x);
+    if (q >= int(up.nx * up.ny))
+        return;
+    ivec2 x = ivec2(grid_px(q % int(up.nx)), grid_py(q / int(up.nx)));
+    float z = imageLoad(depth_image, x).r;
+    vec4 m = imageLoad(motion_image, x);
+    // At a keyframe only k0 counts, at the sample itself.
+    vec2 pos0 = up.at_key != 0u ? vec2(x) : advect(x, m.xy);
+    vec2 pos1 = up.at_key != 0u ? vec2(LOST) : advect(x, m.zw);
+    vec2 a = sample_keyframe(pos0, z, up.slot0, true);
+    vec2 b = vec2(1.0, 0.0);
+    bool has1 = up.has1 != 0u && up.at_key == 0u;
+    if (has1 && up.tau > 0.0)
+        b = sample_keyframe(pos1, z, up.slot1, true);
+    // Fig. 4: interpolate along the flow by temporal distance.
+    float wa = (1.0 - up.tau) * (a.y >= MID_LINK_MIN_WEIGHT ? 1.0 : 0.0);
+    float wb = up.tau * (b.y >= MID_LINK_MIN_WEIGHT ? 1.0 : 0.0);
+    if (wa + wb > 0.0) {
+        ratio_t[q] = (wa * a.x + wb * b.x) / (wa + wb);
+        return;
+    }
+    // Both lost (disocclusion, or out of frame for both): the temporally
+    // nearer keyframe at the tracked position, else at the sample itself.
+    bool near0 = up.tau < 0.5 || !has1;
+    vec2 pos = near0 ? pos0 : pos1;
+    if (pos.x == LOST)
+        pos = vec2(x);
+    ratio_t[q] = sample_keyframe(pos, z, near0 ? up.slot0 : up.slot1, false).x;
+}
