@@ -202,20 +202,15 @@ static void swap4(void *data, size_t count)
     }
 }
 
-vg_status vg_pfm_read(const char *path, vg_imagef *out)
+vg_status vg_pfm_parse(const char *path, const uint8_t *buf, size_t size, vg_imagef *out)
 {
     *out = (vg_imagef){0};
-    uint8_t *buf;
-    size_t size;
-    vg_status st = vg_file_read(path, &buf, &size);
-    if (st != VG_OK)
-        return st;
+    vg_status st;
 
     char magic[8], sw[32], sh[32], ss[64];
     size_t off = 0, used;
     if (!(used = pfm_token(buf, size, magic, sizeof magic)) || (strcmp(magic, "Pf") && strcmp(magic, "PF"))) {
         vg_error("%s: not a PFM file (magic must be 'Pf' or 'PF')", path);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     off += used;
@@ -228,9 +223,9 @@ vg_status vg_pfm_read(const char *path, vg_imagef *out)
         off += used, h = strtol(sh, &end, 10);
     if (used && *end == 0 && (used = pfm_token(buf + off, size - off, ss, sizeof ss)))
         off += used, scale = strtod(ss, &end);
-    if (!used || *end != 0 || w <= 0 || h <= 0 || w * h > VG_MAX_PIXELS || scale == 0 || !isfinite(scale)) {
+    if (!used || *end != 0 || w <= 0 || h <= 0 || w > VG_MAX_PIXELS || h > VG_MAX_PIXELS ||
+        w * h > VG_MAX_PIXELS || scale == 0 || !isfinite(scale)) {
         vg_error("%s: bad PFM header (width, height and a non-zero scale expected)", path);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     off += 1; /* exactly one whitespace byte ends the header */
@@ -239,23 +234,31 @@ vg_status vg_pfm_read(const char *path, vg_imagef *out)
     if (size - off < need) {
         vg_error("%s: truncated PFM: %ldx%ld needs %zu bytes of pixels, file has %zu", path, w, h,
                  need, size - off);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     st = vg_imagef_alloc(out, (int)w, (int)h, channels);
-    if (st != VG_OK) {
-        free(buf);
+    if (st != VG_OK)
         return st;
-    }
     /* PFM rows run bottom to top. */
     size_t row = (size_t)w * (size_t)channels;
     for (long y = 0; y < h; y++)
         memcpy(out->data + (size_t)(h - 1 - y) * row, buf + off + (size_t)y * row * 4, row * 4);
-    free(buf);
     int file_le = scale < 0;
     if (file_le != host_is_little_endian())
         swap4(out->data, row * (size_t)h);
     return VG_OK;
+}
+
+vg_status vg_pfm_read(const char *path, vg_imagef *out)
+{
+    uint8_t *buf;
+    size_t size;
+    *out = (vg_imagef){0};
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st == VG_OK)
+        st = vg_pfm_parse(path, buf, size, out);
+    free(buf);
+    return st;
 }
 
 vg_status vg_pfm_write(const char *path, const vg_imagef *img)
@@ -287,19 +290,14 @@ vg_status vg_pfm_write(const char *path, const vg_imagef *img)
 
 #define FLO_MAGIC 202021.25f
 
-vg_status vg_flo_read(const char *path, vg_imagef *out)
+vg_status vg_flo_parse(const char *path, const uint8_t *buf, size_t size, vg_imagef *out)
 {
     *out = (vg_imagef){0};
-    uint8_t *buf;
-    size_t size;
-    vg_status st = vg_file_read(path, &buf, &size);
-    if (st != VG_OK)
-        return st;
+    vg_status st;
     float magic;
     int32_t wh[2];
     if (size < 12) {
         vg_error("%s: truncated .flo: %zu bytes, the header alone needs 12", path, size);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     memcpy(&magic, buf, 4);
@@ -310,19 +308,16 @@ vg_status vg_flo_read(const char *path, vg_imagef *out)
     }
     if (magic != FLO_MAGIC) {
         vg_error("%s: not a Middlebury .flo file (magic is not 202021.25)", path);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     if (wh[0] <= 0 || wh[1] <= 0 || (long)wh[0] * wh[1] > VG_MAX_PIXELS) {
         vg_error("%s: bad .flo size %dx%d", path, wh[0], wh[1]);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     size_t need = (size_t)wh[0] * (size_t)wh[1] * 8;
     if (size - 12 < need) {
         vg_error("%s: truncated .flo: %dx%d needs %zu bytes of flow, file has %zu", path, wh[0],
                  wh[1], need, size - 12);
-        free(buf);
         return VG_ERR_FORMAT;
     }
     st = vg_imagef_alloc(out, wh[0], wh[1], 2);
@@ -331,6 +326,17 @@ vg_status vg_flo_read(const char *path, vg_imagef *out)
         if (!host_is_little_endian())
             swap4(out->data, need / 4);
     }
+    return st;
+}
+
+vg_status vg_flo_read(const char *path, vg_imagef *out)
+{
+    uint8_t *buf;
+    size_t size;
+    *out = (vg_imagef){0};
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st == VG_OK)
+        st = vg_flo_parse(path, buf, size, out);
     free(buf);
     return st;
 }

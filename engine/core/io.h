@@ -29,10 +29,13 @@ vg_status vg_path_join(char *out, size_t cap, const char *dir, const char *name)
 
 /* Portable Float Map: "Pf" (1 channel) or "PF" (3 channels), either endianness. */
 vg_status vg_pfm_read(const char *path, vg_imagef *out);
+/* The same from memory; `path` only names the data in errors. */
+vg_status vg_pfm_parse(const char *path, const uint8_t *data, size_t size, vg_imagef *out);
 vg_status vg_pfm_write(const char *path, const vg_imagef *img);
 
 /* Middlebury .flo: magic 202021.25, int32 width, int32 height, (u, v) floats. */
 vg_status vg_flo_read(const char *path, vg_imagef *out);
+vg_status vg_flo_parse(const char *path, const uint8_t *data, size_t size, vg_imagef *out);
 vg_status vg_flo_write(const char *path, const vg_imagef *img);
 
 /* 8-bit PNG (1 grey, 2 grey+alpha, 3 RGB, 4 RGBA). The pixel buffer from

@@ -6,6 +6,12 @@
 static vg_log_level g_level = VG_LOG_INFO;
 static int g_errors;
 static bool g_progress_open;
+static bool g_silent;
+
+void vg_log_set_silent(bool silent)
+{
+    g_silent = silent;
+}
 
 void vg_log_set_level(vg_log_level max_level)
 {
@@ -29,7 +35,7 @@ void vg_log(vg_log_level level, const char *fmt, ...)
 {
     if (level == VG_LOG_ERROR)
         g_errors++;
-    if (level > g_level)
+    if (level > g_level || g_silent)
         return;
     static const char *const prefix[] = {"", "error: ", "warning: ", "", "debug: "};
     end_progress_line();
@@ -43,7 +49,7 @@ void vg_log(vg_log_level level, const char *fmt, ...)
 
 void vg_progress(const char *label, int done, int total)
 {
-    if (g_level < VG_LOG_INFO || total <= 0)
+    if (g_level < VG_LOG_INFO || total <= 0 || g_silent)
         return;
     if (isatty(STDERR_FILENO)) {
         int width = 30, filled = (int)((long)width * done / total);
