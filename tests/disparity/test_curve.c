@@ -49,8 +49,8 @@ static int exact_monotone(void)
 }
 
 /* Two clusters of depth with nothing between: across the empty bins the
- * curve is a straight line, even though the clusters hold very different
- * numbers of pairs (the 1/count weights). */
+ * curve is a straight line between the clusters' end nodes, however many
+ * pairs each cluster holds. */
 static int linear_across_gaps(void)
 {
     float *z = malloc(NPAIRS * sizeof(float)), *d = malloc(NPAIRS * sizeof(float));

@@ -6,13 +6,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "disparity/disp_curve.h"
 #include "disparity/disp_operator.h"
 #include "disparity/disp_upsample.h"
 #include "disparity/mid_shared.h"
 #include "disparity/operator_gpu.h"
 #include "disparity/upsample_gpu.h"
 #include "disparity/testlib.h"
+#include "gpu/pipeline.h"
 #include "harness.h"
+#include "shared.h"
+#include "warp/curve_cpu.h"
+
+#include "curve_bins_comp.h"
+#include "curve_range_comp.h"
+#include "curve_resolve_comp.h"
 #include "stereo/stereo_display.h"
 #include "test.h"
 
@@ -299,6 +307,176 @@ static int upsample_between(void) { return upsample_agrees(0.3f, false); }
 static int upsample_late(void) { return upsample_agrees(0.8f, false); }
 static int upsample_keyframe(void) { return upsample_agrees(0.0f, true); }
 
+
+/* ------------------------------------------------------------------------- */
+/* Global curve                                                              */
+/* ------------------------------------------------------------------------- */
+
+#define CV_W 320
+#define CV_H 180
+#define CV_FAR 150.0f
+#define CV_TILE 64 /* = curve.glsl */
+
+typedef struct curve_test {
+    gpu *gpu;
+    VkDescriptorSetLayout set;
+    VkPipelineLayout layout;
+    VkPipeline pipe[3];
+    rg_res depth, target, curve, count, sum, offset;
+    uint32_t tiles_x, tiles_y;
+} curve_test;
+
+/* warp.curve's three passes, dispatched as warp_gpu.c does (its shaders,
+ * bindings and push constants; the module itself needs a whole frame). */
+static void curve_execute(const rg_context *ctx, void *user, int which)
+{
+    curve_test *t = user;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    VkDescriptorImageInfo depth = image_info(ctx, t->depth), target = image_info(ctx, t->target);
+    VkDescriptorBufferInfo b[4] = {{rg_ctx_buffer(ctx, t->curve), 0, VK_WHOLE_SIZE}, {rg_ctx_buffer(ctx, t->count), 0, VK_WHOLE_SIZE},
+                                   {rg_ctx_buffer(ctx, t->sum), 0, VK_WHOLE_SIZE}, {rg_ctx_buffer(ctx, t->offset), 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet w[6];
+    for (uint32_t i = 0; i < 6; i++) {
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i, .descriptorCount = 1,
+                                      .descriptorType = i < 2 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        if (i < 2)
+            w[i].pImageInfo = i ? &target : &depth;
+        else
+            w[i].pBufferInfo = &b[i - 2];
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->pipe[which]);
+    t->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->layout, 0, which == 2 ? 4 : 6,
+                                    which == 2 ? w + 2 : w);
+    struct { float far_depth; uint32_t tiles_x, tiles_y, unused; } pc = {CV_FAR, t->tiles_x, t->tiles_y, 0};
+    vkCmdPushConstants(cmd, t->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+    if (which == 1)
+        vkCmdDispatch(cmd, t->tiles_x, t->tiles_y, 1);
+    else
+        vkCmdDispatch(cmd, 1, 1, 1);
+}
+
+static void curve_range_execute(const rg_context *ctx, void *user) { curve_execute(ctx, user, 0); }
+static void curve_bins_execute(const rg_context *ctx, void *user) { curve_execute(ctx, user, 1); }
+static void curve_resolve_execute(const rg_context *ctx, void *user) { curve_execute(ctx, user, 2); }
+
+/* A frame's (depth, target) pairs as a target map makes them: a ground plane
+ * (3-40 m down the image), boxes at 8-12 m, sky; the target is a compressive
+ * mapping of depth with a correction per object and a gradient inside the
+ * ground, so several vergences share a depth (as f's do). */
+static void curve_inputs(float *depth, float *target)
+{
+    for (int y = 0; y < CV_H; y++)
+        for (int x = 0; x < CV_W; x++) {
+            int i = y * CV_W + x;
+            float z = y < 50 ? CV_FAR : 3.0f + 37.0f * powf((float)(CV_H - 1 - y) / (CV_H - 51), 2.0f);
+            float corr = 0.0f;
+            for (int b = 0; b < 4; b++) {
+                int bx = 30 + 75 * b;
+                if (x >= bx && x < bx + 40 && y >= 70 && y < 120) {
+                    z = 8.0f + 1.3f * (float)b;
+                    corr = 2.5f * (float)(b - 1.5f);
+                }
+            }
+            depth[i] = z;
+            double a = 2.0 * atan(0.065 / (2.0 * z)) * 3437.74677;
+            target[i] = (float)(220.0 + 40.0 * tanh((a - 280.0) / 120.0) + corr + 0.01 * (x - CV_W / 2));
+        }
+}
+
+static int curve_agrees(void)
+{
+    harness hs;
+    CHECK(harness_open(&hs) == 0, "harness");
+    curve_test t = {.gpu = hs.gpu, .tiles_x = (CV_W + CV_TILE - 1) / CV_TILE, .tiles_y = (CV_H + CV_TILE - 1) / CV_TILE};
+    static const VkDescriptorType types[6] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                              VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                              VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+    CHECK(gpu_push_layout_create(hs.gpu, "curve test", types, 6, VK_SHADER_STAGE_COMPUTE_BIT, 16, &t.set, &t.layout) == VG_OK,
+          "layout");
+    const uint32_t *code[3] = {spv_curve_range_comp, spv_curve_bins_comp, spv_curve_resolve_comp};
+    size_t size[3] = {sizeof spv_curve_range_comp, sizeof spv_curve_bins_comp, sizeof spv_curve_resolve_comp};
+    for (int i = 0; i < 3; i++) {
+        VkShaderModule m;
+        CHECK(gpu_shader_create(hs.gpu, code[i], size[i], "curve", &m) == VG_OK, "shader");
+        CHECK(gpu_compute_pipeline_create(hs.gpu, t.layout, m, "curve", &t.pipe[i]) == VG_OK, "pipeline");
+        vkDestroyShaderModule(hs.gpu->device, m, NULL);
+    }
+    t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, CV_W, CV_H, true, false);
+    t.target = harness_image_add(&hs, "target", VK_FORMAT_R32_SFLOAT, CV_W, CV_H, true, false);
+    CHECK(harness_upload(&hs) == 0, "upload");
+    gpu_buffer out;
+    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "curve", .size = sizeof(vg_curve),
+                                                        .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                            &out) == VG_OK, "curve buffer");
+    t.curve = rg_import_buffer(hs.graph, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)},
+                               &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE, .final = RG_HOST_READ});
+    uint64_t tiles = (uint64_t)t.tiles_x * t.tiles_y * VG_CURVE_BINS * 4;
+    t.count = rg_buffer(hs.graph, &(rg_buffer_desc){"tile_count", tiles});
+    t.sum = rg_buffer(hs.graph, &(rg_buffer_desc){"tile_sum", tiles});
+    t.offset = rg_buffer(hs.graph, &(rg_buffer_desc){"tile_offset", tiles});
+    rg_pass range = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "warp.curve.range", .type = RG_PASS_COMPUTE,
+                                                           .execute = curve_range_execute, .user = &t});
+    rg_use(hs.graph, range, t.depth, RG_STORAGE_READ);
+    rg_use(hs.graph, range, t.target, RG_STORAGE_READ);
+    rg_use(hs.graph, range, t.curve, RG_STORAGE_WRITE);
+    rg_pass bins = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "warp.curve.bins", .type = RG_PASS_COMPUTE,
+                                                          .execute = curve_bins_execute, .user = &t});
+    rg_use(hs.graph, bins, t.depth, RG_STORAGE_READ);
+    rg_use(hs.graph, bins, t.target, RG_STORAGE_READ);
+    rg_use(hs.graph, bins, t.curve, RG_STORAGE_READ);
+    rg_use(hs.graph, bins, t.count, RG_STORAGE_WRITE);
+    rg_use(hs.graph, bins, t.sum, RG_STORAGE_WRITE);
+    rg_use(hs.graph, bins, t.offset, RG_STORAGE_WRITE);
+    rg_pass resolve = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "warp.curve.resolve", .type = RG_PASS_COMPUTE,
+                                                             .execute = curve_resolve_execute, .user = &t});
+    rg_use(hs.graph, resolve, t.count, RG_STORAGE_READ);
+    rg_use(hs.graph, resolve, t.sum, RG_STORAGE_READ);
+    rg_use(hs.graph, resolve, t.offset, RG_STORAGE_READ);
+    rg_use(hs.graph, resolve, t.curve, RG_STORAGE_READ_WRITE);
+    CHECK(harness_build(&hs) == 0, "graph");
+    rg_bind_buffer(hs.graph, t.curve, out.buffer);
+    float *depth = harness_data(&hs, t.depth), *target = harness_data(&hs, t.target);
+    curve_inputs(depth, target);
+    CHECK(harness_run(&hs) == 0, "run");
+    const vg_curve *gc = out.mapped;
+    /* The CPU reference on the same pairs: the geometry pixels (curve.glsl). */
+    int np = CV_W * CV_H, n = 0;
+    float *z = malloc(np * sizeof(float)), *v = malloc(np * sizeof(float));
+    for (int i = 0; i < np; i++)
+        if (depth[i] > 0 && depth[i] < CV_FAR * 0.999f) {
+            z[n] = depth[i];
+            v[n++] = target[i];
+        }
+    disp_curve cc;
+    CHECK(disp_curve_build(NULL, z, v, n, &cc, NULL) == VG_OK, "CPU curve");
+    double worst = 0, worst_z = 0;
+    for (int i = 0; i < n; i++) {
+        double e = fabs((double)curve_cpu_eval(gc, z[i]) - disp_curve_eval(&cc, z[i]));
+        if (e > worst) {
+            worst = e;
+            worst_z = z[i];
+        }
+    }
+    /* ... and across the whole domain, empty bins included. */
+    double lo = 1.0 / gc->inv_depth_near, hi = 1.0 / gc->inv_depth_far, sweep = 0;
+    for (int k = 0; k <= 4000; k++) {
+        float zz = (float)(1.0 / (1.0 / hi + (1.0 / lo - 1.0 / hi) * k / 4000.0));
+        sweep = fmax(sweep, fabs((double)curve_cpu_eval(gc, zz) - disp_curve_eval(&cc, zz)));
+    }
+    printf("curve over %d pairs (%.1f .. %.1f m): max |GPU - CPU| %.4f arcmin at the pairs (worst at %.2f m), %.4f over the domain\n",
+           n, lo, hi, worst, worst_z, sweep);
+    CHECK(worst < AGREEMENT_ARCMIN && sweep < AGREEMENT_ARCMIN, "GPU and CPU curves differ by %.4f / %.4f arcmin", worst, sweep);
+    free(z);
+    free(v);
+    gpu_buffer_destroy(hs.gpu, &out);
+    for (int i = 0; i < 3; i++)
+        vkDestroyPipeline(hs.gpu->device, t.pipe[i], NULL);
+    vkDestroyPipelineLayout(hs.gpu->device, t.layout, NULL);
+    vkDestroyDescriptorSetLayout(hs.gpu->device, t.set, NULL);
+    CHECK(harness_close(&hs) == 0, "validation messages");
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
@@ -309,6 +487,7 @@ int main(int argc, char **argv)
         {"upsample_between", upsample_between},
         {"upsample_late", upsample_late},
         {"upsample_keyframe", upsample_keyframe},
+        {"curve", curve_agrees},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }
