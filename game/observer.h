@@ -1,0 +1,48 @@
+/* vergence — the simulated observer (docs/game.md "The simulated observer").
+ *
+ * A disparity-only player of the hit game: it sees where the ball is on the
+ * screen and the depth its displayed vergence implies, nothing else (no
+ * size, shading or shadow cues). Per shown frame it takes the ball's image
+ * position and displayed vergence a (g, h or f: observer_view), perceives
+ * the vergence velocity with Weber noise (paper Sec. 4.2: one JND of noise
+ * in p(v) = sign(v) ln(1 + |v|) / k per 100 ms integration window), turns
+ * vergence into distance through the display model and the original stereo
+ * camera (it is calibrated to unmodified stereo), fits the visible path
+ * (straight: linear in t; ballistic: linear plus known gravity), follows
+ * the fit until its lowest point meets the ground as it is displayed (the
+ * surround's vergence through the same decoding) and clicks there. The
+ * click is scored like a player's (game_click_error). Deterministic for a
+ * seed: all noise comes from the trial's random stream. */
+#pragma once
+#include "game.h"
+#include "observer_view.h"
+
+typedef struct observer_desc {
+    observer_view_desc view;     /* .moving_node = the ball */
+    double weber_k;              /* Weber fraction k, 0 = STEREO_WEBER_K; < 0: no noise */
+    double window_s;             /* temporal integration window, 0 = 0.1 s */
+} observer_desc;
+
+typedef struct observer observer;
+
+typedef struct observer_result {
+    double click_u, click_v;     /* centre image, [0, 1] */
+    double error_m;              /* the paper's error (game_click_error) */
+    double perceived_ground[3];  /* where the fit met the displayed ground (decoded world space) */
+    int frames_seen;
+} observer_result;
+
+vg_status observer_create(const observer_desc *desc, observer **out);
+void observer_destroy(observer *o);
+const vg_camera *observer_camera(const observer *o);
+
+/* Watches the throw's visible interval under `mode` and clicks. */
+vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, game_rng *noise,
+                        observer_result *out);
+
+/* Preference (two-alternative forced choice): which of two tracks of the
+ * same motion, shown as `mode_a` and `mode_b`, moves more like the
+ * reference shown as `mode_ref`? Compares perceived velocity changes in JND
+ * (paper Sec. 4.2) with the same Weber noise; returns 0 for a, 1 for b. */
+vg_status observer_prefer(observer *o, const double (*pos)[3], int count, frame_mode mode_a,
+                          frame_mode mode_b, frame_mode mode_ref, game_rng *noise, int *choice);
