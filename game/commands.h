@@ -6,4 +6,5 @@
 extern const vg_cmd vg_cmd_info;
 extern const vg_cmd vg_cmd_capture;
 extern const vg_cmd vg_cmd_optimize;
+extern const vg_cmd vg_cmd_play, vg_cmd_study;
 extern const vg_cmd vg_cmd_bake_curve;

@@ -12,6 +12,7 @@ static const vg_cmd *const g_commands[] = {
     &vg_cmd_info,
     &vg_cmd_capture,
     &vg_cmd_optimize,
+    &vg_cmd_play, &vg_cmd_study,
     &vg_cmd_bake_curve,
 };
 #define COMMAND_COUNT (int)(sizeof g_commands / sizeof g_commands[0])

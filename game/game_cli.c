@@ -1,0 +1,40 @@
+/* vergence — shared command-line pieces of `play` and `study`. */
+#include "game_cli.h"
+
+#include <libgen.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/log.h"
+
+const char *const game_operator_names[] = {"none", "linear", "lang", "lang-smoothed", NULL};
+
+stereo_display_desc game_display_desc(const game_display_cli *d)
+{
+    stereo_display_desc s = {.distance_m = d->distance_m, .ipd_m = d->ipd_m};
+    if (d->screen_width_m > 0) /* 16:9: width = diagonal * 16 / sqrt(16^2 + 9^2) */
+        s.diagonal_in = d->screen_width_m * sqrt(16.0 * 16.0 + 9.0 * 9.0) / 16.0 / 0.0254;
+    return s;
+}
+
+const char *game_scene_path(const char *given, char *buf, size_t cap)
+{
+    if (given)
+        return given;
+    if (access("content/arena.gltf", R_OK) == 0)
+        return "content/arena.gltf";
+    /* <checkout>/build-X/game/vergence -> <checkout>/content/arena.gltf */
+    char exe[1024];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        char *dir = dirname(exe);
+        snprintf(buf, cap, "%s/../../content/arena.gltf", dir);
+        if (access(buf, R_OK) == 0)
+            return buf;
+    }
+    vg_error("cannot find content/arena.gltf (run from the checkout or give --scene FILE)");
+    return NULL;
+}

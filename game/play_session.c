@@ -1,0 +1,479 @@
+/* vergence — the hit game in a window: throws, input, HUD, frames per mode. */
+#include "play_session.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "core/log.h"
+#include "warp/present_gpu.h"
+#include "window.h"
+
+#define READY_S 1.0      /* the ball rests at its launch point before a throw */
+#define FEEDBACK_S 3.0   /* free play: how long the true landing spot is shown */
+#define NOTICE_S 2.5     /* on-screen notices (a mode that is not available) */
+
+typedef enum phase {
+    PHASE_DEFAULT = 0,
+    PHASE_READY,         /* ball at its launch point */
+    PHASE_FLIGHT,        /* visible interval */
+    PHASE_AIM,           /* ball gone: waiting for the click */
+    PHASE_FEEDBACK,      /* ball on its true landing spot (free play) */
+    PHASE_DONE,          /* study finished */
+} phase;
+
+typedef struct session {
+    const play_session_desc *d;
+    bool study;
+    window *win;
+    scene *scene;
+    int ball;
+    float ball_scale[3];
+    vg_camera cam;               /* the centre camera at the eye image's aspect */
+    vg_camera cam_ref;           /* 16:9: throws do not depend on the window's shape */
+    frame *frames[FRAME_MODE_OPTIMIZED + 1];
+    bool unavailable[FRAME_MODE_OPTIMIZED + 1];
+    frame_mode mode;
+    uint32_t rw, rh;             /* eye image size */
+    double tess_error;
+    /* game */
+    double clock;                /* game seconds */
+    bool paused, quit, hud_tech;
+    phase ph;
+    game_throw th;
+    double t_launch, t_hide, t_landed, t_phase;
+    int throw_no, trial, throws_scored, score;
+    double miss_sum, last_miss;
+    /* display */
+    frame_hud hud;
+    char notice[PRESENT_HUD_LINE];
+    double notice_until, fps;
+    bool replay_done_said;
+} session;
+
+static const char *const k_mode_text[] = {"", "original (g)", "manipulated (h)", "optimized (f)"};
+
+/* ------------------------------------------------------------------------- */
+/* The ball (scene pose hook)                                                */
+/* ------------------------------------------------------------------------- */
+
+static void ball_pose(void *user, const scene *s, float t, float *local)
+{
+    (void)s;
+    const session *ss = user;
+    float *l = local + (size_t)ss->ball * 10;
+    double p[3];
+    bool shown = ss->ph != PHASE_DEFAULT && ss->ph != PHASE_DONE;
+    if (t < ss->t_launch)
+        memcpy(p, ss->th.start, sizeof p);
+    else
+        game_throw_position(&ss->th, t - ss->t_launch, p);
+    if (t >= ss->t_hide && t < ss->t_landed)
+        shown = false; /* the paper's "shown only for a short initial interval" */
+    for (int k = 0; k < 3; k++) {
+        l[k] = (float)p[k];
+        l[7 + k] = shown ? ss->ball_scale[k] : 0.0f; /* scale 0: no pixels, bounds unchanged */
+    }
+}
+
+/* ------------------------------------------------------------------------- */
+/* Throws                                                                    */
+/* ------------------------------------------------------------------------- */
+
+static void throw_next(session *ss)
+{
+    const play_session_desc *d = ss->d;
+    game_throw_desc td = {.visible_s = d->visible_s};
+    game_rng r;
+    if (ss->study) {
+        game_cell c = game_hit_cell(d->cells[ss->trial]);
+        td.path = c.path, td.direction = c.direction;
+        ss->mode = (frame_mode)(FRAME_MODE_ORIGINAL + c.condition);
+        r = game_rng_make(d->seed, 2 * (uint64_t)ss->trial + 1); /* as the simulated observer's */
+    } else {
+        r = game_rng_make(d->seed, 0x9a11ull + (uint64_t)ss->throw_no);
+        td.path = (game_path)(GAME_PATH_STRAIGHT + (int)(game_rng_next(&r) & 1));
+        td.direction = (game_direction)(GAME_DIR_NEAR_TO_FAR + (int)(game_rng_next(&r) & 1));
+    }
+    game_throw_make(&td, &ss->cam_ref, &r, &ss->th);
+    ss->throw_no++;
+    /* Launch on a keyframe (paper 4.4: every 10th frame), a second from now. */
+    long launch = (long)ceil((ss->clock + READY_S) * 60.0 / 10.0) * 10;
+    ss->t_launch = launch / 60.0;
+    ss->t_hide = ss->t_launch + ss->th.visible_s;
+    ss->t_landed = INFINITY;
+    ss->ph = PHASE_READY;
+    ss->t_phase = ss->clock;
+}
+
+static void restart(session *ss)
+{
+    ss->throw_no = ss->throws_scored = ss->score = 0;
+    ss->miss_sum = ss->last_miss = 0;
+    vg_info("play: restart");
+    throw_next(ss);
+}
+
+static vg_status on_click(session *ss, double x, double y)
+{
+    VkExtent2D e = window_extent(ss->win);
+    double u, v;
+    if (ss->ph == PHASE_FEEDBACK) {
+        throw_next(ss);
+        return VG_OK;
+    }
+    if (ss->ph != PHASE_AIM || ss->paused ||
+        !game_click_to_image((frame_compose)(ss->d->win->compose + 1), ss->rw, ss->rh, e.width, e.height, x, y, &u, &v))
+        return VG_OK;
+    double err = game_click_error(&ss->cam, u, v, ss->th.ground);
+    vg_info("play: click at (%.3f, %.3f) of the picture: missed by %.2f m (%s, %s, %s)", u, v, err,
+            k_mode_text[ss->mode], game_direction_names[ss->th.direction], game_path_names[ss->th.path]);
+    if (ss->study) {
+        play_trial t = {.trial = ss->trial, .th = &ss->th, .mode = ss->mode, .click_u = u, .click_v = v,
+                        .error_m = err, .response_s = ss->clock - ss->t_hide};
+        vg_status st = ss->d->on_trial(ss->d->user, &t);
+        if (st != VG_OK)
+            return st;
+        if (++ss->trial >= ss->d->trial_count) {
+            ss->ph = PHASE_DONE;
+            return VG_OK;
+        }
+        throw_next(ss);
+        return VG_OK;
+    }
+    int pts = game_points(err);
+    ss->score += pts;
+    ss->throws_scored++;
+    ss->miss_sum += err;
+    ss->last_miss = err;
+    ss->ph = PHASE_FEEDBACK;
+    ss->t_phase = ss->t_landed = ss->clock;
+    return VG_OK;
+}
+
+static void update_phase(session *ss)
+{
+    if (ss->ph == PHASE_READY && ss->clock >= ss->t_launch)
+        ss->ph = PHASE_FLIGHT;
+    if (ss->ph == PHASE_FLIGHT && ss->clock >= ss->t_hide)
+        ss->ph = PHASE_AIM;
+    if (ss->ph == PHASE_FEEDBACK && ss->clock >= ss->t_phase + FEEDBACK_S)
+        throw_next(ss);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Frames: one per mode, made when first shown, dropped on resize            */
+/* ------------------------------------------------------------------------- */
+
+static void frames_drop(session *ss)
+{
+    for (int m = 0; m <= FRAME_MODE_OPTIMIZED; m++)
+        if (ss->frames[m]) {
+            frame_wait_idle(ss->frames[m]);
+            frame_destroy(ss->frames[m]);
+            ss->frames[m] = NULL;
+        }
+}
+
+/* The eye size that fills the window in this layout; a CPU rasteriser gets
+ * at most 480 pixels across (interleaved layouts need 1:1 pixels). */
+static void choose_render_size(session *ss, bool announce)
+{
+    const play_window_cli *w = ss->d->win;
+    frame_compose c = (frame_compose)(w->compose + 1);
+    VkExtent2D e = window_extent(ss->win);
+    double ew = e.width, eh = e.height;
+    if (c == FRAME_COMPOSE_SBS)
+        ew /= 2;
+    else if (c == FRAME_COMPOSE_TB)
+        eh /= 2;
+    bool interleaved = c == FRAME_COMPOSE_ROWS || c == FRAME_COMPOSE_COLUMNS || c == FRAME_COMPOSE_CHECKER;
+    bool cpu = window_gpu(ss->win)->is_cpu;
+    if (w->render[0] > 0) {
+        ew = w->render[0], eh = w->render[1];
+    } else if (cpu && !interleaved && ew > 480) {
+        eh *= 480 / ew;
+        ew = 480;
+    }
+    ss->rw = (uint32_t)fmax(16, round(ew));
+    ss->rh = (uint32_t)fmax(16, round(eh));
+    ss->tess_error = w->tess_error > 0 ? w->tess_error : cpu ? 0.5 : 0.1;
+    if (announce && cpu)
+        vg_warn("play: %s is a CPU rasteriser: rendering %ux%u per eye%s, error-driven tessellation to %.2g px, "
+                "1024 px shadows, to stay interactive (--render-size and --tess-error override)",
+                window_gpu(ss->win)->props.deviceName, ss->rw, ss->rh,
+                interleaved ? " (1:1 for the interleaved output: slow)" : "", ss->tess_error);
+    scene_state st;
+    if (scene_state_init(ss->scene, &st) == VG_OK) {
+        scene_evaluate(ss->scene, 0.0f, &st);
+        scene_camera_resolve(ss->scene, &st, 0, (float)ss->rw / (float)ss->rh, &ss->cam);
+        scene_camera_resolve(ss->scene, &st, 0, 16.0f / 9.0f, &ss->cam_ref);
+        scene_state_free(&st);
+    }
+}
+
+static vg_status frame_for(session *ss, frame_mode mode, frame **out)
+{
+    if (ss->frames[mode]) {
+        *out = ss->frames[mode];
+        return VG_OK;
+    }
+    const play_session_desc *d = ss->d;
+    gpu *g = window_gpu(ss->win);
+    VkExtent2D e = window_extent(ss->win);
+    frame_desc fd = {
+        .width = ss->rw, .height = ss->rh, .fps = 60, .keyframe_stride = 10, .camera = 0,
+        .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = mode,
+        .compose = (frame_compose)(d->win->compose + 1), .tess_error = ss->tess_error,
+        .shadow_size = g->is_cpu ? 1024 : 0,
+        .present_format = window_format(ss->win), .present_width = e.width, .present_height = e.height,
+    };
+    vg_status st = frame_create(g, ss->scene, &fd, &ss->frames[mode]);
+    *out = ss->frames[mode];
+    return st;
+}
+
+/* Switches mode, or says on screen why not. */
+static void mode_pick(session *ss, frame_mode mode)
+{
+    if (ss->study || mode == ss->mode)
+        return;
+    frame *f;
+    vg_status st = ss->unavailable[mode] ? VG_ERR_UNSUPPORTED : frame_for(ss, mode, &f);
+    if (st != VG_OK) {
+        ss->unavailable[mode] = true;
+        snprintf(ss->notice, sizeof ss->notice, "%s is not available in this build", k_mode_text[mode]);
+        ss->notice_until = ss->clock + NOTICE_S;
+        vg_info("play: mode %s not available: staying with %s", k_mode_text[mode], k_mode_text[ss->mode]);
+        return;
+    }
+    ss->mode = mode;
+    vg_info("play: mode %s", k_mode_text[mode]);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Input and HUD                                                             */
+/* ------------------------------------------------------------------------- */
+
+static vg_status handle(session *ss, const window_event *ev)
+{
+    if (ev->kind == WINDOW_EVENT_CLICK)
+        return on_click(ss, ev->x, ev->y);
+    switch (ev->key) {
+    case GLFW_KEY_ESCAPE:
+    case GLFW_KEY_Q: ss->quit = true; break;
+    case GLFW_KEY_P:
+    case GLFW_KEY_SPACE:
+        ss->paused = !ss->paused;
+        vg_info("play: %s", ss->paused ? "paused" : "resumed");
+        break;
+    case GLFW_KEY_H:
+        ss->hud_tech = !ss->hud_tech;
+        vg_info("play: technical HUD %s", ss->hud_tech ? "on" : "off");
+        break;
+    case GLFW_KEY_R:
+        if (!ss->study)
+            restart(ss);
+        break;
+    case GLFW_KEY_M:
+        for (int k = 1; k <= 3; k++) { /* the next mode that renders */
+            frame_mode m = (frame_mode)(FRAME_MODE_ORIGINAL + (ss->mode - FRAME_MODE_ORIGINAL + k) % 3);
+            if (!ss->unavailable[m] || k == 3) {
+                mode_pick(ss, m);
+                break;
+            }
+        }
+        break;
+    case GLFW_KEY_1:
+    case GLFW_KEY_2:
+    case GLFW_KEY_3: mode_pick(ss, (frame_mode)(FRAME_MODE_ORIGINAL + ev->key - GLFW_KEY_1)); break;
+    default: break;
+    }
+    return VG_OK;
+}
+
+static void hud_add(session *ss, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void hud_add(session *ss, const char *fmt, ...)
+{
+    if (ss->hud.line_count >= PRESENT_HUD_MAX_LINES)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ss->hud.lines[ss->hud.line_count++], PRESENT_HUD_LINE, fmt, ap);
+    va_end(ap);
+}
+
+static void hud_build(session *ss, frame *f)
+{
+    frame_hud *h = &ss->hud;
+    memset(h, 0, sizeof *h);
+    h->visible = true;
+    h->scale = window_extent(ss->win).width >= 1000 ? 2.0f : 1.0f;
+    if (ss->study)
+        hud_add(ss, "VERGENCE STUDY   trial %d of %d", ss->trial + 1, ss->d->trial_count);
+    else if (ss->throws_scored)
+        hud_add(ss, "VERGENCE   throw %d   score %d   last miss %.2f m   mean %.2f m", ss->throw_no, ss->score,
+                ss->last_miss, ss->miss_sum / ss->throws_scored);
+    else
+        hud_add(ss, "VERGENCE   throw %d   score 0", ss->throw_no);
+    static const char *const prompt[] = {"", "Get ready...", "Watch the ball!", "Click where the ball will land",
+                                         "", "All trials done: thank you! (Q quits)"};
+    if (ss->ph == PHASE_FEEDBACK)
+        hud_add(ss, "Missed by %.2f m: +%d points  (the ball shows where it landed; click for the next)",
+                ss->last_miss, game_points(ss->last_miss));
+    else
+        hud_add(ss, "%s", prompt[ss->ph]);
+    if (ss->hud_tech) {
+        hud_add(ss, "mode: %s%s", k_mode_text[ss->mode], ss->study ? "   (set by the study)" : "   M cycles, 1-3 pick");
+        hud_add(ss, "operator: %s   output: %s %ux%u", disp_operator_kind_name(ss->d->op),
+                frame_compose_names[ss->d->win->compose + 1], ss->rw, ss->rh);
+        const char *names[RG_MAX_PASSES];
+        double ms[RG_MAX_PASSES], total = 0;
+        uint32_t n = frame_pass_timings(f, names, ms, RG_MAX_PASSES);
+        for (uint32_t i = 0; i < n; i++)
+            total += ms[i];
+        hud_add(ss, "fps %.1f   GPU %.1f ms", ss->fps, total);
+        char line[PRESENT_HUD_LINE] = "";
+        for (uint32_t i = 0; i < n; i++) {
+            char item[48];
+            snprintf(item, sizeof item, "%s %.1f", names[i], ms[i]);
+            if (strlen(line) + strlen(item) + 3 > 64) {
+                hud_add(ss, "  %s", line);
+                line[0] = '\0';
+            }
+            if (line[0])
+                strcat(line, "   ");
+            strcat(line, item);
+        }
+        if (line[0])
+            hud_add(ss, "  %s", line);
+        hud_add(ss, "H hud   P pause   %sQ quit", ss->study ? "" : "R restart   ");
+    }
+    if (ss->paused)
+        snprintf(h->banner, sizeof h->banner, "PAUSED  -  P to continue");
+    else if (ss->clock < ss->notice_until)
+        snprintf(h->banner, sizeof h->banner, "%s", ss->notice);
+    else if (ss->ph == PHASE_READY)
+        snprintf(h->banner, sizeof h->banner, ss->study ? "Trial %d: watch the ball" : "Throw %d: watch the ball",
+                 ss->study ? ss->trial + 1 : ss->throw_no);
+    else if (ss->ph == PHASE_DONE)
+        snprintf(h->banner, sizeof h->banner, "Thank you! All %d trials are done.", ss->d->trial_count);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Loop                                                                      */
+/* ------------------------------------------------------------------------- */
+
+static vg_status present(session *ss)
+{
+    frame *f;
+    vg_status st = frame_for(ss, ss->mode, &f);
+    if (st != VG_OK)
+        return st;
+    hud_build(ss, f);
+    frame_target target;
+    bool stale;
+    if ((st = window_acquire(ss->win, &target, &stale)) != VG_OK)
+        return st;
+    if (!stale) {
+        st = frame_present(f, lround(ss->clock * 60.0), &target, &ss->hud);
+        if (st == VG_OK)
+            st = window_present(ss->win, &stale);
+    }
+    if (st == VG_OK && stale) {
+        /* The frames present at the old size: make them again. */
+        frames_drop(ss);
+        st = window_rebuild(ss->win);
+        if (st == VG_OK)
+            choose_render_size(ss, false);
+    }
+    return st;
+}
+
+static vg_status run_loop(session *ss)
+{
+    vg_status st = VG_OK;
+    while (st == VG_OK && !ss->quit) {
+        window_event ev[32];
+        int n;
+        long tick = window_tick(ss->win, ev, 32, &n);
+        if (window_closed(ss->win) || (ss->d->win->ticks && tick >= ss->d->win->ticks))
+            break;
+        for (int i = 0; i < n && st == VG_OK; i++)
+            st = handle(ss, &ev[i]);
+        double dt = window_tick_seconds(ss->win);
+        ss->fps = ss->fps > 0 ? 0.9 * ss->fps + 0.1 / fmax(dt, 1e-3) : 1.0 / fmax(dt, 1e-3);
+        if (!ss->paused && ss->ph != PHASE_DONE) {
+            ss->clock += dt;
+            update_phase(ss);
+        }
+        if (st == VG_OK)
+            st = present(ss);
+        if (ss->d->win->replay && !window_replaying(ss->win) && !ss->replay_done_said) {
+            vg_info("play: replay finished at tick %ld", tick);
+            ss->replay_done_said = true;
+        }
+    }
+    return st;
+}
+
+vg_status play_session_run(const play_session_desc *d)
+{
+    session *ss = calloc(1, sizeof *ss);
+    if (!ss)
+        return VG_ERR_NOMEM;
+    ss->d = d;
+    ss->study = d->cells != NULL;
+    ss->trial = d->first_trial;
+    ss->mode = d->mode ? d->mode : FRAME_MODE_ORIGINAL;
+    vg_status st = scene_load(d->scene_path, &ss->scene);
+    if (st == VG_OK && (ss->ball = scene_find_node(ss->scene, "ball")) < 0) {
+        vg_error("%s has no node named 'ball' to throw (see docs/content.md)", d->scene_path);
+        st = VG_ERR_FORMAT;
+    }
+    if (st == VG_OK) {
+        memcpy(ss->ball_scale, ss->scene->nodes[ss->ball].scale, sizeof ss->ball_scale);
+        scene_set_pose_hook(ss->scene, ball_pose, ss);
+        st = window_create(&(window_desc){.title = ss->study ? "vergence study" : "vergence",
+                                          .width = d->win->size[0], .height = d->win->size[1],
+                                          .fullscreen = d->win->fullscreen, .gpu = &d->win->gpu,
+                                          .replay = d->win->replay, .record = d->win->record}, &ss->win);
+    }
+    gpu *g = ss->win ? window_gpu(ss->win) : NULL;
+    if (st == VG_OK) {
+        choose_render_size(ss, true);
+        /* The first mode must render (a study needs all three). */
+        for (int m = FRAME_MODE_ORIGINAL; m <= FRAME_MODE_OPTIMIZED && st == VG_OK; m++) {
+            frame *f;
+            if (ss->study || m == (int)ss->mode)
+                st = frame_for(ss, (frame_mode)m, &f);
+        }
+    }
+    if (st == VG_OK) {
+        if (ss->study && ss->trial >= d->trial_count)
+            ss->ph = PHASE_DONE;
+        else
+            throw_next(ss);
+        st = run_loop(ss);
+    }
+    if (!ss->study && ss->throws_scored)
+        vg_info("play: %d throw(s), score %d, mean miss %.2f m", ss->throws_scored, ss->score,
+                ss->miss_sum / ss->throws_scored);
+    frames_drop(ss);
+    if (ss->win)
+        window_destroy(ss->win);
+    if (g) {
+        int code = gpu_cli_close(g, st);
+        if (code && st == VG_OK)
+            st = VG_ERR_VALIDATION;
+    }
+    scene_destroy(ss->scene);
+    free(ss);
+    return st;
+}

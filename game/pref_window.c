@@ -1,0 +1,322 @@
+/* vergence — the preference study's window: three clips side by side. */
+#include "pref_window.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "core/log.h"
+#include "picture.h"
+#include "window.h"
+
+#define CLIP_STEP 2          /* clips hold every 2nd frame: 30 Hz, each shown twice at 60 Hz */
+#define GAP 8                /* pixels between the panels (eye image) */
+
+static const uint8_t k_back[3] = {18, 22, 30}, k_text[3] = {236, 240, 245}, k_title[3] = {255, 214, 110};
+
+/* Where the panels go: eye-image coordinates of the whole window, then the
+ * output layout maps each eye to its place in the window. */
+typedef struct layout {
+    frame_compose compose;
+    int ew, eh;              /* eye image of the whole window */
+    int pw, ph;              /* one panel's eye image */
+    int x[3], y;             /* panel corners in the eye image (even: interleaving keeps parity) */
+} layout;
+
+typedef struct pref {
+    const pref_window_desc *d;
+    window *win;
+    picture *pic;
+    layout lay;
+    uint8_t *clip[3];        /* per version: frames x composed panel (RGB) */
+    int frames;
+    uint32_t sw, sh;         /* composed panel size */
+    bool quit;
+} pref;
+
+static void layout_make(pref *p)
+{
+    layout *l = &p->lay;
+    VkExtent2D e = window_extent(p->win);
+    l->compose = (frame_compose)(p->d->win->compose + 1);
+    l->ew = (int)e.width, l->eh = (int)e.height;
+    if (l->compose == FRAME_COMPOSE_SBS)
+        l->ew /= 2;
+    else if (l->compose == FRAME_COMPOSE_TB)
+        l->eh /= 2;
+    int pw = (l->ew - 2 * GAP) / 3, ph = pw * 9 / 16;
+    if (ph > l->eh - 64) {
+        ph = l->eh - 64;
+        pw = ph * 16 / 9;
+    }
+    if (window_gpu(p->win)->is_cpu && pw > 320) { /* pre-rendering on a CPU: keep it short */
+        pw = 320;
+        ph = 180;
+    }
+    l->pw = pw & ~1, l->ph = ph & ~1;
+    int x0 = ((l->ew - 3 * l->pw - 2 * GAP) / 2) & ~1;
+    for (int i = 0; i < 3; i++)
+        l->x[i] = x0 + i * (l->pw + GAP);
+    l->y = ((l->eh - l->ph) / 2) & ~1;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Drawing in eye coordinates                                                */
+/* ------------------------------------------------------------------------- */
+
+/* The window positions of an eye-image position: one for the interleaved
+ * and anaglyph layouts, one per eye for the side-by-side ones. */
+static int eye_places(const layout *l, int ex, int ey, int xs[2], int ys[2])
+{
+    switch (l->compose) {
+    case FRAME_COMPOSE_SBS: xs[0] = ex, xs[1] = l->ew + ex, ys[0] = ys[1] = ey; return 2;
+    case FRAME_COMPOSE_SBS_HALF: xs[0] = ex / 2, xs[1] = l->ew / 2 + ex / 2, ys[0] = ys[1] = ey; return 2;
+    case FRAME_COMPOSE_TB: xs[0] = xs[1] = ex, ys[0] = ey, ys[1] = l->eh + ey; return 2;
+    default: xs[0] = ex, ys[0] = ey; return 1;
+    }
+}
+
+static void text_eyes(pref *p, int ex, int ey, int scale, const char *text, const uint8_t rgb[3], bool centred)
+{
+    int xs[2], ys[2], n = eye_places(&p->lay, ex, ey, xs, ys);
+    int w = centred ? picture_text_width(text, scale) : 0;
+    if (p->lay.compose == FRAME_COMPOSE_SBS_HALF)
+        w /= 2;
+    for (int i = 0; i < n; i++)
+        picture_text(p->pic, xs[i] - w / 2, ys[i], scale, text, rgb);
+}
+
+/* Copies a composed panel into the picture at panel slot i. */
+static void blit_panel(pref *p, int slot, const uint8_t *rgb)
+{
+    const layout *l = &p->lay;
+    VkExtent2D e = picture_extent(p->pic);
+    uint8_t *px = picture_begin(p->pic);
+    int r, g, b;
+    picture_channels(p->pic, &r, &g, &b);
+    for (uint32_t sy = 0; sy < p->sh; sy++)
+        for (uint32_t sx = 0; sx < p->sw; sx++) {
+            int dx = l->x[slot] + (int)sx, dy = l->y + (int)sy;
+            switch (l->compose) {
+            case FRAME_COMPOSE_SBS:
+                dx = sx < (uint32_t)l->pw ? l->x[slot] + (int)sx : l->ew + l->x[slot] + (int)sx - l->pw;
+                break;
+            case FRAME_COMPOSE_SBS_HALF:
+                dx = sx < (uint32_t)l->pw / 2 ? l->x[slot] / 2 + (int)sx : l->ew / 2 + l->x[slot] / 2 + (int)sx - l->pw / 2;
+                break;
+            case FRAME_COMPOSE_TB:
+                dy = sy < (uint32_t)l->ph ? l->y + (int)sy : l->eh + l->y + (int)sy - l->ph;
+                break;
+            default: break;
+            }
+            if (dx < 0 || dy < 0 || dx >= (int)e.width || dy >= (int)e.height)
+                continue;
+            const uint8_t *s = rgb + ((size_t)sy * p->sw + sx) * 3;
+            uint8_t *q = px + ((size_t)dy * e.width + (size_t)dx) * 4;
+            q[r] = s[0], q[g] = s[1], q[b] = s[2], q[3] = 255;
+        }
+}
+
+static void background(pref *p)
+{
+    VkExtent2D e = picture_extent(p->pic);
+    picture_begin(p->pic);
+    picture_fill(p->pic, 0, 0, (int)e.width, (int)e.height, k_back);
+}
+
+/* Shows the picture; a stale swapchain is rebuilt (and the layout with it:
+ * the caller starts the trial again when *relayout is set). */
+static vg_status show(pref *p, bool *relayout)
+{
+    frame_target t;
+    bool stale;
+    vg_status st = window_acquire(p->win, &t, &stale);
+    if (st == VG_OK && !stale) {
+        st = picture_present(p->pic, &t);
+        if (st == VG_OK)
+            st = window_present(p->win, &stale);
+    }
+    if (st == VG_OK && stale) {
+        picture_destroy(p->pic);
+        p->pic = NULL;
+        st = window_rebuild(p->win);
+        if (st == VG_OK)
+            st = picture_create(window_gpu(p->win), window_format(p->win), window_extent(p->win), &p->pic);
+        if (relayout)
+            *relayout = true;
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* A trial                                                                   */
+/* ------------------------------------------------------------------------- */
+
+static void clips_free(pref *p)
+{
+    for (int v = 0; v < 3; v++) {
+        free(p->clip[v]);
+        p->clip[v] = NULL;
+    }
+}
+
+static vg_status progress(pref *p, int trial, int done, int total)
+{
+    char line[96];
+    background(p);
+    snprintf(line, sizeof line, "Preparing trial %d of %d ... %d %%", trial + 1, p->d->trial_count,
+             100 * done / (total > 0 ? total : 1));
+    text_eyes(p, p->lay.ew / 2, p->lay.eh / 2 - 8, 2, line, k_text, true);
+    window_pump(p->win);
+    return show(p, NULL);
+}
+
+/* Renders the three versions of the clip: slot 0 left, 1 middle (g), 2 right. */
+static vg_status prerender(pref *p, int trial, scene *s, const frame_mode modes[3])
+{
+    gpu *g = window_gpu(p->win);
+    const pref_window_desc *d = p->d;
+    p->frames = (int)floor(s->duration * 60.0 / CLIP_STEP) + 1;
+    vg_status st = VG_OK;
+    for (int v = 0; v < 3 && st == VG_OK; v++) {
+        frame *f;
+        st = frame_create(g, s, &(frame_desc){
+            .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .fps = 60, .keyframe_stride = 10,
+            .readback = true, .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = modes[v],
+            .compose = p->lay.compose, .tess_error = d->win->tess_error > 0 ? d->win->tess_error : g->is_cpu ? 0.5 : 0.1,
+            .shadow_size = g->is_cpu ? 1024 : 0}, &f);
+        if (st != VG_OK) {
+            vg_error("the preference study shows the %s version beside the others; this build cannot render it",
+                     frame_mode_names[modes[v]]);
+            return st;
+        }
+        for (int k = 0; k < p->frames && st == VG_OK && !window_closed(p->win); k++) {
+            if ((st = frame_render(f, (long)k * CLIP_STEP)) != VG_OK)
+                break;
+            const frame_outputs *fo = frame_get_outputs(f);
+            p->sw = fo->stereo_width, p->sh = fo->stereo_height;
+            size_t n = (size_t)p->sw * p->sh;
+            if (!p->clip[v] && !(p->clip[v] = malloc(n * 3 * (size_t)p->frames))) {
+                st = VG_ERR_NOMEM;
+                break;
+            }
+            uint8_t *dst = p->clip[v] + n * 3 * (size_t)k;
+            for (size_t i = 0; i < n; i++)
+                memcpy(dst + 3 * i, fo->stereo + 4 * i, 3);
+            if (k % 8 == 0)
+                st = progress(p, trial, v * p->frames + k, 3 * p->frames);
+        }
+        frame_destroy(f);
+    }
+    return st;
+}
+
+/* Plays the clips in a loop until an answer: Left / Right or a click on a
+ * side panel, taken once the clip has been seen through. */
+static vg_status ask(pref *p, int trial, int *choice, double *response_s, bool *relayout)
+{
+    static const char *const labels[3] = {"A", "reference", "B"};
+    *choice = -1;
+    long t0 = -1;
+    while (*choice < 0 && !p->quit && !*relayout) {
+        window_event ev[32];
+        int n;
+        long tick = window_tick(p->win, ev, 32, &n);
+        if (window_closed(p->win) || (p->d->win->ticks && tick >= p->d->win->ticks)) {
+            p->quit = true;
+            break;
+        }
+        t0 = t0 < 0 ? tick : t0;
+        long t = tick - t0;
+        bool seen = t >= (long)p->frames * CLIP_STEP;
+        for (int i = 0; i < n; i++) {
+            const window_event *e = &ev[i];
+            if (e->kind == WINDOW_EVENT_KEY && (e->key == GLFW_KEY_ESCAPE || e->key == GLFW_KEY_Q))
+                p->quit = true;
+            else if (seen && e->kind == WINDOW_EVENT_KEY && (e->key == GLFW_KEY_LEFT || e->key == GLFW_KEY_RIGHT))
+                *choice = e->key == GLFW_KEY_RIGHT;
+            else if (seen && e->kind == WINDOW_EVENT_CLICK)
+                *choice = e->x < 0.4 ? 0 : e->x > 0.6 ? 1 : -1;
+        }
+        if (*choice >= 0) {
+            *response_s = (t - (double)p->frames * CLIP_STEP) / 60.0;
+            vg_info("study preference: trial %d: %s", trial, *choice ? "right" : "left");
+            break;
+        }
+        int k = (int)((t / CLIP_STEP) % p->frames);
+        size_t n3 = (size_t)p->sw * p->sh * 3;
+        background(p);
+        for (int v = 0; v < 3; v++) {
+            blit_panel(p, v, p->clip[v] + n3 * (size_t)k);
+            text_eyes(p, p->lay.x[v] + p->lay.pw / 2, p->lay.y - 22, 2, labels[v], v == 1 ? k_title : k_text, true);
+        }
+        char line[96];
+        snprintf(line, sizeof line, "Trial %d of %d", trial + 1, p->d->trial_count);
+        text_eyes(p, 12, 10, 2, line, k_title, false);
+        text_eyes(p, p->lay.ew / 2, p->lay.y + p->lay.ph + 12, 2,
+                  seen ? "Which side moves more like the reference?  Left or Right"
+                       : "Watch how the objects move ...", k_text, true);
+        vg_status st = show(p, relayout);
+        if (st != VG_OK)
+            return st;
+    }
+    return VG_OK;
+}
+
+static vg_status trial_run(pref *p, int trial)
+{
+    const pref_window_desc *d = p->d;
+    pref_cell c = pref_cell_of(d->cells[trial]);
+    char path[1100];
+    scene *s = NULL;
+    vg_status st = pref_scene_path(d->arena_path, c.scene, path, sizeof path);
+    if (st == VG_OK)
+        st = scene_load(path, &s);
+    int moving = st == VG_OK ? pref_moving_node(s) : -1;
+    if (st == VG_OK && moving < 0) {
+        vg_error("%s: no animated object to compare", path);
+        st = VG_ERR_FORMAT;
+    }
+    frame_mode side[2] = {FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED};
+    const frame_mode modes[3] = {side[c.optimized_right ? 0 : 1], FRAME_MODE_ORIGINAL, side[c.optimized_right ? 1 : 0]};
+    for (bool again = true; again && st == VG_OK && !p->quit;) {
+        again = false;
+        layout_make(p);
+        pref_saliency_apply(s, moving, c.saliency);
+        st = prerender(p, trial, s, modes);
+        int choice;
+        double response;
+        if (st == VG_OK)
+            st = ask(p, trial, &choice, &response, &again);
+        if (st == VG_OK && !again && choice >= 0)
+            st = d->on_choice(d->user, trial, choice, response);
+        clips_free(p);
+    }
+    scene_destroy(s);
+    return st;
+}
+
+vg_status pref_window_run(const pref_window_desc *d)
+{
+    pref p = {.d = d};
+    vg_status st = window_create(&(window_desc){.title = "vergence preference study", .width = d->win->size[0],
+                                                .height = d->win->size[1], .fullscreen = d->win->fullscreen,
+                                                .gpu = &d->win->gpu, .replay = d->win->replay,
+                                                .record = d->win->record}, &p.win);
+    gpu *g = p.win ? window_gpu(p.win) : NULL;
+    if (st == VG_OK)
+        st = picture_create(g, window_format(p.win), window_extent(p.win), &p.pic);
+    for (int t = d->first_trial; t < d->trial_count && st == VG_OK && !p.quit; t++)
+        st = trial_run(&p, t);
+    clips_free(&p);
+    picture_destroy(p.pic);
+    if (p.win)
+        window_destroy(p.win);
+    if (g && gpu_cli_close(g, st) && st == VG_OK)
+        st = VG_ERR_VALIDATION;
+    return st;
+}

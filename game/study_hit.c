@@ -1,0 +1,220 @@
+/* vergence — the hit-prediction study (paper Sec. 5, Fig. 7): schedule,
+ * CSV rows, resume checks, and the two players (a person, the model). */
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/log.h"
+#include "observer.h"
+#include "study.h"
+#include "study_log.h"
+
+static const char *const k_columns[] = {
+    "participant", "study", "trial", "seed", "condition", "direction", "path", "operator", "observer",
+    "visible_s", "start_x", "start_y", "start_z", "velocity_x", "velocity_y", "velocity_z", "gravity",
+    "flight_s", "ground_x", "ground_y", "ground_z", "click_u", "click_v", "error_m", "response_s", "utc",
+};
+enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_CONDITION, COL_DIRECTION, COL_PATH, COL_COUNT = 26 };
+_Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
+
+typedef struct hit_run {
+    const study_opts *o;
+    study_log log;
+    uint64_t seed;
+    int trials;
+    int *cells;
+    const char *who;              /* "human" or "model" */
+} hit_run;
+
+void study_utc_now(char *out, size_t cap)
+{
+    time_t now = time(NULL);
+    struct tm tm;
+    gmtime_r(&now, &tm);
+    strftime(out, cap, "%Y-%m-%dT%H:%M:%SZ", &tm);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Rows                                                                      */
+/* ------------------------------------------------------------------------- */
+
+static vg_status log_trial(hit_run *r, const play_trial *t)
+{
+    char buf[COL_COUNT][64];
+    const char *f[COL_COUNT];
+    const game_throw *th = t->th;
+    snprintf(buf[0], 64, "%s", r->o->participant);
+    snprintf(buf[1], 64, "hit");
+    snprintf(buf[2], 64, "%d", t->trial);
+    snprintf(buf[3], 64, "%" PRIu64, r->seed);
+    snprintf(buf[4], 64, "%s", frame_mode_names[t->mode]);
+    snprintf(buf[5], 64, "%s", game_direction_names[th->direction]);
+    snprintf(buf[6], 64, "%s", game_path_names[th->path]);
+    snprintf(buf[7], 64, "%s", game_operator_names[r->o->op]);
+    snprintf(buf[8], 64, "%s", r->who);
+    snprintf(buf[9], 64, "%.3f", th->visible_s);
+    for (int k = 0; k < 3; k++) {
+        snprintf(buf[10 + k], 64, "%.4f", th->start[k]);
+        snprintf(buf[13 + k], 64, "%.4f", th->velocity[k]);
+        snprintf(buf[18 + k], 64, "%.4f", th->ground[k]);
+    }
+    snprintf(buf[16], 64, "%.2f", th->gravity);
+    snprintf(buf[17], 64, "%.4f", th->flight_s);
+    snprintf(buf[21], 64, "%.5f", t->click_u);
+    snprintf(buf[22], 64, "%.5f", t->click_v);
+    snprintf(buf[23], 64, "%.4f", t->error_m);
+    snprintf(buf[24], 64, "%.3f", t->response_s);
+    study_utc_now(buf[25], 64);
+    for (int i = 0; i < COL_COUNT; i++)
+        f[i] = buf[i];
+    return study_log_append(&r->log, f);
+}
+
+static vg_status on_trial(void *user, const play_trial *t)
+{
+    hit_run *r = user;
+    vg_status st = log_trial(r, t);
+    if (st == VG_OK)
+        vg_progress("study hit", t->trial + 1, r->trials);
+    return st;
+}
+
+/* Every row read back must be the trial the schedule puts there. */
+static vg_status check_rows(hit_run *r)
+{
+    const study_log *l = &r->log;
+    for (int i = 0; i < l->rows_read; i++) {
+        game_cell c = game_hit_cell(r->cells[i]);
+        char want[32];
+        snprintf(want, sizeof want, "%d", i);
+        const char *problem = NULL;
+        if (strcmp(study_log_cell(l, i, COL_STUDY), "hit"))
+            problem = "is not a hit-study trial";
+        else if (strcmp(study_log_cell(l, i, COL_TRIAL), want))
+            problem = "does not hold the next trial number";
+        else if (strcmp(study_log_cell(l, i, COL_CONDITION), frame_mode_names[FRAME_MODE_ORIGINAL + c.condition]) ||
+                 strcmp(study_log_cell(l, i, COL_DIRECTION), game_direction_names[c.direction]) ||
+                 strcmp(study_log_cell(l, i, COL_PATH), game_path_names[c.path]))
+            problem = "does not match the schedule of its seed";
+        if (problem) {
+            vg_error("%s: line %d %s: the file is corrupt (left as it is)", l->path, i + 2, problem);
+            return VG_ERR_FORMAT;
+        }
+    }
+    return VG_OK;
+}
+
+/* The seed: the file's when resuming, else --seed, else the participant's. */
+static vg_status pick_seed(hit_run *r)
+{
+    const study_opts *o = r->o;
+    r->seed = o->seed >= 0 ? (uint64_t)o->seed : game_seed_from_text(o->participant);
+    if (r->log.rows_read == 0)
+        return VG_OK;
+    const char *s = study_log_cell(&r->log, 0, COL_SEED);
+    char *end;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (!*s || *end) {
+        vg_error("%s: line 2 has seed '%s', not a number: the file is corrupt (left as it is)", r->log.path, s);
+        return VG_ERR_FORMAT;
+    }
+    if (o->seed >= 0 && v != (uint64_t)o->seed) {
+        vg_error("%s was run with --seed %llu, not %d: resume without --seed (or with the same one)",
+                 r->log.path, v, o->seed);
+        return VG_ERR_ARG;
+    }
+    r->seed = v;
+    for (int i = 1; i < r->log.rows_read; i++)
+        if (strcmp(study_log_cell(&r->log, i, COL_SEED), s)) {
+            vg_error("%s: line %d has another seed than line 2: the file is corrupt (left as it is)",
+                     r->log.path, i + 2);
+            return VG_ERR_FORMAT;
+        }
+    return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Players                                                                   */
+/* ------------------------------------------------------------------------- */
+
+static vg_status run_model(hit_run *r, const char *scene_path)
+{
+    const study_opts *o = r->o;
+    scene *s;
+    vg_status st = scene_load(scene_path, &s);
+    if (st != VG_OK)
+        return st;
+    int ball = scene_find_node(s, "ball");
+    observer *obs = NULL;
+    if (ball < 0) {
+        vg_error("%s has no node named 'ball' to throw (see docs/content.md)", scene_path);
+        st = VG_ERR_FORMAT;
+    }
+    if (st == VG_OK)
+        st = observer_create(&(observer_desc){
+            .view = {.scene = s, .moving_node = ball, .display = game_display_desc(&o->display),
+                     .op = (disp_operator_kind)(o->op + 1), .preset = DISP_PRESET_STUDY},
+            .weber_k = o->weber_k}, &obs);
+    for (int i = r->log.rows; i < r->trials && st == VG_OK; i++) {
+        game_cell c = game_hit_cell(r->cells[i]);
+        game_rng rt = game_rng_make(r->seed, 2 * (uint64_t)i + 1), rn = game_rng_make(r->seed, 2 * (uint64_t)i + 2);
+        game_throw th;
+        game_throw_make(&(game_throw_desc){.path = c.path, .direction = c.direction, .visible_s = o->visible_s},
+                        observer_camera(obs), &rt, &th);
+        frame_mode mode = (frame_mode)(FRAME_MODE_ORIGINAL + c.condition);
+        observer_result res;
+        st = observer_play(obs, &th, mode, &rn, &res);
+        if (st == VG_OK)
+            st = on_trial(r, &(play_trial){.trial = i, .th = &th, .mode = mode, .click_u = res.click_u,
+                                            .click_v = res.click_v, .error_m = res.error_m});
+    }
+    observer_destroy(obs);
+    scene_destroy(s);
+    return st;
+}
+
+vg_status study_hit_run(const study_opts *o)
+{
+    char buf[1024];
+    const char *scene_path = game_scene_path(o->scene, buf, sizeof buf);
+    if (!scene_path)
+        return VG_ERR_IO;
+    hit_run r = {.o = o, .who = o->observer ? "model" : "human"};
+    vg_status st = study_log_open(&(study_log_desc){
+        .path = o->out, .kind = "hit", .columns = k_columns, .column_count = COL_COUNT,
+        .participant = o->participant, .resume = o->resume}, &r.log);
+    if (st == VG_OK)
+        st = pick_seed(&r);
+    r.trials = o->trials > 0 ? o->trials : 48;
+    int scheduled = r.trials > r.log.rows_read ? r.trials : r.log.rows_read;
+    if (st == VG_OK && !(r.cells = malloc((size_t)scheduled * sizeof(int))))
+        st = VG_ERR_NOMEM;
+    if (st == VG_OK) {
+        game_schedule(r.seed, GAME_HIT_CELLS, scheduled, r.cells);
+        st = check_rows(&r);
+    }
+    if (st == VG_OK && r.log.rows > 0)
+        vg_info("study hit: %s holds %d finished trial(s) of participant %s: continuing at trial %d",
+                o->out, r.log.rows, o->participant, r.log.rows);
+    if (st == VG_OK && r.log.rows < r.trials) {
+        if (o->observer)
+            st = run_model(&r, scene_path);
+        else
+            st = play_session_run(&(play_session_desc){
+                .win = &o->win, .scene_path = scene_path, .op = (disp_operator_kind)(o->op + 1),
+                .display = game_display_desc(&o->display), .visible_s = o->visible_s, .seed = r.seed,
+                .cells = r.cells, .first_trial = r.log.rows, .trial_count = r.trials, .on_trial = on_trial,
+                .user = &r});
+    }
+    if (st == VG_OK)
+        vg_info("study hit: participant %s: %d of %d trial(s) in %s (seed %" PRIu64 ")", o->participant,
+                r.log.rows, r.trials, o->out, r.seed);
+    free(r.cells);
+    if (st == VG_OK)
+        study_log_close(&r.log);
+    else
+        study_log_abandon(&r.log);
+    return st;
+}

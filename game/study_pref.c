@@ -1,0 +1,254 @@
+/* vergence — the preference study (paper Sec. 5): which of two compressed
+ * versions of a scene, h (the operator alone) or f (optimized), moves more
+ * like the unmodified reference g shown between them? Two-alternative
+ * forced choice; sides randomised; saliency on the moving or on the static
+ * objects, as in the paper ("to simulate the artist's intention"). */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "observer.h"
+#include "pref_window.h"
+#include "study.h"
+#include "study_log.h"
+
+static const char *const k_columns[] = {
+    "participant", "study", "trial", "seed", "scene", "saliency", "optimized_side", "operator", "observer",
+    "choice", "chose_optimized", "response_s", "utc",
+};
+enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_SCENE, COL_SALIENCY, COL_SIDE, COL_COUNT = 13 };
+_Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
+
+const char *const pref_scene_names[PREF_SCENES] = {"balloon", "cubes", "arena"};
+const char *const pref_saliency_names[2] = {"moving", "static"};
+static const char *const k_sides[2] = {"left", "right"};
+
+/* Cell c: scene (3) x saliency (2) x side of the optimized version (2). */
+pref_cell pref_cell_of(int c)
+{
+    return (pref_cell){.scene = c / 4, .saliency = (c / 2) % 2, .optimized_right = c % 2};
+}
+
+/* ------------------------------------------------------------------------- */
+/* Scenes: the moving object, the saliency variant, its track                */
+/* ------------------------------------------------------------------------- */
+
+/* The moving object: the node an animation translates (one per scene). */
+int pref_moving_node(const scene *s)
+{
+    for (int c = 0; c < s->channel_count; c++)
+        if (s->channels[c].path == SCENE_PATH_TRANSLATION)
+            return s->channels[c].node;
+    return -1;
+}
+
+/* Saliency on the static objects instead: the landmarks get the moving
+ * object's weight and it gets theirs (ground and sky stay as they are). */
+void pref_saliency_apply(scene *s, int moving, int variant)
+{
+    if (variant == 0)
+        return;
+    for (int i = 0; i < s->instance_count; i++) {
+        scene_instance *in = &s->instances[i];
+        if (in->node == moving)
+            in->saliency = 0.1f;
+        else if (in->saliency >= 0.2f)
+            in->saliency = 1.0f;
+    }
+}
+
+vg_status pref_scene_path(const char *arena_path, int scene_index, char *out, size_t cap)
+{
+    /* The three scenes sit together in content/. */
+    const char *slash = strrchr(arena_path, '/');
+    int dir = slash ? (int)(slash - arena_path + 1) : 0;
+    int n = snprintf(out, cap, "%.*s%s.gltf", dir, arena_path, pref_scene_names[scene_index]);
+    return n > 0 && (size_t)n < cap ? VG_OK : VG_ERR_ARG;
+}
+
+/* ------------------------------------------------------------------------- */
+/* The model                                                                 */
+/* ------------------------------------------------------------------------- */
+
+typedef struct model_scene {
+    scene *scene;
+    observer *obs;
+    double (*track)[3];
+    int frames;
+} model_scene;
+
+static vg_status model_scene_load(const study_opts *o, const char *arena, int index, int variant, model_scene *m)
+{
+    char path[1100];
+    vg_status st = pref_scene_path(arena, index, path, sizeof path);
+    if (st == VG_OK)
+        st = scene_load(path, &m->scene);
+    if (st != VG_OK)
+        return st;
+    int moving = pref_moving_node(m->scene);
+    if (moving < 0) {
+        vg_error("%s: no animated object to compare", path);
+        return VG_ERR_FORMAT;
+    }
+    pref_saliency_apply(m->scene, moving, variant);
+    m->frames = (int)lround(m->scene->duration * 60.0) + 1;
+    m->track = malloc((size_t)m->frames * sizeof *m->track);
+    scene_state ss;
+    if (!m->track || scene_state_init(m->scene, &ss) != VG_OK)
+        return VG_ERR_NOMEM;
+    for (int i = 0; i < m->frames; i++) {
+        scene_evaluate(m->scene, (float)(i / 60.0), &ss);
+        for (int k = 0; k < 3; k++)
+            m->track[i][k] = ss.world[(size_t)moving * 16 + 12 + (size_t)k];
+    }
+    scene_state_free(&ss);
+    return observer_create(&(observer_desc){
+        .view = {.scene = m->scene, .moving_node = moving, .display = game_display_desc(&o->display),
+                 .op = (disp_operator_kind)(o->op + 1), .preset = DISP_PRESET_STUDY},
+        .weber_k = o->weber_k}, &m->obs);
+}
+
+static void model_scene_free(model_scene *m)
+{
+    observer_destroy(m->obs);
+    scene_destroy(m->scene);
+    free(m->track);
+    *m = (model_scene){0};
+}
+
+/* ------------------------------------------------------------------------- */
+/* Study                                                                     */
+/* ------------------------------------------------------------------------- */
+
+typedef struct pref_run {
+    const study_opts *o;
+    study_log log;
+    uint64_t seed;
+    int trials;
+    int *cells;
+} pref_run;
+
+static vg_status log_choice(void *user, int trial, int choice_right, double response_s)
+{
+    pref_run *r = user;
+    pref_cell c = pref_cell_of(r->cells[trial]);
+    char buf[COL_COUNT][64];
+    const char *f[COL_COUNT];
+    snprintf(buf[0], 64, "%s", r->o->participant);
+    snprintf(buf[1], 64, "preference");
+    snprintf(buf[2], 64, "%d", trial);
+    snprintf(buf[3], 64, "%" PRIu64, r->seed);
+    snprintf(buf[4], 64, "%s", pref_scene_names[c.scene]);
+    snprintf(buf[5], 64, "%s", pref_saliency_names[c.saliency]);
+    snprintf(buf[6], 64, "%s", k_sides[c.optimized_right]);
+    snprintf(buf[7], 64, "%s", game_operator_names[r->o->op]);
+    snprintf(buf[8], 64, "%s", r->o->observer ? "model" : "human");
+    snprintf(buf[9], 64, "%s", k_sides[choice_right]);
+    snprintf(buf[10], 64, "%d", choice_right == c.optimized_right);
+    snprintf(buf[11], 64, "%.3f", response_s);
+    study_utc_now(buf[12], 64);
+    for (int i = 0; i < COL_COUNT; i++)
+        f[i] = buf[i];
+    vg_status st = study_log_append(&r->log, f);
+    if (st == VG_OK)
+        vg_progress("study preference", trial + 1, r->trials);
+    return st;
+}
+
+static vg_status run_model(pref_run *r, const char *arena)
+{
+    model_scene ms[PREF_SCENES][2] = {{{0}}};
+    vg_status st = VG_OK;
+    for (int i = r->log.rows; i < r->trials && st == VG_OK; i++) {
+        pref_cell c = pref_cell_of(r->cells[i]);
+        model_scene *m = &ms[c.scene][c.saliency];
+        if (!m->obs && (st = model_scene_load(r->o, arena, c.scene, c.saliency, m)) != VG_OK)
+            break;
+        game_rng noise = game_rng_make(r->seed, 2 * (uint64_t)i + 2);
+        frame_mode left = c.optimized_right ? FRAME_MODE_MANIPULATED : FRAME_MODE_OPTIMIZED;
+        frame_mode right = c.optimized_right ? FRAME_MODE_OPTIMIZED : FRAME_MODE_MANIPULATED;
+        int choice;
+        st = observer_prefer(m->obs, (const double (*)[3])m->track, m->frames, left, right, FRAME_MODE_ORIGINAL,
+                             &noise, &choice);
+        if (st == VG_OK)
+            st = log_choice(r, i, choice, 0.0);
+    }
+    for (int s = 0; s < PREF_SCENES; s++)
+        for (int v = 0; v < 2; v++)
+            model_scene_free(&ms[s][v]);
+    return st;
+}
+
+static vg_status check_rows(pref_run *r)
+{
+    const study_log *l = &r->log;
+    for (int i = 0; i < l->rows_read; i++) {
+        pref_cell c = pref_cell_of(r->cells[i]);
+        char want[32], seed[32];
+        snprintf(want, sizeof want, "%d", i);
+        snprintf(seed, sizeof seed, "%" PRIu64, r->seed);
+        if (strcmp(study_log_cell(l, i, COL_STUDY), "preference") || strcmp(study_log_cell(l, i, COL_TRIAL), want) ||
+            strcmp(study_log_cell(l, i, COL_SEED), seed) ||
+            strcmp(study_log_cell(l, i, COL_SCENE), pref_scene_names[c.scene]) ||
+            strcmp(study_log_cell(l, i, COL_SALIENCY), pref_saliency_names[c.saliency]) ||
+            strcmp(study_log_cell(l, i, COL_SIDE), k_sides[c.optimized_right])) {
+            vg_error("%s: line %d is not trial %d of seed %" PRIu64 "'s schedule: the file is corrupt (left as it "
+                     "is)", l->path, i + 2, i, r->seed);
+            return VG_ERR_FORMAT;
+        }
+    }
+    return VG_OK;
+}
+
+vg_status study_preference_run(const study_opts *o)
+{
+    char buf[1024];
+    const char *arena = game_scene_path(o->scene, buf, sizeof buf);
+    if (!arena)
+        return VG_ERR_IO;
+    pref_run r = {.o = o};
+    vg_status st = study_log_open(&(study_log_desc){
+        .path = o->out, .kind = "preference", .columns = k_columns, .column_count = COL_COUNT,
+        .participant = o->participant, .resume = o->resume}, &r.log);
+    r.seed = o->seed >= 0 ? (uint64_t)o->seed : game_seed_from_text(o->participant);
+    if (st == VG_OK && r.log.rows_read > 0) {
+        const char *s = study_log_cell(&r.log, 0, COL_SEED);
+        uint64_t v = strtoull(s, NULL, 10);
+        if (o->seed >= 0 && v != (uint64_t)o->seed) {
+            vg_error("%s was run with --seed %s, not %d: resume without --seed (or with the same one)", o->out, s,
+                     o->seed);
+            st = VG_ERR_ARG;
+        }
+        r.seed = v;
+    }
+    r.trials = o->trials > 0 ? o->trials : 24;
+    int scheduled = r.trials > r.log.rows_read ? r.trials : r.log.rows_read;
+    if (st == VG_OK && !(r.cells = malloc((size_t)scheduled * sizeof(int))))
+        st = VG_ERR_NOMEM;
+    if (st == VG_OK) {
+        game_schedule(r.seed, PREF_CELLS, scheduled, r.cells);
+        st = check_rows(&r);
+    }
+    if (st == VG_OK && r.log.rows > 0)
+        vg_info("study preference: %s holds %d finished trial(s): continuing at trial %d", o->out, r.log.rows,
+                r.log.rows);
+    if (st == VG_OK && r.log.rows < r.trials)
+        st = o->observer ? run_model(&r, arena)
+                         : pref_window_run(&(pref_window_desc){
+                               .win = &o->win, .arena_path = arena, .op = (disp_operator_kind)(o->op + 1),
+                               .display = game_display_desc(&o->display), .cells = r.cells,
+                               .first_trial = r.log.rows, .trial_count = r.trials, .on_choice = log_choice,
+                               .user = &r});
+    if (st == VG_OK)
+        vg_info("study preference: participant %s: %d of %d trial(s) in %s (seed %" PRIu64 ")", o->participant,
+                r.log.rows, r.trials, o->out, r.seed);
+    free(r.cells);
+    if (st == VG_OK)
+        study_log_close(&r.log);
+    else
+        study_log_abandon(&r.log);
+    return st;
+}
