@@ -327,6 +327,20 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
         .draw_indirect_count = f12q.drawIndirectCount,
     };
 
+    /* Tests pretend a feature is missing: VERGENCE_DISABLE=tessellation,multiview,... */
+    const char *off = getenv("VERGENCE_DISABLE");
+    if (off && *off) {
+        if (strstr(off, "tessellation"))
+            g->features.tessellation = g->features.multiview_tessellation = false;
+        if (strstr(off, "multiview"))
+            g->features.multiview = g->features.multiview_tessellation = false;
+        if (strstr(off, "timestamps"))
+            g->features.timestamps = false;
+        if (strstr(off, "indirect"))
+            g->features.multi_draw_indirect = g->features.draw_indirect_count = false;
+        vg_warn("VERGENCE_DISABLE=%s: pretending the device lacks these features", off);
+    }
+
     VkPhysicalDeviceVulkan13Features f13 = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
         .dynamicRendering = VK_TRUE,

@@ -155,6 +155,35 @@ def case_assets():
     print(f"{len(models)} models loaded and captured")
 
 
+def case_device_limits():
+    """A device without a feature: one clear error, or a fallback that works."""
+    tmp = tempfile.mkdtemp(prefix="vergence_limits_")
+    env = dict(os.environ, VERGENCE_DISABLE="tessellation")
+    p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--size", "64x36", "--out", tmp],
+                       capture_output=True, text=True, timeout=300, env=env)
+    errors = [l for l in p.stderr.splitlines() if "error" in l]
+    print(f"no tessellation, warp: exit {p.returncode}: {errors}")
+    if not (0 < p.returncode < 128 and len(errors) == 1 and "tessellation" in errors[0]):
+        sys.exit("FAIL: a device without tessellation must give one clear error for the warp")
+    if os.path.exists(os.path.join(tmp, "capture.json")):
+        sys.exit("FAIL: capture.json written despite the error")
+    p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--size", "64x36", "--out", tmp,
+                        "--stereo-render", "cameras"], capture_output=True, text=True, timeout=300, env=env)
+    print(f"no tessellation, two cameras: exit {p.returncode}")
+    if p.returncode != 0:
+        sys.exit(f"FAIL: the two-camera stereo needs no tessellation:\n{p.stderr}")
+    # No multi-draw indirect and no timestamps: the warp still renders.
+    env = dict(os.environ, VERGENCE_DISABLE="indirect,timestamps,multiview")
+    p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--size", "64x36", "--out", tmp],
+                       capture_output=True, text=True, timeout=300, env=env)
+    if p.returncode != 0:
+        sys.exit(f"FAIL: the warp without indirect counts, timestamps or multiview:\n{p.stderr}")
+    j = json.load(open(os.path.join(tmp, "capture.json")))
+    if j["hole_fraction"] != 0 or j["psnr_db"]["right"] < 35:
+        sys.exit(f"FAIL: fallback warp wrong: holes {j['hole_fraction']}, PSNR {j['psnr_db']}")
+    print("fallbacks render: holes 0, PSNR", j["psnr_db"])
+
+
 def case_dump_graph():
     tmp = tempfile.mkdtemp(prefix="vergence_graph_")
     dot = os.path.join(tmp, "frame.dot")
