@@ -1,0 +1,243 @@
+#!/usr/bin/env python3
+"""Studies, their CSV logs and the analysis tool, as a user runs them (issue 6).
+
+usage: study_test.py VERGENCE CASE     (run by CTest under /usr/bin/python3)
+
+  study       a simulated-observer hit study (>= 300 trials per condition,
+              fixed seed) through tools/analyze_study.py; the observer errs
+              more under manipulated than under original disparity
+  analysis    the tool's F, degrees of freedom, p and binomial test against an
+              independent computation and scipy on fixed CSVs
+  durability  kill -9 during a study leaves every finished trial, parseable;
+              --resume continues at the next trial and ends where an
+              uninterrupted run ends
+  bad_input   missing or bad participant, another participant's file, an
+              existing file, corrupt files, no display: one error, nothing
+              overwritten
+"""
+import csv
+import hashlib
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+TOOL = os.path.join(ROOT, "tools", "analyze_study.py")
+
+
+def fail(msg):
+    sys.exit(f"FAIL: {msg}")
+
+
+def run(args, ok=True, env=None, timeout=600):
+    p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=timeout, env=env)
+    if ok and p.returncode != 0:
+        fail(f"vergence {' '.join(args)} exited {p.returncode}\n{p.stderr}")
+    return p
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        r = list(csv.reader(f))
+    if not r or any(len(x) != len(r[0]) for x in r):
+        fail(f"{path}: torn or ragged CSV")
+    return r
+
+
+def one_error(p, must, what):
+    lines = [l for l in p.stderr.splitlines() if l.strip()]
+    errors = [l for l in lines if "error" in l]
+    print(f"{what}: exit {p.returncode}: {p.stderr.strip()}")
+    if not 0 < p.returncode < 128:
+        fail(f"{what}: exit code {p.returncode} (want 1..127)")
+    if len(errors) != 1:
+        fail(f"{what}: want one error line, got {len(errors)}: {lines}")
+    if must not in errors[0]:
+        fail(f"{what}: the error does not say '{must}'")
+
+
+def sha(path):
+    return hashlib.sha256(open(path, "rb").read()).hexdigest()
+
+
+def model(args, out, **kw):
+    return run(["study", "hit", "--observer", "model"] + args + ["--out", out], **kw)
+
+
+# ---------------------------------------------------------------------------
+
+def case_study():
+    tmp = tempfile.mkdtemp(prefix="vergence_study_")
+    out = os.path.join(tmp, "sim.csv")
+    t0 = time.time()
+    model(["--participant", "sim", "--trials", "960", "--seed", "2024"], out)
+    r = rows(out)
+    header, data = r[0], r[1:]
+    col = {n: i for i, n in enumerate(header)}
+    counts = {c: sum(1 for x in data if x[col["condition"]] == c) for c in ("original", "manipulated", "optimized")}
+    print(f"960 simulated trials in {time.time() - t0:.1f} s: {counts}")
+    if len(data) != 960 or min(counts.values()) < 300:
+        fail(f"want 960 trials, >= 300 per condition: {len(data)}, {counts}")
+    an = os.path.join(tmp, "analysis")
+    p = subprocess.run([sys.executable, TOOL, out, "--out", an], capture_output=True, text=True, timeout=300)
+    if p.returncode:
+        fail(f"analyze_study.py exited {p.returncode}\n{p.stderr}")
+    print(p.stdout)
+    s = json.load(open(os.path.join(an, "summary.json")))["hit"]
+    for f in ("hit_errors.png", "summary.md"):
+        data_ = open(os.path.join(an, f), "rb").read()
+        if not data_ or (f.endswith(".png") and data_[:8] != b"\x89PNG\r\n\x1a\n"):
+            fail(f"{f} missing or not a PNG")
+    orig, mani = s["conditions"]["original"]["all"], s["conditions"]["manipulated"]["all"]
+    # Physics: compressed disparity moves the ball wrongly in depth, so a
+    # disparity-only observer misses by more (and the CIs do not overlap).
+    if not (mani["mean"] > orig["mean"] and mani["ci95"][0] > orig["ci95"][1]):
+        fail(f"manipulated {mani} is not worse than original {orig}")
+    if not s["anova"]["all"]["p"] < 0.01 or s["anova"]["all"]["df"] != [2, 957]:
+        fail(f"ANOVA {s['anova']['all']}")
+
+
+def case_analysis():
+    import numpy as np
+    from scipy import stats
+    tmp = tempfile.mkdtemp(prefix="vergence_analysis_")
+    hit = os.path.join(HERE, "data", "hit_fixed.csv")
+    pref = os.path.join(HERE, "data", "preference_fixed.csv")
+    # Through `python3` on PATH too: the tool re-runs itself under Debian's python.
+    for py in (sys.executable, "python3"):
+        p = subprocess.run([py, TOOL, hit, pref, "--out", tmp], capture_output=True, text=True, timeout=300)
+        if p.returncode:
+            fail(f"{py} analyze_study.py exited {p.returncode}\n{p.stderr}")
+    s = json.load(open(os.path.join(tmp, "summary.json")))
+    data = list(csv.DictReader(open(hit)))
+    for d in ("all", "near-to-far", "far-to-near"):
+        groups = [np.array([float(r["error_m"]) for r in data if r["condition"] == c and d in ("all", r["direction"])])
+                  for c in ("original", "manipulated", "optimized")]
+        # F by hand: between- and within-group sums of squares.
+        allv = np.concatenate(groups)
+        ssb = sum(len(g) * (g.mean() - allv.mean()) ** 2 for g in groups)
+        ssw = sum(((g - g.mean()) ** 2).sum() for g in groups)
+        dfb, dfw = len(groups) - 1, len(allv) - len(groups)
+        F = (ssb / dfb) / (ssw / dfw)
+        p_ = stats.f.sf(F, dfb, dfw)
+        ref = stats.f_oneway(*groups)
+        a = s["hit"]["anova"][d]
+        print(f"{d}: tool F({a['df'][0]}, {a['df'][1]}) = {a['F']:.6f}, p = {a['p']:.6g}; "
+              f"by hand F = {F:.6f}, p = {p_:.6g}; scipy F = {ref.statistic:.6f}, p = {ref.pvalue:.6g}")
+        if a["df"] != [dfb, dfw] or abs(a["F"] - F) > 1e-9 * F or abs(a["p"] - p_) > 1e-9 * max(p_, 1e-300) \
+                or abs(a["F"] - ref.statistic) > 1e-9 * F or abs(a["p"] - ref.pvalue) > 1e-12:
+            fail(f"{d}: the tool's ANOVA differs")
+        for c, g in zip(("original", "manipulated", "optimized"), groups):
+            m = s["hit"]["conditions"][c][d]
+            half = stats.t.ppf(0.975, len(g) - 1) * g.std(ddof=1) / np.sqrt(len(g))
+            if abs(m["mean"] - g.mean()) > 1e-12 or abs(m["ci95"][1] - g.mean() - half) > 1e-9:
+                fail(f"{c} {d}: mean/CI {m} vs {g.mean()} +- {half}")
+    prefs = list(csv.DictReader(open(pref)))
+    k, n = sum(int(r["chose_optimized"]) for r in prefs), len(prefs)
+    b = stats.binomtest(k, n, 0.5)
+    t = s["preference"]["all"]
+    print(f"preference: tool {t['chose_optimized']}/{t['n']}, p = {t['p']:.6g}; scipy {k}/{n}, p = {b.pvalue:.6g}")
+    if t["n"] != n or t["chose_optimized"] != k or abs(t["p"] - b.pvalue) > 1e-12:
+        fail("the tool's binomial test differs")
+    for bad, code in ((os.path.join(tmp, "missing.csv"), 3), (os.path.join(HERE, "study_test.py"), 4)):
+        p = subprocess.run([sys.executable, TOOL, bad, "--out", tmp], capture_output=True, text=True)
+        if p.returncode != code or len([l for l in p.stderr.splitlines() if "error" in l]) != 1:
+            fail(f"analyze_study.py {bad}: exit {p.returncode} (want {code}), {p.stderr}")
+
+
+def case_durability():
+    tmp = tempfile.mkdtemp(prefix="vergence_k9_")
+    out, ref = os.path.join(tmp, "k9.csv"), os.path.join(tmp, "ref.csv")
+    args = ["study", "hit", "--observer", "model", "--participant", "k9", "--seed", "3"]
+    p = subprocess.Popen([VERGENCE] + args + ["--trials", "100000", "--out", out], stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while time.time() < deadline:
+        time.sleep(0.05)
+        if os.path.exists(out) and open(out, "rb").read().count(b"\n") > 40:
+            break
+    os.kill(p.pid, signal.SIGKILL)
+    p.wait()
+    r = rows(out)
+    done = len(r) - 1
+    trials = [int(x[2]) for x in r[1:]]
+    print(f"kill -9 left {done} finished trials")
+    if done < 40 or trials != list(range(done)):
+        fail(f"after kill -9: {done} trials numbered {trials[:5]}...")
+    total = done + 24
+    run(args + ["--trials", str(total), "--resume", "--out", out])
+    run(args + ["--trials", str(total), "--out", ref])
+    a, b = rows(out), rows(ref)
+    strip = lambda t: [x[:-1] for x in t]  # every column but the time of day
+    if len(a) != total + 1 or strip(a) != strip(b):
+        fail(f"resumed file ({len(a) - 1} trials) differs from an uninterrupted run ({len(b) - 1})")
+    before = sha(out)
+    q = run(args + ["--trials", str(total), "--resume", "--out", out])
+    if sha(out) != before:
+        fail("resuming a finished study changed the file")
+    print(f"resumed at trial {done}, ended at {total} as an uninterrupted run does; {q.stderr.strip()}")
+
+
+def case_bad_input():
+    tmp = tempfile.mkdtemp(prefix="vergence_bad_")
+    out = os.path.join(tmp, "a.csv")
+    hit = ["study", "hit", "--observer", "model"]
+    one_error(run(hit + ["--out", out], ok=False), "--participant", "no participant")
+    one_error(run(hit + ["--participant", "a,b", "--out", out], ok=False), "participant", "bad participant id")
+    one_error(run(hit + ["--participant", "a"], ok=False), "--out", "no --out")
+    one_error(run(["study", "bogus"], ok=False), "bogus", "unknown study")
+    if os.path.exists(out):
+        fail("a CSV was written despite the errors")
+    run(hit + ["--participant", "alice", "--trials", "6", "--out", out])
+    h = sha(out)
+    for args, must, what in (
+            (["--participant", "bob"], "belongs to participant 'alice'", "another participant's file"),
+            (["--participant", "bob", "--resume"], "belongs to participant 'alice'", "another participant, resume"),
+            (["--participant", "alice"], "already exists", "existing file without --resume"),
+            (["--participant", "alice", "--resume", "--seed", "99"], "--seed", "another seed on resume")):
+        one_error(run(hit + args + ["--trials", "12", "--out", out], ok=False), must, what)
+        if sha(out) != h:
+            fail(f"{what}: the file changed")
+    good = open(out).read()
+    lines = good.splitlines(keepends=True)
+    corrupt = {
+        "torn": good + "alice,hit,6,3",
+        "fields": good + "alice,hit,6\n",
+        "header": "participant,trial\n" + "".join(lines[1:]),
+        "binary": "\x00\x01garbage\n",
+        "empty": "",
+        "schedule": lines[0] + lines[2] + lines[1],
+    }
+    for name, text in corrupt.items():
+        path = os.path.join(tmp, f"{name}.csv")
+        open(path, "w").write(text)
+        h = sha(path)
+        one_error(run(hit + ["--participant", "alice", "--resume", "--trials", "12", "--out", path], ok=False),
+                  path, f"corrupt CSV ({name})")
+        if sha(path) != h:
+            fail(f"corrupt CSV ({name}) was changed")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    env.setdefault("XDG_RUNTIME_DIR", "/tmp")
+    one_error(run(["play"], ok=False, env=env), "display", "play without a display")
+    study_out = os.path.join(tmp, "human.csv")
+    one_error(run(["study", "hit", "--participant", "h", "--out", study_out], ok=False, env=env), "display",
+              "a human study without a display")
+    if os.path.exists(study_out):
+        fail("a study that could not open its window left a CSV behind")
+    replay = os.path.join(tmp, "bad.replay")
+    open(replay, "w").write("10 key H\n5 key Q\n")
+    one_error(run(["play", "--replay", replay], ok=False, env=env), "bad.replay:2", "replay out of order")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    VERGENCE = os.path.abspath(sys.argv[1])
+    os.chdir(ROOT)
+    {"study": case_study, "analysis": case_analysis, "durability": case_durability,
+     "bad_input": case_bad_input}[sys.argv[2]]()
+    print("ok")

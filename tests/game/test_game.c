@@ -1,0 +1,299 @@
+/* vergence — the game's rules, the scene pose hook, the simulated observer
+ * and the study CSV log (issue 6). */
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "../test.h"
+#include "game.h"
+#include "observer.h"
+#include "study_log.h"
+
+#define ARENA "content/arena.gltf"
+
+static int load_arena(scene **s, vg_camera *cam)
+{
+    if (scene_load(ARENA, s) != VG_OK)
+        return 1;
+    scene_state st;
+    if (scene_state_init(*s, &st) != VG_OK)
+        return 1;
+    scene_evaluate(*s, 0.0f, &st);
+    scene_camera_resolve(*s, &st, 0, 16.0f / 9.0f, cam);
+    scene_state_free(&st);
+    return 0;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Rules                                                                     */
+/* ------------------------------------------------------------------------- */
+
+/* A ray through a point's own projection passes through it; a point off the
+ * ray by a known distance reports that distance (the paper's error). */
+static int click_error(void)
+{
+    scene *s;
+    vg_camera cam;
+    CHECK(!load_arena(&s, &cam), "arena");
+    double p[3] = {2.5, 0.0, -20.0}, u, v;
+    double z = game_project(&cam, p, &u, &v);
+    CHECK(z > 19 && z < 21, "depth %g", z);
+    double e = game_click_error(&cam, u, v, p);
+    CHECK(e < 1e-6, "error through the point itself: %g m", e);
+    double o[3], d[3];
+    game_ray(&cam, u, v, o, d);
+    /* Move the target sideways, perpendicular to the ray, by 0.75 m. */
+    double side[3] = {d[2], 0.0, -d[0]}, len = sqrt(side[0] * side[0] + side[2] * side[2]);
+    double q[3] = {p[0] + 0.75 * side[0] / len, p[1], p[2] + 0.75 * side[2] / len};
+    e = game_click_error(&cam, u, v, q);
+    CHECK(fabs(e - 0.75) < 1e-6, "error %g m, want 0.75", e);
+    /* Projection agrees with the camera's own view-projection matrix. */
+    const float *m = cam.view_proj;
+    double cx = m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12], cy = m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13];
+    double cw = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15];
+    CHECK(fabs(0.5 + 0.5 * cx / cw - u) < 1e-5 && fabs(0.5 + 0.5 * cy / cw - v) < 1e-5,
+          "u %g v %g vs matrix %g %g", u, v, 0.5 + 0.5 * cx / cw, 0.5 + 0.5 * cy / cw);
+    scene_destroy(s);
+    return 0;
+}
+
+/* Every kind of throw lands on the ground at flight_s, in view all along,
+ * moving the way its direction says; the same stream gives the same throw. */
+static int throws(void)
+{
+    scene *s;
+    vg_camera cam;
+    CHECK(!load_arena(&s, &cam), "arena");
+    for (int c = 0; c < 4; c++)
+        for (int i = 0; i < 50; i++) {
+            game_throw_desc td = {.path = (game_path)(GAME_PATH_STRAIGHT + c % 2),
+                                  .direction = (game_direction)(GAME_DIR_NEAR_TO_FAR + c / 2)};
+            game_rng r = game_rng_make(42, (uint64_t)(c * 100 + i)), r2 = r;
+            game_throw a, b;
+            game_throw_make(&td, &cam, &r, &a);
+            game_throw_make(&td, &cam, &r2, &b);
+            CHECK(!memcmp(&a, &b, sizeof a), "throw %d/%d differs between two draws of one stream", c, i);
+            double p[3];
+            game_throw_position(&a, a.flight_s, p);
+            CHECK(fabs(p[1] - GAME_BALL_RADIUS) < 1e-9, "lands at height %g", p[1]);
+            CHECK(fabs(a.ground[1]) < 1e-12, "ground spot height %g", a.ground[1]);
+            double u, v, z0 = game_project(&cam, a.start, &u, &v), z1 = game_project(&cam, a.landing, &u, &v);
+            CHECK(c / 2 == 0 ? z1 > z0 + 8 : z1 < z0 - 8, "direction %s: depth %g -> %g",
+                  game_direction_names[a.direction], z0, z1);
+            for (int k = 0; k <= 20; k++) {
+                game_throw_position(&a, a.flight_s * k / 20, p);
+                game_project(&cam, p, &u, &v);
+                CHECK(u > 0 && u < 1 && v > 0 && v < 1 && p[1] >= GAME_BALL_RADIUS - 1e-9,
+                      "throw %d/%d leaves the view or the field at t %g: u %g v %g y %g", c, i,
+                      a.flight_s * k / 20, u, v, p[1]);
+            }
+        }
+    scene_destroy(s);
+    return 0;
+}
+
+/* Blocks of 12 hold every cell once; a trial's cell does not depend on the
+ * number of trials asked for (resume, extension). */
+static int schedule(void)
+{
+    int a[120], b[50];
+    game_schedule(7, GAME_HIT_CELLS, 120, a);
+    game_schedule(7, GAME_HIT_CELLS, 50, b);
+    CHECK(!memcmp(a, b, sizeof b), "the first 50 cells depend on the trial count");
+    for (int blk = 0; blk < 10; blk++) {
+        int seen[GAME_HIT_CELLS] = {0};
+        for (int i = 0; i < GAME_HIT_CELLS; i++)
+            seen[a[blk * GAME_HIT_CELLS + i]]++;
+        for (int c = 0; c < GAME_HIT_CELLS; c++)
+            CHECK(seen[c] == 1, "block %d holds cell %d %d times", blk, c, seen[c]);
+    }
+    int other[120];
+    game_schedule(8, GAME_HIT_CELLS, 120, other);
+    CHECK(memcmp(a, other, sizeof a), "seeds 7 and 8 give the same order");
+    game_cell c = game_hit_cell(11);
+    CHECK(c.condition == 2 && c.direction == GAME_DIR_FAR_TO_NEAR && c.path == GAME_PATH_BALLISTIC, "cell 11");
+    return 0;
+}
+
+/* Window clicks land on the eye image for every layout. */
+static int click_mapping(void)
+{
+    double u, v;
+    /* anaglyph 320x180 eyes in a 640x360 window: the picture fills it */
+    CHECK(game_click_to_image(FRAME_COMPOSE_ANAGLYPH, 320, 180, 640, 360, 0.25, 0.5, &u, &v) &&
+          fabs(u - 0.25) < 1e-9 && fabs(v - 0.5) < 1e-9, "anaglyph u %g v %g", u, v);
+    /* side by side: both halves are the same place */
+    CHECK(game_click_to_image(FRAME_COMPOSE_SBS, 320, 180, 640, 180, 0.75, 0.5, &u, &v) && fabs(u - 0.5) < 1e-9,
+          "sbs right half u %g", u);
+    CHECK(game_click_to_image(FRAME_COMPOSE_SBS_HALF, 320, 180, 320, 180, 0.625, 0.5, &u, &v) &&
+          fabs(u - 0.25) < 1e-9, "sbs-half u %g", u);
+    CHECK(game_click_to_image(FRAME_COMPOSE_TB, 320, 180, 320, 360, 0.5, 0.75, &u, &v) && fabs(v - 0.5) < 1e-9,
+          "tb v %g", v);
+    /* letterbox: a 16:9 picture in a square window has bars above and below */
+    CHECK(!game_click_to_image(FRAME_COMPOSE_ANAGLYPH, 320, 180, 400, 400, 0.5, 0.1, &u, &v), "click on a bar");
+    /* 400 x 225 at y 87 (integer placement, as the blit): row 200 is 113 / 225 down */
+    CHECK(game_click_to_image(FRAME_COMPOSE_ANAGLYPH, 320, 180, 400, 400, 0.5, 0.5, &u, &v) &&
+          fabs(v - 113.0 / 225.0) < 1e-9, "letterboxed centre v %g", v);
+    return 0;
+}
+
+/* ------------------------------------------------------------------------- */
+/* The scene pose hook                                                       */
+/* ------------------------------------------------------------------------- */
+
+static void hook(void *user, const scene *s, float t, float *local)
+{
+    (void)s;
+    int ball = *(int *)user;
+    local[ball * 10 + 0] = 1.0f + t;
+    local[ball * 10 + 1] = 2.0f;
+    local[ball * 10 + 2] = -7.0f;
+}
+
+static int pose_hook(void)
+{
+    scene *s;
+    vg_camera cam;
+    CHECK(!load_arena(&s, &cam), "arena");
+    int ball = scene_find_node(s, "ball");
+    CHECK(ball >= 0, "no ball node");
+    CHECK(scene_find_node(s, "no such node") == -1, "found a node that is not there");
+    scene_state st;
+    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    scene_set_pose_hook(s, hook, &ball);
+    scene_evaluate(s, 0.5f, &st);
+    const float *w = st.world + (size_t)ball * 16;
+    CHECK(fabsf(w[12] - 1.5f) < 1e-6f && fabsf(w[13] - 2.0f) < 1e-6f && fabsf(w[14] + 7.0f) < 1e-6f,
+          "ball at (%g %g %g), want (1.5 2 -7)", w[12], w[13], w[14]);
+    scene_set_pose_hook(s, NULL, NULL);
+    scene_evaluate(s, 0.0f, &st);
+    CHECK(fabsf(w[14] + 7.0f) > 0.5f, "the hook still applies after removal (z %g)", w[14]);
+    scene_state_free(&st);
+    scene_destroy(s);
+    return 0;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Observer                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static int make_observer(scene **s, observer **o, double k)
+{
+    vg_camera cam;
+    if (load_arena(s, &cam))
+        return 1;
+    return observer_create(&(observer_desc){.view = {.scene = *s, .moving_node = scene_find_node(*s, "ball"),
+                                                     .preset = DISP_PRESET_STUDY},
+                                            .weber_k = k}, o) != VG_OK;
+}
+
+/* Without noise and with the original disparity the observer's decoding is
+ * exact, so it hits every throw (straight and ballistic, both directions). */
+static int observer_exact(void)
+{
+    scene *s;
+    observer *o;
+    CHECK(!make_observer(&s, &o, -1), "observer");
+    for (int i = 0; i < 40; i++) {
+        game_throw th;
+        game_rng r = game_rng_make(1, (uint64_t)i), n = game_rng_make(2, (uint64_t)i);
+        game_throw_make(&(game_throw_desc){.path = (game_path)(1 + i % 2), .direction = (game_direction)(1 + (i / 2) % 2)},
+                        observer_camera(o), &r, &th);
+        observer_result res;
+        CHECK(observer_play(o, &th, FRAME_MODE_ORIGINAL, &n, &res) == VG_OK, "play");
+        CHECK(res.error_m < 0.01, "throw %d (%s, %s): error %g m without noise under g", i,
+              game_direction_names[th.direction], game_path_names[th.path], res.error_m);
+    }
+    observer_destroy(o);
+    scene_destroy(s);
+    return 0;
+}
+
+/* The same seed gives the same clicks; a disparity-only observer errs more
+ * under h than under g (the compressed depth moves the ball wrongly). */
+static int observer_conditions(void)
+{
+    scene *s;
+    observer *o;
+    CHECK(!make_observer(&s, &o, 0), "observer");
+    double sum[4] = {0};
+    int n = 48;
+    for (int i = 0; i < n; i++) {
+        game_throw th;
+        game_rng r = game_rng_make(5, (uint64_t)i);
+        game_throw_make(&(game_throw_desc){.path = (game_path)(1 + i % 2), .direction = (game_direction)(1 + (i / 2) % 2)},
+                        observer_camera(o), &r, &th);
+        for (int m = FRAME_MODE_ORIGINAL; m <= FRAME_MODE_OPTIMIZED; m++) {
+            game_rng a = game_rng_make(9, (uint64_t)i), b = a;
+            observer_result ra, rb;
+            CHECK(observer_play(o, &th, (frame_mode)m, &a, &ra) == VG_OK, "play");
+            CHECK(observer_play(o, &th, (frame_mode)m, &b, &rb) == VG_OK, "play");
+            CHECK(ra.click_u == rb.click_u && ra.click_v == rb.click_v, "trial %d mode %d not deterministic", i, m);
+            sum[m] += ra.error_m;
+        }
+    }
+    printf("mean error: original %.3f m, manipulated %.3f m, optimized %.3f m\n", sum[1] / n, sum[2] / n, sum[3] / n);
+    CHECK(sum[FRAME_MODE_MANIPULATED] > 2.0 * sum[FRAME_MODE_ORIGINAL], "manipulated %.3f m, original %.3f m",
+          sum[2] / n, sum[1] / n);
+    observer_destroy(o);
+    scene_destroy(s);
+    return 0;
+}
+
+/* ------------------------------------------------------------------------- */
+/* CSV log                                                                   */
+/* ------------------------------------------------------------------------- */
+
+static const char *const k_cols[] = {"participant", "trial", "value"};
+
+static int csv_log(void)
+{
+    char path[] = "/tmp/vergence_test_log_XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0, "temp file");
+    close(fd);
+    unlink(path);
+    study_log_desc d = {.path = path, .kind = "test", .columns = k_cols, .column_count = 3, .participant = "p1"};
+    study_log l;
+    CHECK(study_log_open(&d, &l) == VG_OK && l.rows == 0, "create");
+    CHECK(study_log_append(&l, (const char *const[]){"p1", "0", "1.5"}) == VG_OK, "append");
+    CHECK(study_log_append(&l, (const char *const[]){"p1", "1", "2.5"}) == VG_OK, "append");
+    study_log_close(&l);
+    /* Again without resume: refused. Another participant: refused. */
+    CHECK(study_log_open(&d, &l) == VG_ERR_ARG, "reopened without resume");
+    d.resume = true;
+    d.participant = "p2";
+    CHECK(study_log_open(&d, &l) == VG_ERR_ARG, "another participant's file accepted");
+    d.participant = "p1";
+    CHECK(study_log_open(&d, &l) == VG_OK && l.rows == 2, "resume: %d rows", l.rows);
+    CHECK(!strcmp(study_log_cell(&l, 1, 2), "2.5"), "cell (1, 2) = %s", study_log_cell(&l, 1, 2));
+    CHECK(study_log_append(&l, (const char *const[]){"p1", "2", "3.5"}) == VG_OK && l.rows == 3, "append");
+    study_log_close(&l);
+    /* A torn last line and a wrong field count are corrupt. */
+    FILE *f = fopen(path, "a");
+    fputs("p1,3,4", f);
+    fclose(f);
+    CHECK(study_log_open(&d, &l) == VG_ERR_FORMAT, "torn line accepted");
+    f = fopen(path, "a");
+    fputs(",5\n", f);
+    fclose(f);
+    CHECK(study_log_open(&d, &l) == VG_ERR_FORMAT, "4 fields accepted");
+    unlink(path);
+    /* Ids that would break the CSV are refused. */
+    CHECK(!study_participant_valid("a,b") && !study_participant_valid("") && study_participant_valid("P-07_a.b"),
+          "participant id check");
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static const vg_test_case cases[] = {
+        {"click_error", click_error},     {"throws", throws},           {"schedule", schedule},
+        {"click_mapping", click_mapping}, {"pose_hook", pose_hook},     {"observer_exact", observer_exact},
+        {"observer_conditions", observer_conditions}, {"csv_log", csv_log},
+    };
+    return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
+}
