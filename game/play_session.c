@@ -11,6 +11,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "core/clock.h"
 #include "core/log.h"
 #include "warp/present_gpu.h"
 #include "window.h"
@@ -50,6 +51,7 @@ typedef struct session {
     double t_launch, t_hide, t_landed, t_phase;
     int throw_no, trial, throws_scored, score;
     double miss_sum, last_miss;
+    double picked_m, landed_m;   /* feedback: ground distances of the click and of the landing spot */
     /* display */
     frame_hud hud;
     char notice[PRESENT_HUD_LINE];
@@ -147,13 +149,20 @@ static vg_status on_click(session *ss, double x, double y)
         throw_next(ss);
         return VG_OK;
     }
+    /* Where the click meets the ground (the sky: nowhere) and where the ball landed. */
+    double o[3], dir[3];
+    game_ray(&ss->cam, u, v, o, dir);
+    ss->picked_m = dir[1] < -1e-6 ? -o[1] / dir[1] * hypot(dir[0], dir[2]) : INFINITY;
+    ss->landed_m = hypot(ss->th.ground[0] - o[0], ss->th.ground[2] - o[2]);
     int pts = game_points(err);
     ss->score += pts;
     ss->throws_scored++;
     ss->miss_sum += err;
     ss->last_miss = err;
     ss->ph = PHASE_FEEDBACK;
-    ss->t_phase = ss->t_landed = ss->clock;
+    ss->t_phase = ss->clock;
+    /* From the frame being shown on (frames render at whole 1/60 s). */
+    ss->t_landed = floor(ss->clock * 60.0) / 60.0;
     return VG_OK;
 }
 
@@ -316,18 +325,23 @@ static void hud_build(session *ss, frame *f)
     h->visible = true;
     h->scale = window_extent(ss->win).width >= 1000 ? 2.0f : 1.0f;
     if (ss->study)
-        hud_add(ss, "VERGENCE STUDY   trial %d of %d", ss->trial + 1, ss->d->trial_count);
+        hud_add(ss, "VERGENCE STUDY  |  trial %d of %d", ss->trial + 1, ss->d->trial_count);
     else if (ss->throws_scored)
-        hud_add(ss, "VERGENCE   throw %d   score %d   last miss %.2f m   mean %.2f m", ss->throw_no, ss->score,
-                ss->last_miss, ss->miss_sum / ss->throws_scored);
+        hud_add(ss, "VERGENCE  |  throw %d  |  score %d  |  mean miss %.2f m", ss->throw_no, ss->score,
+                ss->miss_sum / ss->throws_scored);
     else
-        hud_add(ss, "VERGENCE   throw %d   score 0", ss->throw_no);
-    static const char *const prompt[] = {"", "Get ready...", "Watch the ball!", "Click where the ball will land",
-                                         "", "All trials done: thank you! (Q quits)"};
-    if (ss->ph == PHASE_FEEDBACK)
-        hud_add(ss, "Missed by %.2f m: +%d points  (the ball shows where it landed; click for the next)",
-                ss->last_miss, game_points(ss->last_miss));
-    else
+        hud_add(ss, "VERGENCE  |  throw %d  |  score 0", ss->throw_no);
+    static const char *const prompt[] = {"", "Get ready ...   (H: HUD and keys)", "Watch the ball!",
+                                         "Click where the ball will land", "", "All trials done: thank you! (Q quits)"};
+    if (ss->ph == PHASE_FEEDBACK) {
+        hud_add(ss, "Missed by %.2f m: +%d points. The ball shows where it landed.", ss->last_miss,
+                game_points(ss->last_miss));
+        if (isfinite(ss->picked_m))
+            hud_add(ss, "It landed %.1f m away; you picked %.1f m. Click for the next throw.", ss->landed_m,
+                    ss->picked_m);
+        else
+            hud_add(ss, "It landed %.1f m away; you picked the sky. Click for the next throw.", ss->landed_m);
+    } else
         hud_add(ss, "%s", prompt[ss->ph]);
     if (ss->hud_tech) {
         hud_add(ss, "mode: %s%s", k_mode_text[ss->mode], ss->study ? "   (set by the study)" : "   M cycles, 1-3 pick");
@@ -399,6 +413,7 @@ static vg_status present(session *ss)
 static vg_status run_loop(session *ss)
 {
     vg_status st = VG_OK;
+    double last_ms = 0;
     while (st == VG_OK && !ss->quit) {
         window_event ev[32];
         int n;
@@ -407,8 +422,12 @@ static vg_status run_loop(session *ss)
             break;
         for (int i = 0; i < n && st == VG_OK; i++)
             st = handle(ss, &ev[i]);
-        double dt = window_tick_seconds(ss->win);
-        ss->fps = ss->fps > 0 ? 0.9 * ss->fps + 0.1 / fmax(dt, 1e-3) : 1.0 / fmax(dt, 1e-3);
+        double dt = window_tick_seconds(ss->win), now = vg_now_ms();
+        /* Frames shown per second of wall time (a replay's game time is fixed-step). */
+        double wall = last_ms > 0 ? fmax(now - last_ms, 1e-3) * 1e-3 : 0;
+        if (wall > 0)
+            ss->fps = ss->fps > 0 ? 0.9 * ss->fps + 0.1 / wall : 1.0 / wall;
+        last_ms = now;
         if (!ss->paused && ss->ph != PHASE_DONE) {
             ss->clock += dt;
             update_phase(ss);

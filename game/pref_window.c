@@ -184,14 +184,16 @@ static vg_status prerender(pref *p, int trial, scene *s, const frame_mode modes[
     vg_status st = VG_OK;
     for (int v = 0; v < 3 && st == VG_OK; v++) {
         frame *f;
+        int errors = vg_log_error_count();
         st = frame_create(g, s, &(frame_desc){
             .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .fps = 60, .keyframe_stride = 10,
             .readback = true, .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = modes[v],
             .compose = p->lay.compose, .tess_error = d->win->tess_error > 0 ? d->win->tess_error : g->is_cpu ? 0.5 : 0.1,
             .shadow_size = g->is_cpu ? 1024 : 0}, &f);
         if (st != VG_OK) {
-            vg_error("the preference study shows the %s version beside the others; this build cannot render it",
-                     frame_mode_names[modes[v]]);
+            if (vg_log_error_count() == errors)
+                vg_error("the preference study shows the %s version beside the others; this build cannot "
+                         "render it", frame_mode_names[modes[v]]);
             return st;
         }
         for (int k = 0; k < p->frames && st == VG_OK && !window_closed(p->win); k++) {
