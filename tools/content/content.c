@@ -19,6 +19,8 @@ const content_scene content_scenes[] = {
      scene_cubes_build},
     {"arena", "Paper Fig. 6: hit-prediction field; the game moves node 'ball' (default: a 2 s ballistic throw).",
      scene_arena_build},
+    {"bird", "Like paper Fig. 8: a skinned bird flies from 40 m to 4 m past a windmill; a morphing flag, a moving camera.",
+     scene_bird_build},
 };
 const int content_scene_count = (int)(sizeof content_scenes / sizeof content_scenes[0]);
 

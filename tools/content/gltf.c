@@ -8,108 +8,7 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
-
-/* Table sizes: generous for the handful of objects a sample scene has. */
-#define MAX_VIEWS 512
-#define MAX_ACCESSORS 512
-#define MAX_MESHES 64
-#define MAX_PRIMS 8
-#define MAX_MATERIALS 64
-#define MAX_TEXTURES 8
-#define MAX_NODES 128
-#define MAX_CAMERAS 4
-#define MAX_ANIMATIONS 8
-#define MAX_CHANNELS 8
-#define NAME_MAX_LEN 64
-
-/* glTF enumerations. */
-enum {
-    GL_FLOAT = 5126,
-    GL_UNSIGNED_SHORT = 5123,
-    GL_UNSIGNED_INT = 5125,
-    GL_ARRAY_BUFFER = 34962,
-    GL_ELEMENT_ARRAY_BUFFER = 34963,
-    GL_LINEAR = 9729,
-    GL_LINEAR_MIPMAP_LINEAR = 9987,
-    GL_REPEAT = 10497,
-};
-
-typedef struct view {
-    size_t offset, length;
-    int target; /* 0: none */
-} view;
-
-typedef struct accessor {
-    int view, component, count, comps;
-    bool minmax;
-    float min[4], max[4];
-} accessor;
-
-typedef struct prim {
-    int position, normal, texcoord, indices; /* accessor indices, texcoord -1 when absent */
-    int material;                            /* material index */
-} prim;
-
-typedef struct gmesh {
-    char name[NAME_MAX_LEN];
-    prim prims[MAX_PRIMS];
-    int prim_count;
-} gmesh;
-
-typedef struct material {
-    char name[NAME_MAX_LEN];
-    float color[4];
-    int texture; /* index, -1 none */
-    double roughness;
-} material;
-
-typedef struct image {
-    char name[NAME_MAX_LEN];
-    int view;
-} image;
-
-typedef struct node {
-    char name[NAME_MAX_LEN];
-    int mesh, camera; /* indices, -1 none */
-    float t[3], r[4];
-    float saliency;
-} node;
-
-typedef struct camera {
-    char name[NAME_MAX_LEN];
-    double yfov, znear, zfar;
-} camera;
-
-typedef struct channel {
-    int node, input, output;
-    gltf_path path;
-    gltf_interp interp;
-} channel;
-
-typedef struct animation {
-    char name[NAME_MAX_LEN];
-    channel channels[MAX_CHANNELS];
-    int channel_count;
-} animation;
-
-struct gltf {
-    char scene_name[NAME_MAX_LEN];
-    char description[512];
-    uint8_t *bin;
-    size_t bin_len, bin_cap;
-    view views[MAX_VIEWS];
-    accessor accessors[MAX_ACCESSORS];
-    gmesh meshes[MAX_MESHES];
-    material materials[MAX_MATERIALS];
-    image images[MAX_TEXTURES];
-    node nodes[MAX_NODES];
-    camera cameras[MAX_CAMERAS];
-    animation animations[MAX_ANIMATIONS];
-    int view_count, accessor_count, mesh_count, material_count, image_count;
-    int node_count, camera_count, animation_count;
-    uint32_t triangles;
-    bool failed;
-};
+#include "gltf_internal.h"
 
 /* ------------------------------------------------------------------------- */
 /* Building                                                                  */
@@ -146,7 +45,7 @@ void gltf_destroy(gltf *g)
 }
 
 /* Appends bytes to the binary buffer at a 4-byte boundary; returns a view index. */
-static int add_view(gltf *g, const void *data, size_t size, int target)
+int gltf_view_add(gltf *g, const void *data, size_t size, int target)
 {
     if (g->failed)
         return -1;
@@ -176,9 +75,9 @@ static int add_view(gltf *g, const void *data, size_t size, int target)
 
 /* A float accessor of count elements of comps components, with min/max
  * (glTF requires them for POSITION and animation inputs). */
-static int add_float_accessor(gltf *g, const float *data, int count, int comps, int target, bool minmax)
+int gltf_accessor_add_float(gltf *g, const float *data, int count, int comps, int target, bool minmax)
 {
-    int v = add_view(g, data, sizeof(float) * (size_t)count * (size_t)comps, target);
+    int v = gltf_view_add(g, data, sizeof(float) * (size_t)count * (size_t)comps, target);
     if (v < 0)
         return -1;
     if (g->accessor_count >= MAX_ACCESSORS) {
@@ -212,10 +111,10 @@ static int add_index_accessor(gltf *g, const uint32_t *idx, uint32_t count, uint
         }
         for (uint32_t i = 0; i < count; i++)
             s[i] = (uint16_t)idx[i];
-        v = add_view(g, s, sizeof(uint16_t) * count, GL_ELEMENT_ARRAY_BUFFER);
+        v = gltf_view_add(g, s, sizeof(uint16_t) * count, GL_ELEMENT_ARRAY_BUFFER);
         free(s);
     } else {
-        v = add_view(g, idx, sizeof(uint32_t) * count, GL_ELEMENT_ARRAY_BUFFER);
+        v = gltf_view_add(g, idx, sizeof(uint32_t) * count, GL_ELEMENT_ARRAY_BUFFER);
     }
     if (v < 0)
         return -1;
@@ -234,7 +133,7 @@ int gltf_texture_add_png(gltf *g, const char *name, const uint8_t *png, size_t s
         gltf_fail(g, "too many textures");
         return 0;
     }
-    int v = add_view(g, png, size, 0);
+    int v = gltf_view_add(g, png, size, 0);
     if (v < 0)
         return 0;
     image *im = &g->images[g->image_count];
@@ -297,9 +196,9 @@ void gltf_mesh_primitive(gltf *g, int mesh_h, const mesh *geo, int material_h)
     const material *mat = &g->materials[material_h - 1];
     int n = (int)geo->vcount;
     prim p = {
-        .position = add_float_accessor(g, geo->pos, n, 3, GL_ARRAY_BUFFER, true),
-        .normal = add_float_accessor(g, geo->nrm, n, 3, GL_ARRAY_BUFFER, false),
-        .texcoord = mat->texture >= 0 ? add_float_accessor(g, geo->uv, n, 2, GL_ARRAY_BUFFER, false) : -1,
+        .position = gltf_accessor_add_float(g, geo->pos, n, 3, GL_ARRAY_BUFFER, true),
+        .normal = gltf_accessor_add_float(g, geo->nrm, n, 3, GL_ARRAY_BUFFER, false),
+        .texcoord = mat->texture >= 0 ? gltf_accessor_add_float(g, geo->uv, n, 2, GL_ARRAY_BUFFER, false) : -1,
         .indices = add_index_accessor(g, geo->idx, geo->icount, geo->vcount),
         .material = material_h - 1,
     };
@@ -327,7 +226,8 @@ int gltf_node_add(gltf *g, const gltf_node_desc *d)
         gltf_fail(g, "too many nodes");
         return 0;
     }
-    if (d->mesh < 0 || d->mesh > g->mesh_count || d->camera < 0 || d->camera > g->camera_count) {
+    if (d->mesh < 0 || d->mesh > g->mesh_count || d->camera < 0 || d->camera > g->camera_count ||
+        d->parent < 0 || d->parent > g->node_count || d->skin < 0 || d->skin > g->skin_count) {
         gltf_fail(g, "node refers to an unknown mesh or camera");
         return 0;
     }
@@ -335,6 +235,8 @@ int gltf_node_add(gltf *g, const gltf_node_desc *d)
     copy_name(n->name, d->name);
     n->mesh = d->mesh - 1;
     n->camera = d->camera - 1;
+    n->parent = d->parent - 1;
+    n->skin = d->skin - 1;
     memcpy(n->t, d->translation, sizeof n->t);
     memcpy(n->r, d->rotation, sizeof n->r);
     if (!n->r[0] && !n->r[1] && !n->r[2] && !n->r[3])
@@ -373,8 +275,8 @@ void gltf_animation_channel(gltf *g, int anim_h, int node_h, gltf_path path, glt
     int comps = path == GLTF_PATH_ROTATION ? 4 : 3, per_key = interp == GLTF_INTERP_CUBIC ? 3 : 1;
     channel c = {
         .node = node_h - 1,
-        .input = add_float_accessor(g, times, n, 1, 0, true),
-        .output = add_float_accessor(g, values, n * per_key, comps, 0, false),
+        .input = gltf_accessor_add_float(g, times, n, 1, 0, true),
+        .output = gltf_accessor_add_float(g, values, n * per_key, comps, 0, false),
         .path = path,
         .interp = interp,
     };
@@ -393,7 +295,7 @@ uint32_t gltf_triangles(const gltf *g)
 static const char *type_name(int comps)
 {
     static const char *const names[] = {"", "SCALAR", "VEC2", "VEC3", "VEC4"};
-    return names[comps];
+    return comps == 16 ? "MAT4" : names[comps];
 }
 
 static void write_nodes(const gltf *g, vg_json *j)
@@ -407,6 +309,18 @@ static void write_nodes(const gltf *g, vg_json *j)
             vg_json_int(j, "mesh", n->mesh);
         if (n->camera >= 0)
             vg_json_int(j, "camera", n->camera);
+        if (n->skin >= 0)
+            vg_json_int(j, "skin", n->skin);
+        bool parent = false;
+        for (int c = i + 1; c < g->node_count && !parent; c++)
+            parent = g->nodes[c].parent == i;
+        if (parent) {
+            vg_json_array_begin(j, "children");
+            for (int c = i + 1; c < g->node_count; c++)
+                if (g->nodes[c].parent == i)
+                    vg_json_int(j, NULL, c);
+            vg_json_array_end(j);
+        }
         if (n->t[0] || n->t[1] || n->t[2])
             vg_json_nums(j, "translation", n->t, 3);
         if (n->r[0] || n->r[1] || n->r[2] || n->r[3] != 1)
@@ -437,12 +351,28 @@ static void write_meshes(const gltf *g, vg_json *j)
             vg_json_int(j, "NORMAL", p->normal);
             if (p->texcoord >= 0)
                 vg_json_int(j, "TEXCOORD_0", p->texcoord);
+            if (p->joints) {
+                vg_json_int(j, "JOINTS_0", p->joints);
+                vg_json_int(j, "WEIGHTS_0", p->weights);
+            }
             vg_json_object_end(j);
             vg_json_int(j, "indices", p->indices);
             vg_json_int(j, "material", p->material);
+            if (p->target_count) {
+                vg_json_array_begin(j, "targets");
+                for (int t = 0; t < p->target_count; t++) {
+                    vg_json_object_begin(j, NULL);
+                    vg_json_int(j, "POSITION", p->targets[t][0]);
+                    vg_json_int(j, "NORMAL", p->targets[t][1]);
+                    vg_json_object_end(j);
+                }
+                vg_json_array_end(j);
+            }
             vg_json_object_end(j);
         }
         vg_json_array_end(j);
+        if (m->weight_count)
+            vg_json_nums(j, "weights", m->weights, m->weight_count);
         vg_json_object_end(j);
     }
     vg_json_array_end(j);
@@ -525,7 +455,7 @@ static void write_animations(const gltf *g, vg_json *j)
 {
     if (!g->animation_count)
         return;
-    static const char *const paths[] = {"translation", "translation", "rotation", "scale"};
+    static const char *const paths[] = {"translation", "translation", "rotation", "scale", "weights"};
     vg_json_array_begin(j, "animations");
     for (int i = 0; i < g->animation_count; i++) {
         const animation *a = &g->animations[i];
@@ -617,7 +547,8 @@ vg_status gltf_write(gltf *g, const char *dir, size_t *gltf_bytes, size_t *bin_b
     vg_json_str(&j, "name", g->scene_name);
     vg_json_array_begin(&j, "nodes");
     for (int i = 0; i < g->node_count; i++)
-        vg_json_int(&j, NULL, i);
+        if (g->nodes[i].parent < 0)
+            vg_json_int(&j, NULL, i);
     vg_json_array_end(&j);
     vg_json_object_begin(&j, "extras");
     vg_json_str(&j, "description", g->description);
@@ -627,6 +558,7 @@ vg_status gltf_write(gltf *g, const char *dir, size_t *gltf_bytes, size_t *bin_b
     write_nodes(g, &j);
     write_cameras(g, &j);
     write_meshes(g, &j);
+    gltf_write_skins(g, &j);
     write_materials(g, &j);
     write_textures(g, &j);
     write_animations(g, &j);

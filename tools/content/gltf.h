@@ -27,6 +27,7 @@ typedef enum gltf_path {
     GLTF_PATH_TRANSLATION,
     GLTF_PATH_ROTATION,
     GLTF_PATH_SCALE,
+    GLTF_PATH_WEIGHTS,     /* morph weights (gltf_animation_weights) */
 } gltf_path;
 
 typedef struct gltf_material_desc {
@@ -42,6 +43,8 @@ typedef struct gltf_node_desc {
     float translation[3];
     float rotation[4];  /* quaternion (x, y, z, w); all zero = identity */
     float saliency;     /* extras.saliency, written on every mesh node */
+    int parent;         /* handle of an earlier node, 0 = a scene root */
+    int skin;           /* handle from gltf_skin_add, 0 = none (skinned mesh nodes) */
 } gltf_node_desc;
 
 gltf *gltf_create(const char *scene_name, const char *description);
@@ -54,8 +57,9 @@ int gltf_mesh_add(gltf *g, const char *name);
  * only when the material has a texture. */
 void gltf_mesh_primitive(gltf *g, int mesh, const struct mesh *geometry, int material);
 int gltf_camera_add(gltf *g, const char *name, double yfov, double znear, double zfar);
-/* Nodes are scene roots, in the order added (the camera first, by convention
- * of engine/scene: camera index 0 is the first camera node). */
+/* Nodes in the order added (the camera first, by convention of
+ * engine/scene: camera index 0 is the first camera node); roots unless
+ * they name a parent. */
 int gltf_node_add(gltf *g, const gltf_node_desc *d);
 
 int gltf_animation_add(gltf *g, const char *name);
@@ -63,6 +67,29 @@ int gltf_animation_add(gltf *g, const char *name);
  * 3n (cubic) elements of 3 (translation, scale) or 4 (rotation) floats. */
 void gltf_animation_channel(gltf *g, int animation, int node, gltf_path path, gltf_interp interp,
                             const float *times, int n, const float *values);
+
+/* ------------------------------------------------------------------------- */
+/* Deforming meshes (gltf_deform.c)                                          */
+/* ------------------------------------------------------------------------- */
+
+/* A skin over joint nodes (handles; joints before the skinned mesh node)
+ * with their inverse bind matrices (16 floats each, column-major). */
+int gltf_skin_add(gltf *g, const char *name, const int *joints, int joint_count, const float *inverse_bind);
+/* A skinned primitive: four joint indices (into the skin's joints) and
+ * four weights per vertex, weights summing to 1, unused slots joint 0 and
+ * weight 0. */
+void gltf_mesh_primitive_skinned(gltf *g, int mesh, const struct mesh *geometry, int material,
+                                 const uint8_t *joints, const float *weights);
+/* A primitive with morph targets: per target, position and normal offsets
+ * (3 floats per vertex each). */
+void gltf_mesh_primitive_morph(gltf *g, int mesh, const struct mesh *geometry, int material,
+                               const float *const *position_offsets, const float *const *normal_offsets,
+                               int targets);
+/* Default morph weights of a mesh. */
+void gltf_mesh_weights(gltf *g, int mesh, const float *weights, int count);
+/* A morph-weight channel: n key times, n x targets values (linear). */
+void gltf_animation_weights(gltf *g, int animation, int node, const float *times, int n, const float *values,
+                            int targets);
 
 /* Records a failure (logged once); gltf_write then refuses to write. */
 void gltf_fail(gltf *g, const char *what);
