@@ -12,6 +12,7 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
   preference_window  the side-by-side preference study answers a replayed key
                      press, or (while the build cannot render h and f) fails
                      with one clear error and leaves no CSV
+  study_window       the same for the hit study with a replayed click
 """
 import os
 import re
@@ -185,29 +186,48 @@ def case_golden():
         fail(f"the frame differs from {GOLDEN}; this run's frame is {out}")
 
 
-def case_preference_window():
-    tmp = tempfile.mkdtemp(prefix="vergence_pref_")
-    probe = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--mode", "optimized", "--size",
-                            "64x36", "--out", os.path.join(tmp, "probe")], capture_output=True, text=True)
-    out = os.path.join(tmp, "pref.csv")
-    script = replay_file("300 key RIGHT\n900 key Q\n")
-    args = ["study", "preference", "--participant", "w1", "--trials", "1", "--size", "384x216", "--replay", script,
-            "--out", out]
-    if probe.returncode != 0:
+def renders_h_and_f(tmp):
+    """Whether this build's frame makes h and f (the disparity passes of issue 4)."""
+    for mode in ("manipulated", "optimized"):
+        p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--mode", mode, "--size", "64x36",
+                            "--out", os.path.join(tmp, "probe")], capture_output=True, text=True)
+        if p.returncode:
+            return False
+    return True
+
+
+def windowed_study(args, out, check):
+    """A windowed study: it runs (h and f render) or fails with one clear error and no CSV."""
+    tmp = os.path.dirname(out)
+    if not renders_h_and_f(tmp):
         p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=300)
-        print(f"this build cannot render optimized frames yet: exit {p.returncode}: {p.stderr.strip()}")
-        errors = [l for l in p.stderr.splitlines() if "error" in l]
+        print(f"this build cannot render h and f yet: exit {p.returncode}: {p.stderr.strip()}")
+        errors = [l for l in p.stderr.splitlines() if "error:" in l]
         if not 0 < p.returncode < 128 or len(errors) != 1 or not re.search("not available|cannot render", errors[0]):
-            fail("the preference study did not fail with a clear error")
+            fail("the study did not fail with one clear error")
         if os.path.exists(out):
-            fail("a preference study that could not start left a CSV")
+            fail("a study that could not start left a CSV")
         return
     g = Game(args)
     g.finish(600)
     rows = open(out).read().splitlines()
     print("\n".join(rows))
-    if len(rows) != 2 or ",right," not in rows[1]:
+    if len(rows) != 2 or not check(rows[1]):
         fail("the replayed answer is not in the CSV")
+
+
+def case_preference_window():
+    out = os.path.join(tempfile.mkdtemp(prefix="vergence_pref_"), "pref.csv")
+    script = replay_file("300 key RIGHT\n900 key Q\n")
+    windowed_study(["study", "preference", "--participant", "w1", "--trials", "1", "--size", "384x216", "--replay",
+                    script, "--out", out], out, lambda row: ",right," in row)
+
+
+def case_study_window():
+    out = os.path.join(tempfile.mkdtemp(prefix="vergence_hit_"), "hit.csv")
+    script = replay_file("125 click 0.5 0.7\n140 key Q\n")
+    windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--size", "320x180", "--replay", script,
+                    "--out", out], out, lambda row: row.startswith("w2,hit,0,") and ",human," in row)
 
 
 if __name__ == "__main__":
@@ -217,5 +237,5 @@ if __name__ == "__main__":
     os.chdir(ROOT)
     os.environ.setdefault("XDG_RUNTIME_DIR", "/tmp")
     {"play_live": case_play_live, "play_replay": case_play_replay, "golden": case_golden,
-     "preference_window": case_preference_window}[sys.argv[2]]()
+     "preference_window": case_preference_window, "study_window": case_study_window}[sys.argv[2]]()
     print("ok")

@@ -51,7 +51,7 @@ def rows(path):
 
 def one_error(p, must, what):
     lines = [l for l in p.stderr.splitlines() if l.strip()]
-    errors = [l for l in lines if "error" in l]
+    errors = [l for l in lines if "error:" in l]
     print(f"{what}: exit {p.returncode}: {p.stderr.strip()}")
     if not 0 < p.returncode < 128:
         fail(f"{what}: exit code {p.returncode} (want 1..127)")
@@ -146,7 +146,7 @@ def case_analysis():
         fail("the tool's binomial test differs")
     for bad, code in ((os.path.join(tmp, "missing.csv"), 3), (os.path.join(HERE, "study_test.py"), 4)):
         p = subprocess.run([sys.executable, TOOL, bad, "--out", tmp], capture_output=True, text=True)
-        if p.returncode != code or len([l for l in p.stderr.splitlines() if "error" in l]) != 1:
+        if p.returncode != code or len([l for l in p.stderr.splitlines() if "error:" in l]) != 1:
             fail(f"analyze_study.py {bad}: exit {p.returncode} (want {code}), {p.stderr}")
 
 
