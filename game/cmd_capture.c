@@ -18,6 +18,8 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "disparity/disparity_gpu.h"
+#include "disparity/metrics_gpu.h"
 #include "gpu_cli.h"
 #include "render/frame.h"
 #include "shared.h"
@@ -30,7 +32,8 @@ typedef struct capture_opts {
     int frames, camera, stride;
     double time, fps;
     int size[2];
-    int stereo, mode, compose;
+    int stereo, mode, compose, op;
+    double target_range;
     bool swap_eyes, diffuse, no_reference;
     const char *curve;
     double tess_px, tess_error;
@@ -39,8 +42,12 @@ typedef struct capture_opts {
 
 static capture_opts o = {
     .frames = 1, .fps = 60, .stride = 10, .size = {960, 540}, .gpu = {.device = -1},
-    .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_ORIGINAL - 1, .compose = FRAME_COMPOSE_SBS - 1,
+    .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED - 1, .compose = FRAME_COMPOSE_SBS - 1,
+    .op = DISP_OPERATOR_LANG - 1,
 };
+
+/* disp_operator_kind minus one. */
+static const char *const k_operator_names[] = {"none", "linear", "lang", "lang-smoothed", NULL};
 
 static const vg_opt k_opts[] = {
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF 2.0 scene (.gltf or .glb)", NULL, 0, 0},
@@ -52,8 +59,10 @@ static const vg_opt k_opts[] = {
     {"--camera", VG_OPT_INT, &o.camera, "N", "camera node of the scene to use (default 0)", NULL, 0, 1000},
     {"--keyframe-stride", VG_OPT_INT, &o.stride, "S", "frames between keyframes (default 10, paper 4.4)", NULL, 1, 1000},
     {"--stereo-render", VG_OPT_CHOICE, &o.stereo, "HOW", "how the stereo pair is made (default warp)", frame_stereo_names, 0, 0},
-    {"--mode", VG_OPT_CHOICE, &o.mode, "MODE", "disparity shown: g, h or f (default original)", frame_mode_names + 1, 0, 0},
+    {"--mode", VG_OPT_CHOICE, &o.mode, "MODE", "disparity shown: g, h or f (default optimized)", frame_mode_names + 1, 0, 0},
     {"--output", VG_OPT_CHOICE, &o.compose, "LAYOUT", "how frame_NNNN_stereo.png packs the eyes (default sbs)", frame_compose_names + 1, 0, 0},
+    {"--operator", VG_OPT_CHOICE, &o.op, "NAME", "disparity operator h = M(g, saliency) (default lang)", k_operator_names, 0, 0},
+    {"--target-range", VG_OPT_FLOAT, &o.target_range, "ARCMIN", "half-width of the target range around the screen (default 60)", NULL, 1, 600},
     {"--swap-eyes", VG_OPT_FLAG, &o.swap_eyes, NULL, "exchange left and right in the composed output", NULL, 0, 0},
     {"--tess-px", VG_OPT_FLOAT, &o.tess_px, "PX", "tessellate edges down to PX pixels (paper: 1); default: error-driven", NULL, 0.05, 1000},
     {"--tess-error", VG_OPT_FLOAT, &o.tess_error, "PX", "error-driven tessellation tolerance in pixels (default 0.1)", NULL, 0.001, 100},
@@ -129,6 +138,16 @@ static vg_status write_stereo(const char *dir, int n, const frame_outputs *fo, u
     snprintf(name, sizeof name, "frame_%04d_g.pfm", n);
     if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = vg_pfm_write(path, &g)))
         return st;
+    /* h and f beside g (vergence, arcmin), when the frame computed them. */
+    const float *maps[2] = {fo->h, fo->f};
+    for (int m = 0; m < 2; m++) {
+        if (!maps[m])
+            continue;
+        vg_imagef img = {.width = (int)w, .height = (int)h, .channels = 1, .data = (float *)maps[m]};
+        snprintf(name, sizeof name, "frame_%04d_%c.pfm", n, m ? 'f' : 'h');
+        if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = vg_pfm_write(path, &img)))
+            return st;
+    }
     snprintf(name, sizeof name, "frame_%04d_curve.bin", n);
     if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = curve_file_write(path, fo->curve)))
         return st;
@@ -227,6 +246,8 @@ typedef struct capture_log {
     vg_camera *cameras;           /* frames */
     frame_times *times;           /* frames */
     warp_metrics warp;            /* stereo captures */
+    gpu_metrics *science;         /* MID metrics of h and f (stereo captures) */
+    gpu_metrics_result result;
 } capture_log;
 
 static void json_camera(vg_json *j, const vg_camera *c, const frame_times *t)
@@ -269,6 +290,39 @@ static void json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m)
     vg_json_object_begin(j, "psnr_db");
     vg_json_num(j, "left", fd->stereo == FRAME_STEREO_CAMERAS ? INFINITY : m->psnr[0]);
     vg_json_num(j, "right", fd->stereo == FRAME_STEREO_CAMERAS ? INFINITY : m->psnr[1]);
+    vg_json_object_end(j);
+}
+
+static void json_field_metrics(vg_json *j, const char *key, const disp_metrics *m, double violation,
+                               const gpu_second_difference *d2)
+{
+    vg_json_object_begin(j, key);
+    vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
+    vg_json_num(j, "range_violation", violation);
+    vg_json_num(j, "static_rms", m->static_rms);
+    vg_json_num(j, "static_grad_rms", m->static_grad_rms);
+    vg_json_int(j, "moving_samples", m->moving_measured);
+    vg_json_object_begin(j, "second_difference");
+    vg_json_num(j, "at_keyframe_boundaries", d2->boundary);
+    vg_json_num(j, "between_keyframes", d2->between);
+    vg_json_object_end(j);
+    vg_json_object_end(j);
+}
+
+/* The science metrics of h and f, shaped as `vergence optimize`'s metrics.json. */
+static void json_science(vg_json *j, const frame_desc *fd, const gpu_metrics_result *r)
+{
+    vg_json_object_begin(j, "metrics");
+    json_field_metrics(j, "h", &r->h, r->h_range_violation, &r->h_d2);
+    json_field_metrics(j, "f", &r->f, r->f_range_violation, &r->f_d2);
+    vg_json_num(j, "mid_reduction",
+                r->h.mid_distortion_jnd > 0 ? 1.0 - r->f.mid_distortion_jnd / r->h.mid_distortion_jnd : 0.0);
+    vg_json_str(j, "operator", disp_operator_kind_name(fd->op));
+    vg_json_num(j, "range_lo", r->range_lo);
+    vg_json_num(j, "range_hi", r->range_hi);
+    vg_json_int(j, "keyframes", r->keyframes);
+    vg_json_num(j, "window_seconds", fd->window_seconds);
+    vg_json_int(j, "coarse_stride", disparity_gpu_grid_stride(fd->width, fd->height, fd->coarse_stride));
     vg_json_object_end(j);
 }
 
@@ -353,6 +407,8 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
     free(tmp);
     if (fd->stereo != FRAME_STEREO_OFF)
         json_stereo(&j, fd, &log->warp);
+    if (log->science)
+        json_science(&j, fd, &log->result);
     vg_json_int(&j, "validation_messages", gpu_validation_messages());
     vg_json_object_end(&j);
 
@@ -367,6 +423,27 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
 /* ------------------------------------------------------------------------- */
 /* Command                                                                   */
 /* ------------------------------------------------------------------------- */
+
+/* The science metrics over the captured frames, in the target range of the
+ * frame's operator (for `none`, which keeps g, the hull of g is added). */
+static vg_status science_create(const frame_desc *d, gpu_metrics **out)
+{
+    stereo_display disp;
+    stereo_display_init(&disp, &d->display);
+    disp_operator *op;
+    vg_status st = disp_operator_create(&(disp_operator_desc){.kind = d->op, .preset = d->op_preset,
+                                                              .screen_vergence = disp.screen_vergence,
+                                                              .range = d->target_range}, &op);
+    if (st != VG_OK)
+        return st;
+    double lo, hi;
+    disp_operator_range(op, &lo, &hi);
+    disp_operator_destroy(op);
+    return gpu_metrics_create(&(gpu_metrics_desc){
+        .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
+        .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride), .range_lo = lo, .range_hi = hi,
+        .hull = d->op == DISP_OPERATOR_NONE}, out);
+}
 
 static vg_status capture(gpu *g, const scene *s)
 {
@@ -385,6 +462,7 @@ static vg_status capture(gpu *g, const scene *s)
         .reference = !o.no_reference && o.stereo != FRAME_STEREO_CAMERAS,
         .measure = true,
         .curve = o.curve ? &baked : NULL,
+        .op = (disp_operator_kind)(o.op + 1), .target_range = o.target_range,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);
@@ -405,6 +483,8 @@ static vg_status capture(gpu *g, const scene *s)
         st = VG_ERR_NOMEM;
     long first = lround(o.time * o.fps);
     const frame_desc *d = frame_get_desc(f);
+    if (st == VG_OK && d->stereo != FRAME_STEREO_OFF)
+        st = science_create(d, &log.science);
     for (int i = 0; i < o.frames && st == VG_OK; i++) {
         vg_progress("capture", i, o.frames);
         double t0 = vg_now_ms();
@@ -418,13 +498,20 @@ static vg_status capture(gpu *g, const scene *s)
         st = write_frame(o.out, i, frame_get_outputs(f), d->width, d->height);
         if (st == VG_OK && d->stereo != FRAME_STEREO_OFF)
             st = warp_metrics_add(&log.warp, frame_get_outputs(f), d->width, d->height);
+        const frame_outputs *fo = frame_get_outputs(f);
+        if (st == VG_OK && log.science && fo->h && fo->f)
+            gpu_metrics_add(log.science, first + i, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
     }
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);
         warp_metrics_finish(&log.warp);
-        st = write_json(o.out, s, g, d, &log);
+        if (log.science)
+            st = gpu_metrics_finish(log.science, &log.result);
+        if (st == VG_OK)
+            st = write_json(o.out, s, g, d, &log);
     }
     warp_metrics_free(&log.warp);
+    gpu_metrics_destroy(log.science);
     free(log.pass_ms);
     free(log.cpu_ms);
     free(log.cameras);
@@ -466,9 +553,10 @@ const vg_cmd vg_cmd_capture = {
     .summary = "render frames headless and write colour, depth, ids, saliency and motion",
     .usage = "vergence capture --scene FILE --out DIR [--frames N] [--time T0] [--fps HZ] [--size WxH]",
     .details = "Writes frame_NNNN_{color,saliency,ids}.png, frame_NNNN_depth.pfm and\n"
-               "frame_NNNN_motion_{prev,next}.flo per frame, then capture.json (scene, camera,\n"
-               "display model, per-pass GPU ms). Fixed time step: two runs write identical\n"
-               "frame files. See docs/formats.md.",
+               "frame_NNNN_motion_{prev,next}.flo per frame (stereo: also the eyes and\n"
+               "frame_NNNN_{g,h,f}.pfm, vergence in arcmin), then capture.json (scene, camera,\n"
+               "display model, per-pass GPU ms, and the MID metrics of h and f). Fixed time\n"
+               "step: two runs write identical frame files. See docs/formats.md.",
     .opts = k_opts,
     .opt_count = sizeof k_opts / sizeof k_opts[0],
     .run = run,

@@ -1,11 +1,13 @@
 // vergence — the solver arena of the mid.* passes: every array at the fixed
-// binding mid_shared.h names (MID_B_*), the push constants, and the
-// workgroup reduction every kernel with a sum uses. One dispatch per frame
-// graph pass: the graph derives the barriers between them.
+// binding mid_shared.h names (MID_B_*), the push constants, and the element
+// grid. One dispatch per frame graph pass: the graph derives the barriers
+// between them. Element kernels run one coarse pixel per invocation over a
+// (x, y, keyframe) grid of MID_TILE x MID_TILE workgroups: no integer
+// division and no barrier (both are slow on a CPU rasteriser); their sums
+// go to per-element terms (dot) that mid_sum.comp adds in fixed chunks.
 #extension GL_EXT_scalar_block_layout : require
 #include "disparity/mid_shared.h"
 
-layout(local_size_x = MID_LOCAL_SIZE) in;
 layout(push_constant, scalar) uniform Push { mid_push pc; };
 
 layout(set = 0, binding = MID_B_STATE, scalar) buffer StateBlock { mid_solve_state st; };
@@ -38,6 +40,7 @@ layout(set = 0, binding = MID_B_LIN) buffer LinBlock { float lin[]; };
 layout(set = 0, binding = MID_B_FPREV) buffer FPrevBlock { float fprev[]; };
 layout(set = 0, binding = MID_B_STORE) buffer StoreBlock { float store[]; };
 layout(set = 0, binding = MID_B_PUBLISHED, scalar) buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
+layout(set = 0, binding = MID_B_DOT) buffer DotBlock { float dot_terms[]; };
 
 // Arrays of several fields, each cap long (mid_shared.h).
 #define G(i) field[(i)]
@@ -69,25 +72,20 @@ layout(set = 0, binding = MID_B_PUBLISHED, scalar) buffer PublishedBlock { mid_p
     mid_link_apply(mid_link_taps(l), arr[(off) + (l).base], arr[(off) + (l).base + 1u],    \
                    arr[(off) + (l).base + pc.nx], arr[(off) + (l).base + pc.nx + 1u])
 
-// Workgroup sums of up to four values, written to partial[] of this
-// workgroup at columns first .. first + count - 1 in a fixed tree order (the
-// result does not depend on scheduling). Every invocation must call it.
-shared float s_red[4][MID_LOCAL_SIZE];
+// Per-element terms of the sums (column c of MID_DOT_COLUMNS).
+#define DOT(c, i) dot_terms[(c) * pc.cap + (i)]
 
-void reduce4(vec4 v, uint first, uint count)
+// The element of this invocation: coarse pixel (ex, ey) of keyframe ek,
+// index ei = (ek ny + ey) nx + ex; `inside` is false past the grid's edge.
+#define MID_ELEMENT_LAYOUT layout(local_size_x = MID_TILE, local_size_y = MID_TILE) in
+uint ex, ey, ek, ei;
+bool inside;
+
+void element_init()
 {
-    uint t = gl_LocalInvocationID.x;
-    s_red[0][t] = v.x;
-    s_red[1][t] = v.y;
-    s_red[2][t] = v.z;
-    s_red[3][t] = v.w;
-    barrier();
-    for (uint s = MID_LOCAL_SIZE / 2u; s > 0u; s >>= 1u) {
-        if (t < s)
-            for (uint j = 0u; j < count; j++)
-                s_red[j][t] += s_red[j][t + s];
-        barrier();
-    }
-    if (t < count)
-        partial[gl_WorkGroupID.x * MID_PARTIAL_FLOATS + first + t] = s_red[t][0];
+    ex = gl_GlobalInvocationID.x;
+    ey = gl_GlobalInvocationID.y;
+    ek = gl_GlobalInvocationID.z;
+    inside = ex < pc.nx && ey < pc.ny && ek < pc.nt;
+    ei = (ek * pc.ny + ey) * pc.nx + ex;
 }

@@ -5,6 +5,7 @@
 // line search, convergence. It writes the dispatch sizes of the kernels that
 // follow, so work the CPU would skip costs nothing here either.
 #include "mid_arena.glsl"
+layout(local_size_x = MID_LOCAL_SIZE) in;
 
 shared float s_sum[6][MID_LOCAL_SIZE];
 
@@ -129,13 +130,15 @@ void main()
         break;
     }
     bool run = st.running != 0u;
-    uint sizes[MID_ARGS_COUNT] = uint[MID_ARGS_COUNT](run ? pc.blocks : 0u,
-                                                      run && st.cg_running != 0u ? pc.blocks : 0u,
-                                                      run && st.accepted == 0u ? pc.blocks : 0u,
-                                                      run && st.accepted != 0u ? pc.blocks : 0u);
-    for (uint a = 0u; a < MID_ARGS_COUNT; a++) {
-        args[3u * a] = sizes[a];
-        args[3u * a + 1u] = 1u;
-        args[3u * a + 2u] = 1u;
+    bool open[MID_ARGS_GATES] = bool[MID_ARGS_GATES](run, run && st.cg_running != 0u, run && st.accepted == 0u,
+                                                     run && st.accepted != 0u);
+    for (uint g = 0u; g < MID_ARGS_GATES; g++) {
+        // An element kernel's grid, and a chunk sum's.
+        args[6u * g] = open[g] ? (pc.nx + MID_TILE - 1u) / MID_TILE : 0u;
+        args[6u * g + 1u] = (pc.ny + MID_TILE - 1u) / MID_TILE;
+        args[6u * g + 2u] = pc.nt;
+        args[6u * g + 3u] = open[g] ? (pc.blocks + 63u) / 64u : 0u;
+        args[6u * g + 4u] = 1u;
+        args[6u * g + 5u] = 1u;
     }
 }

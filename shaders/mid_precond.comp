@@ -5,6 +5,10 @@
 // substitutions) walk each flow chain from its head, one invocation per
 // chain: the same operations in the same order as the CPU's sweeps.
 #include "mid_arena.glsl"
+// The operation is a specialization constant: one pipeline per operation,
+// no branch on it at run time.
+layout(constant_id = 0) const uint OP = 0u;
+MID_ELEMENT_LAYOUT;
 
 struct chain_res {
     float t_mid, t_next, a_prev, a_mid, a_next;
@@ -37,7 +41,7 @@ void assemble(uint i)
         return;
     }
     float scale = pc.grad_scale, wt_t = scale * pc.w_temporal, wt_a = scale * pc.w_accel;
-    uint p = i % pc.ns, px = p % pc.nx, py = p / pc.nx;
+    uint px = ex, py = ey;
     float edges = (px + 1u < pc.nx ? EDGE_X(i) : 0.0) + (px > 0u ? EDGE_X(i - 1u) : 0.0) +
                   (py + 1u < pc.ny ? EDGE_Y(i) : 0.0) + (py > 0u ? EDGE_Y(i - pc.nx) : 0.0);
     chain_res self = residuals_of(i);
@@ -105,13 +109,14 @@ void apply_chain(uint head)
 
 void main()
 {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.n)
+    element_init();
+    if (!inside)
         return;
-    if (pc.op == MID_OP_ASSEMBLE)
+    uint i = ei;
+    if (OP == MID_OP_ASSEMBLE)
         assemble(i);
-    else if (CHAIN_PREV(i) < 0 && pc.op == MID_OP_FACTOR)
+    else if (CHAIN_PREV(i) < 0 && OP == MID_OP_FACTOR)
         factor(i);
-    else if (CHAIN_PREV(i) < 0 && pc.op == MID_OP_APPLY)
+    else if (CHAIN_PREV(i) < 0 && OP == MID_OP_APPLY)
         apply_chain(i);
 }

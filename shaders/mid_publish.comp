@@ -4,17 +4,18 @@
 // and, from keyframe publish_from on, the ratio f / h that mid.upsample
 // reads (Fig. 4: only the correction is upsampled; vergence is never 0).
 #include "mid_arena.glsl"
+MID_ELEMENT_LAYOUT;
 
 void main()
 {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.n)
+    element_init();
+    if (!inside)
         return;
-    uint k = i / pc.ns;
+    uint i = ei;
     fprev[i] = vf[i];
-    if (k >= pc.publish_from) {
-        uint slot = (pc.store_first + k) % pc.store_cap;
-        pub_ratio[slot * pc.ns + i % pc.ns] = vf[i] / H(i);
+    if (ek >= pc.publish_from) {
+        uint slot = (pc.store_first + ek) % pc.store_cap;
+        pub_ratio[slot * pc.ns + ey * pc.nx + ex] = vf[i] / H(i);
     }
     if (i == 0u) {
         pub.range_lo = st.range_lo;

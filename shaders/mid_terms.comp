@@ -3,17 +3,21 @@
 // mid.solve: the four costs and their derivatives as gathers, exactly as
 // mid_terms.c (paper 4.1, 4.3; docs/method.md Sec. 5-6):
 //   LIN_F / LIN_FTRY  pass 1 at f (or the trial point): residuals, slopes,
-//                     adjoint sources and the cost terms (workgroup sums)
+//                     adjoint sources and the cost terms (per element)
 //   GATHER_GRAD       pass 2: the gradient at f
 //   GATHER_HESS       pass 2 for a direction p: the Gauss-Newton product,
-//                     masked to the free set, and the workgroup sums of p.Hp
+//                     masked to the free set, and the terms of p.Hp
 //   DIAGONAL          the Gauss-Newton diagonal (the Jacobi preconditioner)
 //   DIRECTION         pass 1 for a direction p
 #include "mid_arena.glsl"
+// The operation is a specialization constant: one pipeline per operation,
+// no branch on it at run time.
+layout(constant_id = 0) const uint OP = 0u;
+MID_ELEMENT_LAYOUT;
 
 float fin(uint i)
 {
-    return pc.op == MID_OP_LIN_F ? vf[i] : vftry[i];
+    return OP == MID_OP_LIN_F ? vf[i] : vftry[i];
 }
 
 float link_gather_fin(mid_link l)
@@ -32,14 +36,14 @@ float link_gather_p(mid_link l)
 // x = f - h (gradient) or p (Hessian product).
 float diff_at(uint i)
 {
-    return pc.op == MID_OP_GATHER_GRAD ? vf[i] - H(i) : vp[i];
+    return OP == MID_OP_GATHER_GRAD ? vf[i] - H(i) : vp[i];
 }
 
-void linearize(uint i, bool inside)
+void linearize(uint i)
 {
     vec4 sums = vec4(0.0);
-    if (inside) {
-        uint k = i / pc.ns, p = i % pc.ns, px = p % pc.nx, py = p / pc.nx;
+    {
+        uint k = ek, px = ex, py = ey;
         float fi = fin(i), e = fi - H(i);
         sums.x = e * e;
         // c_s over the edges to the right and below, each counted once.
@@ -69,15 +73,17 @@ void linearize(uint i, bool inside)
         C_B(i) = scale * pc.w_accel * m_a * qb2;
         D_SELF(i) = scale * (pc.w_temporal * qf2 + pc.w_accel * m_a * qs * qs);
     }
-    // Unweighted sums: mid_control.comp applies the weights.
-    reduce4(sums, 0u, 4u);
+    // Unweighted terms: mid_control.comp applies the weights.
+    DOT(0u, i) = sums.x;
+    DOT(1u, i) = sums.y;
+    DOT(2u, i) = sums.z;
+    DOT(3u, i) = sums.w;
 }
 
-void gather(uint j, bool inside)
+void gather(uint j)
 {
-    float php = 0.0;
-    if (inside) {
-        uint p = j % pc.ns, px = p % pc.nx, py = p / pc.nx;
+    {
+        uint px = ex, py = ey;
         float e = diff_at(j);
         // Weighted Laplacian of (f - h): the normal equations of c_s.
         float lap = 0.0;
@@ -98,21 +104,19 @@ void gather(uint j, bool inside)
         for (uint q = adj_off[ob + j]; q < adj_off[ob + j + 1u]; q++)
             ab += adj[pc.adj_cap + q].w * BETA(adj[pc.adj_cap + q].src);
         float out_j = local + (af - ALPHA(j)) + (BETA(j) - ab);
-        if (pc.op == MID_OP_GATHER_GRAD) {
+        if (OP == MID_OP_GATHER_GRAD) {
             vgrad[j] = out_j;
         } else {
             float hp = out_j * vfree[j];
             vhp[j] = hp;
-            php = vp[j] * hp;
+            DOT(4u, j) = vp[j] * hp;
         }
     }
-    if (pc.op == MID_OP_GATHER_HESS)
-        reduce4(vec4(php, 0.0, 0.0, 0.0), 4u, 1u);
 }
 
 void diagonal(uint j)
 {
-    uint p = j % pc.ns, px = p % pc.nx, py = p / pc.nx;
+    uint px = ex, py = ey;
     float edges = (px + 1u < pc.nx ? EDGE_X(j) : 0.0) + (px > 0u ? EDGE_X(j - 1u) : 0.0) +
                   (py + 1u < pc.ny ? EDGE_Y(j) : 0.0) + (py > 0u ? EDGE_Y(j - pc.nx) : 0.0);
     float d = pc.grad_scale * (pc.w_data + pc.w_spatial * edges) + D_SELF(j);
@@ -142,14 +146,15 @@ void direction(uint i)
 
 void main()
 {
-    uint i = gl_GlobalInvocationID.x;
-    bool inside = i < pc.n;
-    if (pc.op == MID_OP_LIN_F || pc.op == MID_OP_LIN_FTRY)
-        linearize(i, inside);
-    else if (pc.op == MID_OP_GATHER_GRAD || pc.op == MID_OP_GATHER_HESS)
-        gather(i, inside);
-    else if (inside && pc.op == MID_OP_DIAGONAL)
-        diagonal(i);
-    else if (inside && pc.op == MID_OP_DIRECTION)
-        direction(i);
+    element_init();
+    if (!inside)
+        return;
+    if (OP == MID_OP_LIN_F || OP == MID_OP_LIN_FTRY)
+        linearize(ei);
+    else if (OP == MID_OP_GATHER_GRAD || OP == MID_OP_GATHER_HESS)
+        gather(ei);
+    else if (OP == MID_OP_DIAGONAL)
+        diagonal(ei);
+    else if (OP == MID_OP_DIRECTION)
+        direction(ei);
 }

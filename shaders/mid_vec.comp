@@ -1,18 +1,22 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // mid.solve: the element-wise steps of mid_solver.c (vec_block), with
-// workgroup sums where the CPU keeps block sums, plus the solve's start
+// per-element terms where the CPU keeps block sums, plus the solve's start
 // (f0 = h or the warm start, paper 4.5).
 #include "mid_arena.glsl"
+// The operation is a specialization constant: one pipeline per operation,
+// no branch on it at run time.
+layout(constant_id = 0) const uint OP = 0u;
+MID_ELEMENT_LAYOUT;
 
 void main()
 {
-    uint i = gl_GlobalInvocationID.x;
-    bool inside = i < pc.n;
+    element_init();
+    uint i = ei;
     float lo = st.range_lo, hi = st.range_hi;
     float acc0 = 0.0, acc1 = 0.0;
     if (inside) {
-        switch (pc.op) {
+        switch (OP) {
         case MID_OP_CG_START: {
             // Projected Newton (Bertsekas 1982): a variable at a bound whose
             // gradient pushes outward stays there this iteration.
@@ -60,8 +64,8 @@ void main()
         case MID_OP_INIT: {
             // f0 = h (Sec. 4.5), or the last solution where the slid window
             // overlaps the previous one, projected into the range.
-            int src = int(i / pc.ns) + int(pc.shift);
-            float init = pc.warm != 0u && src >= 0 && src < int(pc.nt_prev) ? fprev[uint(src) * pc.ns + i % pc.ns] : H(i);
+            int src = int(ek) + int(pc.shift);
+            float init = pc.warm != 0u && src >= 0 && src < int(pc.nt_prev) ? fprev[uint(src) * pc.ns + ey * pc.nx + ex] : H(i);
             vf[i] = clamp(init, lo, hi);
             break;
         }
@@ -69,7 +73,9 @@ void main()
             break;
         }
     }
-    if (pc.op == MID_OP_CG_START || pc.op == MID_OP_ZP_INIT || pc.op == MID_OP_RZ || pc.op == MID_OP_TRIAL ||
-        pc.op == MID_OP_DESCENT || (pc.op == MID_OP_CG_UPDATE && pc.jacobi != 0u))
-        reduce4(vec4(acc0, acc1, 0.0, 0.0), 4u, 2u);
+    if (inside && (OP == MID_OP_CG_START || OP == MID_OP_ZP_INIT || OP == MID_OP_RZ || OP == MID_OP_TRIAL ||
+                   OP == MID_OP_DESCENT || (OP == MID_OP_CG_UPDATE && pc.jacobi != 0u))) {
+        DOT(4u, i) = acc0;
+        DOT(5u, i) = acc1;
+    }
 }

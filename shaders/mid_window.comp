@@ -8,6 +8,10 @@
 // has the CPU's order), edge weights, the targets of c_t and c_a, and the
 // flow chains of the line preconditioner.
 #include "mid_arena.glsl"
+// The operation is a specialization constant: one pipeline per operation,
+// no branch on it at run time.
+layout(constant_id = 0) const uint OP = 0u;
+MID_ELEMENT_LAYOUT;
 
 // Paper 4.4's depth test: the same surface when the depths differ by less
 // than the relative tolerance.
@@ -27,15 +31,14 @@ bool round_trip(uint there, uint back)
     return dx * dx + dy * dy <= lim * lim;
 }
 
-// Row i of A_f (dir 0) or A_b (dir 1), as link_make().
-mid_link link_make(uint i, uint dir)
+// Row i = element (x, y, k) of A_f (dir 0) or A_b (dir 1), as link_make().
+mid_link link_make(uint i, int x, int y, int k, uint dir)
 {
     mid_link l;
     l.base = 0u;
     l.fx = 0.0;
     l.fy = 0.0;
     l.mask = 0u;
-    int k = int(i / pc.ns), p = int(i % pc.ns), x = p % int(pc.nx), y = p / int(pc.nx);
     int kk = k + (dir == 0u ? 1 : -1);
     if (kk < 0 || kk >= int(pc.nt))
         return l;
@@ -90,12 +93,12 @@ float link_gather_h(mid_link l)
 
 void main()
 {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.n)
+    element_init();
+    if (!inside)
         return;
-    uint k = i / pc.ns, p = i % pc.ns;
-    if (pc.op == MID_OP_GATHER || pc.op == MID_OP_PREPARE) {
-        if (pc.op == MID_OP_GATHER) {
+    uint i = ei, k = ek, p = ey * pc.nx + ex;
+    if (OP == MID_OP_GATHER || OP == MID_OP_PREPARE) {
+        if (OP == MID_OP_GATHER) {
             // Keyframe k of the window is ring slot store_first + k.
             uint base = ((pc.store_first + k) % pc.store_cap) * MID_STORE_FLOATS * pc.ns;
             G(i) = store[base + MID_STORE_G * pc.ns + p];
@@ -103,26 +106,28 @@ void main()
             DEPTH(i) = store[base + MID_STORE_DEPTH * pc.ns + p];
             flow[i] = vec2(store[base + MID_STORE_FLOW_F * pc.ns + 2u * p], store[base + MID_STORE_FLOW_F * pc.ns + 2u * p + 1u]);
             flow[pc.cap + i] = vec2(store[base + MID_STORE_FLOW_B * pc.ns + 2u * p], store[base + MID_STORE_FLOW_B * pc.ns + 2u * p + 1u]);
-            if (i < pc.nt) {
-                INVDT_F(i) = i + 1u < pc.nt ? 1.0 / pc.dt : 0.0;
-                INVDT_B(i) = i > 0u ? 1.0 / pc.dt : 0.0;
+            if (p == 0u) {
+                INVDT_F(k) = k + 1u < pc.nt ? 1.0 / pc.dt : 0.0;
+                INVDT_B(k) = k > 0u ? 1.0 / pc.dt : 0.0;
             }
         }
         cursor[i] = 0u;
         cursor[pc.cap + i] = 0u;
-        // The range of g (operator none keeps g: its box must hold it).
-        atomicMin(st.g_min_bits, floatBitsToUint(G(i)));
-        atomicMax(st.g_max_bits, floatBitsToUint(G(i)));
-    } else if (pc.op == MID_OP_LINKS) {
+        if (pc.range_hull != 0u) {
+            // The range of g (operator none keeps g: its box must hold it).
+            atomicMin(st.g_min_bits, floatBitsToUint(G(i)));
+            atomicMax(st.g_max_bits, floatBitsToUint(G(i)));
+        }
+    } else if (OP == MID_OP_LINKS) {
         for (uint dir = 0u; dir < 2u; dir++) {
-            mid_link l = link_make(i, dir);
+            mid_link l = link_make(i, int(ex), int(ey), int(k), dir);
             link[dir * pc.cap + i] = l;
             uint idx[4] = uint[4](l.base, l.base + 1u, l.base + pc.nx, l.base + pc.nx + 1u);
             for (uint t = 0u; t < 4u; t++)
                 if ((l.mask & (1u << t)) != 0u)
                     atomicAdd(cursor[dir * pc.cap + idx[t]], 1u);
         }
-    } else if (pc.op == MID_OP_FILL) {
+    } else if (OP == MID_OP_FILL) {
         for (uint dir = 0u; dir < 2u; dir++) {
             mid_link l = link[dir * pc.cap + i];
             if (l.mask == 0u)
@@ -139,7 +144,7 @@ void main()
                     adj[dir * pc.adj_cap + adj_off[dir * (pc.cap + 1u) + idx[t]] + slot] = e;
                 }
         }
-    } else if (pc.op == MID_OP_SORT) {
+    } else if (OP == MID_OP_SORT) {
         // Atomics filled each row in any order; the CPU's is by source.
         for (uint dir = 0u; dir < 2u; dir++) {
             uint a = dir * pc.adj_cap + adj_off[dir * (pc.cap + 1u) + i];
@@ -154,12 +159,11 @@ void main()
                 adj[r] = e;
             }
         }
-    } else if (pc.op == MID_OP_TARGETS) {
-        uint x = p % pc.nx, y = p / pc.nx;
+    } else if (OP == MID_OP_TARGETS) {
         // Sec. 4.1: a = exp(-10 |dh|), h normalised over the target range;
         // c_s uses a^2 per edge.
-        float ax = x + 1u < pc.nx ? mid_edge_weight((H(i + 1u) - H(i)) * st.inv_range) : 0.0;
-        float ay = y + 1u < pc.ny ? mid_edge_weight((H(i + pc.nx) - H(i)) * st.inv_range) : 0.0;
+        float ax = ex + 1u < pc.nx ? mid_edge_weight((H(i + 1u) - H(i)) * st.inv_range) : 0.0;
+        float ay = ey + 1u < pc.ny ? mid_edge_weight((H(i + pc.nx) - H(i)) * st.inv_range) : 0.0;
         EDGE_X(i) = ax * ax;
         EDGE_Y(i) = ay * ay;
         mid_link lf = link[i], lb = link[pc.cap + i];
@@ -172,7 +176,7 @@ void main()
         heavy[pc.cap + i] = heaviest_tap(lb);
         CHAIN_NEXT(i) = -1;
         CHAIN_PREV(i) = -1;
-    } else if (pc.op == MID_OP_CHAINS) {
+    } else if (OP == MID_OP_CHAINS) {
         // Mutual heaviest taps make disjoint chains along the flow.
         int j = heavy[i];
         if (j >= 0 && heavy[pc.cap + uint(j)] == int(i)) {

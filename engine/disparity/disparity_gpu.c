@@ -1,27 +1,97 @@
-/* vergence — disparity passes on the GPU. */
+/* vergence — disparity passes on the GPU: the frame's disparity pipeline. */
 #include "disparity_gpu.h"
 
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
+#include "core/log.h"
 #include "gpu/pipeline.h"
+#include "keyframe_gpu.h"
+#include "mid_shared.h"
+#include "operator_gpu.h"
 #include "shared.h"
+#include "solve_gpu.h"
+#include "upsample_gpu.h"
 
 #include "disparity_original_comp.h"
+
+/* The solver's grid never exceeds this (paper 4.5: its resolution is chosen
+ * by content, not by the screen, so the solve takes the same time at any
+ * output resolution); 960 x 540 at the default stride of 5. */
+#define GRID_MAX_X 192
+#define GRID_MAX_Y 108
 
 struct disparity_gpu {
     frame_ctx *fc;
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
     VkPipeline original;
-    rg_res depth, g;
+    op_gpu *op;
+    kf_gpu *kf;
+    mid_gpu *mid;
+    ups_gpu *ups;
+    gpu_buffer store, published;
+
+    uint32_t stride, nx, ny, ns;
+    int past, future, ring, interval; /* window keyframes behind / ahead; ring slots; frames per keyframe */
+    double lo, hi;
+    mid_gpu_solve solve;              /* the current window's */
+
+    /* this frame's graph resources */
+    rg_graph *graph;
+    frame_resources *res;
+    rg_res depth, g, state, r_store, r_published, arena, args, ratio;
+    kf_gpu_atlas atlas;
+
+    /* timeline */
+    bool started;
+    long first_kf, cur_k;             /* history starts at first_kf; the frame is in interval cur_k */
+    long win_first;                   /* the window's first keyframe */
+    int *slice;                       /* interval + 1 item boundaries of the amortised solve */
+    bool build;                       /* mid.window runs this frame */
+    int rec_first, rec_last;          /* mid.solve's items this frame */
+    long tiles_first;                 /* keyframes rendered this frame */
+    int tiles;
+    ups_gpu_frame up;
 };
 
-static void push_images(const disparity_gpu *d, const rg_context *ctx, rg_res in, rg_res out)
+uint32_t disparity_gpu_grid_stride(uint32_t width, uint32_t height, int coarse_stride)
 {
+    uint32_t s = coarse_stride > 0 ? (uint32_t)coarse_stride : MID_COARSE_STRIDE;
+    while ((width + s - 1) / s > GRID_MAX_X || (height + s - 1) / s > GRID_MAX_Y)
+        s++;
+    return s;
+}
+
+static long floor_div(long a, long b)
+{
+    long q = a / b;
+    return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+}
+
+static uint32_t ring_slot(const disparity_gpu *d, long kf)
+{
+    long r = kf % d->ring;
+    return (uint32_t)(r < 0 ? r + d->ring : r);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Passes                                                                    */
+/* ------------------------------------------------------------------------- */
+
+static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
+{
+    return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
+}
+
+static void original_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
     const frame_ctx *fc = d->fc;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
-    VkDescriptorImageInfo src = {.imageView = rg_ctx_view(ctx, in), .imageLayout = rg_ctx_layout(ctx, in)};
-    VkDescriptorImageInfo dst = {.imageView = rg_ctx_view(ctx, out), .imageLayout = rg_ctx_layout(ctx, out)};
+    VkDescriptorImageInfo src = image_of(ctx, d->depth), dst = image_of(ctx, d->g);
     VkWriteDescriptorSet w[3] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo},
@@ -30,47 +100,307 @@ static void push_images(const disparity_gpu *d, const rg_context *ctx, rg_res in
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 2, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &dst},
     };
-    fc->gpu->cmd_push_descriptor_set(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, d->layout, 0, 3, w);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->original);
+    fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->layout, 0, 3, w);
+    vkCmdDispatch(cmd, (fc->desc.width + 7) / 8, (fc->desc.height + 7) / 8, 1);
 }
 
-static void original_execute(const rg_context *ctx, void *user)
+static void fit_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->original);
-    push_images(d, ctx, d->depth, d->g);
-    vkCmdDispatch(cmd, (d->fc->desc.width + 7) / 8, (d->fc->desc.height + 7) / 8, 1);
+    VkDescriptorImageInfo g = image_of(ctx, d->res->g), c = image_of(ctx, d->res->color);
+    op_gpu_record_fit(d->op, rg_ctx_cmd(ctx), &g, &c, d->fc->desc.width, d->fc->desc.height);
+}
+
+static void map_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    VkDescriptorImageInfo g = image_of(ctx, d->res->g), h = image_of(ctx, d->res->h);
+    op_gpu_record_map(d->op, rg_ctx_cmd(ctx), &g, &h, d->fc->desc.width, d->fc->desc.height);
+}
+
+static op_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescriptorImageInfo *img)
+{
+    img[0] = image_of(ctx, d->atlas.depth);
+    img[1] = image_of(ctx, d->atlas.color);
+    img[2] = image_of(ctx, d->atlas.motion);
+    return (op_gpu_tiles){.ubo = d->fc->ubo[d->fc->slot].buffer, .depth = &img[0], .color = &img[1],
+                          .motion = &img[2], .tiles = (uint32_t)d->tiles, .tile_w = d->nx, .tile_h = d->ny,
+                          .store = rg_ctx_buffer(ctx, d->r_store), .store_first = ring_slot(d, d->tiles_first),
+                          .store_cap = (uint32_t)d->ring};
+}
+
+static void tiles_fit_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    VkDescriptorImageInfo img[3];
+    op_gpu_tiles t = tiles_of(d, ctx, img);
+    if (d->tiles > 0)
+        op_gpu_record_tiles_fit(d->op, rg_ctx_cmd(ctx), &t);
+}
+
+static void tiles_store_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    VkDescriptorImageInfo img[3];
+    op_gpu_tiles t = tiles_of(d, ctx, img);
+    if (d->tiles > 0)
+        op_gpu_record_tiles_store(d->op, rg_ctx_cmd(ctx), &t);
+}
+
+static void window_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    if (d->build)
+        mid_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->fc->slot, 0, 1);
+}
+
+static void solve_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    mid_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->fc->slot, d->rec_first, d->rec_last);
+}
+
+static void time_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    VkDescriptorImageInfo z = image_of(ctx, d->res->depth), m = image_of(ctx, d->res->motion);
+    ups_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, rg_ctx_buffer(ctx, d->r_store),
+                        rg_ctx_buffer(ctx, d->r_published), rg_ctx_buffer(ctx, d->ratio));
+}
+
+static void space_execute(const rg_context *ctx, void *user)
+{
+    disparity_gpu *d = user;
+    VkDescriptorImageInfo h = image_of(ctx, d->res->h), f = image_of(ctx, d->res->f);
+    ups_gpu_record_space(d->ups, rg_ctx_cmd(ctx), &d->up, &h, rg_ctx_buffer(ctx, d->r_published),
+                         rg_ctx_buffer(ctx, d->ratio), &f);
+}
+
+static rg_pass compute_pass(rg_graph *g, const char *name, rg_execute_fn fn, disparity_gpu *d)
+{
+    return rg_pass_add(g, &(rg_pass_desc){.name = name, .type = RG_PASS_COMPUTE, .execute = fn, .user = d});
 }
 
 void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
 {
     uint32_t w = d->fc->desc.width, h = d->fc->desc.height;
+    rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
+    d->res = res;
     d->depth = res->depth;
     d->g = res->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, w, h, 1});
-    rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "disparity.original", .type = RG_PASS_COMPUTE,
-                                               .execute = original_execute, .user = d});
+    res->h = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, w, h, 1});
+    res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
+    d->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", op_gpu_state_size(d->op)}, &rw);
+    d->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", d->store.size}, &rw);
+    d->r_published = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", d->published.size}, &rw);
+    d->arena = rg_import_buffer(g, &(rg_buffer_desc){"mid.arena", mid_gpu_arena_size(d->mid)}, &rw);
+    d->args = rg_import_buffer(g, &(rg_buffer_desc){"mid.args", MID_ARGS_COUNT * 12},
+                               &(rg_import_desc){.initial = RG_INDIRECT, .final = RG_INDIRECT});
+    d->ratio = rg_buffer(g, &(rg_buffer_desc){"mid.ratio", (uint64_t)d->ns * sizeof(float)});
+
+    rg_pass p = compute_pass(g, "disparity.original", original_execute, d);
     rg_use(g, p, res->ubo, RG_UNIFORM);
     rg_use(g, p, res->depth, RG_STORAGE_READ);
     rg_use(g, p, res->g, RG_STORAGE_WRITE);
+    /* Step 4: h = M(g, saliency). */
+    p = compute_pass(g, "disparity.operator.fit", fit_execute, d);
+    rg_use(g, p, res->g, RG_STORAGE_READ);
+    rg_use(g, p, res->color, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ_WRITE);
+    p = compute_pass(g, "disparity.operator", map_execute, d);
+    rg_use(g, p, res->g, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ);
+    rg_use(g, p, res->h, RG_STORAGE_WRITE);
+    /* Step 5: the keyframe window. */
+    kf_gpu_add(d->kf, g, res, &d->atlas);
+    p = compute_pass(g, "mid.keyframes.fit", tiles_fit_execute, d);
+    rg_use(g, p, res->ubo, RG_UNIFORM);
+    rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
+    rg_use(g, p, d->atlas.color, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ_WRITE);
+    p = compute_pass(g, "mid.keyframes.store", tiles_store_execute, d);
+    rg_use(g, p, res->ubo, RG_UNIFORM);
+    rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
+    rg_use(g, p, d->atlas.motion, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ);
+    rg_use(g, p, d->r_store, RG_STORAGE_READ_WRITE);
+    p = compute_pass(g, "mid.window", window_execute, d);
+    rg_use(g, p, d->r_store, RG_STORAGE_READ);
+    rg_use(g, p, d->arena, RG_STORAGE_READ_WRITE);
+    rg_use(g, p, d->args, RG_STORAGE_READ_WRITE);
+    /* Step 6: the solve, and the publication of its ratios. */
+    p = compute_pass(g, "mid.solve", solve_execute, d);
+    rg_use(g, p, d->arena, RG_STORAGE_READ_WRITE);
+    rg_use(g, p, d->args, RG_STORAGE_READ_WRITE);
+    rg_use(g, p, d->r_published, RG_STORAGE_READ_WRITE);
+    /* Step 7: f for this frame. */
+    p = compute_pass(g, "mid.upsample.time", time_execute, d);
+    rg_use(g, p, res->depth, RG_STORAGE_READ);
+    rg_use(g, p, res->motion, RG_STORAGE_READ);
+    rg_use(g, p, d->r_store, RG_STORAGE_READ);
+    rg_use(g, p, d->r_published, RG_STORAGE_READ);
+    rg_use(g, p, d->ratio, RG_STORAGE_WRITE);
+    p = compute_pass(g, "mid.upsample.space", space_execute, d);
+    rg_use(g, p, res->h, RG_STORAGE_READ);
+    rg_use(g, p, d->r_published, RG_STORAGE_READ);
+    rg_use(g, p, d->ratio, RG_STORAGE_READ);
+    rg_use(g, p, res->f, RG_STORAGE_WRITE);
+    d->graph = g;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Timeline                                                                  */
+/* ------------------------------------------------------------------------- */
+
+/* A new window [win_first, k + future]: its solve starts from the last one
+ * (paper 4.5) shifted by the keyframes the window slid. */
+static void window_begin(disparity_gpu *d, long k, bool restart)
+{
+    long prev_first = d->win_first;
+    int prev_nt = d->solve.keyframes;
+    d->win_first = restart ? k : (k - d->past > d->first_kf ? k - d->past : d->first_kf);
+    const frame_desc *fd = &d->fc->desc;
+    d->solve = (mid_gpu_solve){
+        .keyframes = (int)(k + d->future - d->win_first + 1),
+        .range_lo = (float)d->lo, .range_hi = (float)d->hi, .range_hull = fd->op == DISP_OPERATOR_NONE,
+        .gather = true, .keyframe_seconds = (float)(fd->keyframe_stride / fd->fps),
+        .store_first = ring_slot(d, d->win_first), .store_cap = (uint32_t)d->ring,
+        .solver = fd->solver, .iterations = fd->solver_iterations,
+        .warm = !restart, .shift = (int)(d->win_first - prev_first), .prev_keyframes = restart ? 0 : prev_nt,
+        .publish = true,
+        /* Keyframes k and k + 1 were already used as the ends of a keyframe
+         * interval: publishing them again would make f jump (a pop). */
+        .publish_from = restart ? 0 : (int)(k + 2 - d->win_first),
+    };
+    mid_gpu_begin(d->mid, &d->solve);
+}
+
+/* Items of the solve (after the build) spread over the interval's frames by
+ * estimated cost: each frame does about the same share (amortised). */
+static void slices_plan(disparity_gpu *d)
+{
+    int n = mid_gpu_item_count(d->mid);
+    double total = 0, at = 0;
+    for (int i = 1; i < n; i++)
+        total += mid_gpu_item_cost(d->mid, i);
+    int s = 0;
+    d->slice[0] = 1;
+    for (int i = 1; i < n; i++) {
+        double c = mid_gpu_item_cost(d->mid, i);
+        int want = total > 0 ? (int)((at + 0.5 * c) / total * d->interval) : 0;
+        want = want >= d->interval ? d->interval - 1 : want;
+        while (s < want)
+            d->slice[++s] = i;
+        at += c;
+    }
+    while (s < d->interval)
+        d->slice[++s] = n;
 }
 
 vg_status disparity_gpu_prepare(disparity_gpu *d)
 {
-    (void)d;
+    const frame_times *t = &d->fc->times;
+    long k = floor_div(t->index, d->interval);
+    int phase = (int)(t->index - k * d->interval);
+    d->build = false;
+    d->rec_first = d->rec_last = 0;
+    d->tiles = 0;
+    if (!d->started || k < d->cur_k || k > d->cur_k + 1) {
+        /* No history: the window starts here, and the frame waits for its
+         * whole solve (once). */
+        d->started = true;
+        d->first_kf = d->cur_k = k;
+        d->tiles_first = k;
+        d->tiles = d->future + 1;
+        op_gpu_reset(d->op);
+        window_begin(d, k, true);
+        d->build = true;
+        d->rec_first = 1;
+        d->rec_last = mid_gpu_item_count(d->mid);
+        for (int s = 0; s <= d->interval; s++)
+            d->slice[s] = d->rec_last; /* nothing more in this interval */
+    } else if (k == d->cur_k + 1) {
+        /* The window slides by one keyframe: the newest predicted keyframe
+         * enters, the oldest leaves. */
+        d->cur_k = k;
+        d->tiles_first = k + d->future;
+        d->tiles = 1;
+        window_begin(d, k, false);
+        slices_plan(d);
+        d->build = true;
+    }
+    if (!d->build || d->rec_last == 0) {
+        d->rec_first = d->slice[phase];
+        d->rec_last = d->slice[phase + 1];
+    }
+    kf_gpu_prepare(d->kf, d->tiles_first, d->tiles);
+    /* The persistent buffers the graph imported (bound once it is compiled). */
+    rg_bind_buffer(d->graph, d->state, op_gpu_state(d->op));
+    rg_bind_buffer(d->graph, d->r_store, d->store.buffer);
+    rg_bind_buffer(d->graph, d->r_published, d->published.buffer);
+    rg_bind_buffer(d->graph, d->arena, mid_gpu_arena(d->mid));
+    rg_bind_buffer(d->graph, d->args, mid_gpu_args(d->mid));
+    /* Where this frame is between keyframes k and k + 1 (Fig. 4). */
+    d->up = (ups_gpu_frame){
+        .width = d->fc->desc.width, .height = d->fc->desc.height, .stride = d->stride,
+        .tau = (float)phase / (float)d->interval, .at_key = phase == 0, .has1 = true,
+        .slot0 = ring_slot(d, k), .slot1 = ring_slot(d, k + 1),
+    };
     return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Lifetime                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static void resolve_defaults(frame_ctx *fc)
+{
+    frame_desc *fd = &fc->desc;
+    if (fd->op == DISP_OPERATOR_DEFAULT)
+        fd->op = DISP_OPERATOR_LANG;
+    if (fd->solver == MID_SOLVER_DEFAULT)
+        fd->solver = MID_SOLVER_GAUSS_NEWTON;
+    if (!(fd->window_seconds > 0))
+        fd->window_seconds = 3.0;
+    if (!(fd->window_future > 0) || fd->window_future >= 1)
+        fd->window_future = 0.5;
+    if (fd->coarse_stride <= 0)
+        fd->coarse_stride = MID_COARSE_STRIDE;
 }
 
 vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
 {
+    *out = NULL;
+    resolve_defaults(fc);
+    const frame_desc *fd = &fc->desc;
     disparity_gpu *d = calloc(1, sizeof *d);
     if (!d)
         return VG_ERR_NOMEM;
     d->fc = fc;
     gpu *g = fc->gpu;
+    uint32_t s = d->stride = disparity_gpu_grid_stride(fd->width, fd->height, fd->coarse_stride);
+    d->nx = (fd->width + s - 1) / s;
+    d->ny = (fd->height + s - 1) / s;
+    d->ns = d->nx * d->ny;
+    d->interval = fd->keyframe_stride;
+    int keys = (int)lround(fd->window_seconds * fd->fps / fd->keyframe_stride);
+    d->future = (int)lround(keys * fd->window_future);
+    d->future = d->future < 2 ? 2 : d->future; /* the solve runs one interval ahead (docs/method.md) */
+    d->past = keys - d->future > 0 ? keys - d->future : 0;
+    if (d->past + d->future + 1 > (int)MID_MAX_KEYFRAMES) {
+        vg_error("a %.1f s window is %d keyframes (at most %u)", fd->window_seconds, d->past + d->future + 1,
+                 MID_MAX_KEYFRAMES);
+        free(d);
+        return VG_ERR_ARG;
+    }
+    d->ring = d->past + d->future + 2;
+    d->slice = calloc((size_t)d->interval + 1, sizeof(int));
     static const VkDescriptorType types[] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                              VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-    vg_status st = gpu_push_layout_create(g, "disparity", types, 3, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                                          &d->set_layout, &d->layout);
+    vg_status st = d->slice ? VG_OK : VG_ERR_NOMEM;
+    if (st == VG_OK)
+        st = gpu_push_layout_create(g, "disparity", types, 3, VK_SHADER_STAGE_COMPUTE_BIT, 0, &d->set_layout, &d->layout);
     VkShaderModule m = VK_NULL_HANDLE;
     if (st == VG_OK)
         st = GPU_SHADER(g, spv_disparity_original_comp, &m);
@@ -78,6 +408,34 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
         st = gpu_compute_pipeline_create(g, d->layout, m, "disparity.original", &d->original);
     if (m)
         vkDestroyShaderModule(g->device, m, NULL);
+    if (st == VG_OK)
+        st = op_gpu_create(g, &(op_gpu_desc){
+            .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fc->display.screen_vergence,
+                   .range = fd->target_range, .frame_seconds = 1.0 / fd->fps},
+            .keyframe_seconds = fd->keyframe_stride / fd->fps, .stride = s,
+            .max_tiles = (uint32_t)d->future + 1}, &d->op);
+    if (st == VG_OK) {
+        op_gpu_range(d->op, &d->lo, &d->hi);
+        st = kf_gpu_create(fc, &(kf_gpu_desc){.nx = d->nx, .ny = d->ny, .stride = s,
+                                              .max_tiles = (uint32_t)d->future + 1}, &d->kf);
+    }
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.store",
+                                                     .size = (VkDeviceSize)d->ring * MID_STORE_FLOATS * d->ns * sizeof(float),
+                                                     .usage = usage}, &d->store);
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.published",
+                                                     .size = sizeof(mid_published) + (VkDeviceSize)d->ring * d->ns * sizeof(float),
+                                                     .usage = usage}, &d->published);
+    if (st == VG_OK)
+        st = mid_gpu_create(g, &(mid_gpu_desc){.nx = (int)d->nx, .ny = (int)d->ny,
+                                               .max_keyframes = d->past + d->future + 1,
+                                               .store = d->store.buffer, .published = d->published.buffer,
+                                               .store_size = d->store.size, .published_size = d->published.size},
+                            &d->mid);
+    if (st == VG_OK)
+        st = ups_gpu_create(g, &d->ups);
     if (st != VG_OK) {
         disparity_gpu_destroy(d);
         return st;
@@ -90,12 +448,26 @@ void disparity_gpu_destroy(disparity_gpu *d)
 {
     if (!d)
         return;
-    VkDevice dev = d->fc->gpu->device;
+    gpu *g = d->fc->gpu;
+    ups_gpu_destroy(d->ups);
+    mid_gpu_destroy(d->mid);
+    kf_gpu_destroy(d->kf);
+    op_gpu_destroy(d->op);
+    gpu_buffer_destroy(g, &d->store);
+    gpu_buffer_destroy(g, &d->published);
     if (d->original)
-        vkDestroyPipeline(dev, d->original, NULL);
+        vkDestroyPipeline(g->device, d->original, NULL);
     if (d->layout)
-        vkDestroyPipelineLayout(dev, d->layout, NULL);
+        vkDestroyPipelineLayout(g->device, d->layout, NULL);
     if (d->set_layout)
-        vkDestroyDescriptorSetLayout(dev, d->set_layout, NULL);
+        vkDestroyDescriptorSetLayout(g->device, d->set_layout, NULL);
+    free(d->slice);
     free(d);
+}
+
+void disparity_gpu_get_info(const disparity_gpu *d, disparity_gpu_info *info)
+{
+    *info = (disparity_gpu_info){.stride = d->stride, .nx = d->nx, .ny = d->ny, .past = d->past,
+                                 .future = d->future, .range_lo = d->lo, .range_hi = d->hi,
+                                 .items = mid_gpu_item_count(d->mid)};
 }

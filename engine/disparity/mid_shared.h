@@ -69,8 +69,14 @@ typedef unsigned int uint;
 #define MID_BLOCK 4096
 /* Chains per group of the CPU preconditioner sweeps. */
 #define MID_CHAIN_GROUP 256
-/* Workgroup size of the GLSL passes. */
+/* Workgroup size of the GLSL passes that reduce in one workgroup. */
 #define MID_LOCAL_SIZE 256
+/* Element kernels run MID_TILE x MID_TILE coarse pixels of one keyframe per
+ * workgroup (no integer division per element, no barriers: on a CPU
+ * rasteriser both are expensive); sums are written per element and added in
+ * chunks of MID_SUM_CHUNK elements, in a fixed order. */
+#define MID_TILE 8u
+#define MID_SUM_CHUNK 64u
 
 /* Keyframe window defaults (paper 4.4): a keyframe every 10 frames, a coarse
  * sample every 5 pixels. */
@@ -264,7 +270,7 @@ MID_FN float disp_curve_coord(float depth, float inv_lo, float inv_hi, uint bins
  * arena is `cap` elements long (the largest window). */
 struct mid_push {
     uint nx, ny, nt, ns;
-    uint n, cap, blocks, op;       /* blocks: workgroups over n; op: the kernel's operation */
+    uint n, cap, blocks, op;       /* blocks: chunks of MID_SUM_CHUNK over n; op: the kernel's operation */
     float w_data, w_spatial, w_temporal, w_accel;
     float grad_scale, scalar, log_tol, flow_tol; /* scalar: line-search step t or descent lambda */
     float range_lo, range_hi, dt;                /* dt: seconds between keyframes (gather) */
@@ -286,12 +292,14 @@ struct mid_solve_state {
     float cost_initial, inv_range, unused0, unused1;
 };
 
-/* Indirect dispatch sizes the control kernel writes (3 uints each). */
+/* Indirect dispatch sizes the control kernel writes (3 uints each): per
+ * gate, the size of an element kernel, then that of a chunk-sum kernel. */
 #define MID_ARGS_ACTIVE 0u   /* the solve goes on */
 #define MID_ARGS_CG 1u       /* ... and CG goes on */
 #define MID_ARGS_LINE 2u     /* ... and the line search has not accepted a step */
 #define MID_ARGS_COMMIT 3u   /* ... and it has */
-#define MID_ARGS_COUNT 4u
+#define MID_ARGS_GATES 4u
+#define MID_ARGS_COUNT 8u    /* gate g: element size at 2 g, sum size at 2 g + 1 */
 
 /* Bindings of the solver arena (set 0, one storage buffer range each; arrays
  * marked x2 hold the forward half then the backward half, each `cap` long). */
@@ -325,11 +333,13 @@ struct mid_solve_state {
 #define MID_B_FPREV 27     /* the last solution (warm start, paper 4.5) */
 #define MID_B_STORE 28     /* the keyframe store (a separate buffer) */
 #define MID_B_PUBLISHED 29 /* published ratios f / h (a separate buffer) */
-#define MID_B_COUNT 30
+#define MID_B_DOT 30       /* per element terms of the sums (6 x cap): 4 cost terms, 2 of vector steps */
+#define MID_B_COUNT 31
 #define MID_LIN_FIELDS 8u
-#define MID_PARTIAL_FLOATS 8u  /* per workgroup: 4 cost terms, 2 sums of a vector op */
+#define MID_PARTIAL_FLOATS 8u  /* per chunk: 4 cost terms, 2 sums of a vector op */
+#define MID_DOT_COLUMNS 6u
 #define MID_MAX_KEYFRAMES 256u /* MID_B_INVDT holds 2 x this */
-#define MID_SCAN_BLOCK 1024u /* elements per workgroup of the CSR scan */
+#define MID_SCAN_BLOCK 256u  /* counts per invocation of the CSR scan */
 
 /* Operations of the kernels (mid_push.op). */
 #define MID_OP_GATHER 0u       /* mid_window: window arrays from the keyframe store */
@@ -372,6 +382,9 @@ struct mid_solve_state {
 #define MID_OP_C_TRIAL 58u
 #define MID_OP_C_ITER_END 59u
 #define MID_OP_C_DESCENT 60u
+#define MID_OP_SUM_COST 70u    /* mid_sum: chunks of the cost terms */
+#define MID_OP_SUM_VEC 71u     /* ... of a vector step's two sums */
+#define MID_OP_COUNT 72u
 
 /* The keyframe store: a ring of keyframes, each ns coarse samples of
  * g, h, depth (arcmin, arcmin, m) and flows to the next and previous keyframe

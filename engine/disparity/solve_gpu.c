@@ -14,6 +14,7 @@
 #include "mid_precond_comp.h"
 #include "mid_publish_comp.h"
 #include "mid_scan_comp.h"
+#include "mid_sum_comp.h"
 #include "mid_terms_comp.h"
 #include "mid_vec_comp.h"
 #include "mid_window_comp.h"
@@ -22,10 +23,10 @@
 /* Steps and their graphs                                                    */
 /* ------------------------------------------------------------------------- */
 
-enum { K_WINDOW, K_SCAN, K_TERMS, K_VEC, K_PRECOND, K_CONTROL, K_PUBLISH, K_COUNT };
+enum { K_WINDOW, K_SCAN, K_TERMS, K_VEC, K_PRECOND, K_CONTROL, K_PUBLISH, K_SUM, K_COUNT };
 
-/* Dispatch size of an ungated step. */
-enum { SIZE_N = 0, SIZE_SCAN, SIZE_ONE };
+/* Dispatch size of a step: the element grid, chunks of sums or of the CSR scan, one workgroup. */
+enum { SIZE_N = 0, SIZE_SUM, SIZE_SCAN, SIZE_ONE };
 /* Gates: which MID_ARGS_* sizes an indirect dispatch takes (0 = direct). */
 enum { GATE_NONE = 0, GATE_ACTIVE, GATE_CG, GATE_LINE, GATE_COMMIT };
 /* Steps of the line preconditioner or of Jacobi CG only. */
@@ -38,6 +39,8 @@ typedef struct step_def {
 
 #define STEP(name, k, op, gate, size, only) {name, k, op, gate, size, only}
 #define CONTROL(name, op) STEP(name, K_CONTROL, op, GATE_NONE, SIZE_ONE, ONLY_ALL)
+#define SUM_COST(gate) STEP("sum.cost", K_SUM, MID_OP_SUM_COST, gate, SIZE_SUM, ONLY_ALL)
+#define SUM_VEC(gate, only) STEP("sum.vec", K_SUM, MID_OP_SUM_VEC, gate, SIZE_SUM, only)
 
 /* The window (mid_window_build). */
 static const step_def k_build[] = {
@@ -45,7 +48,7 @@ static const step_def k_build[] = {
     STEP("window.gather", K_WINDOW, MID_OP_GATHER, GATE_NONE, SIZE_N, ONLY_ALL),
     CONTROL("control.range", MID_OP_C_RANGE),
     STEP("window.links", K_WINDOW, MID_OP_LINKS, GATE_NONE, SIZE_N, ONLY_ALL),
-    STEP("scan.blocks", K_SCAN, MID_OP_SCAN_BLOCKS, GATE_NONE, SIZE_SCAN, ONLY_ALL),
+    STEP("scan.chunks", K_SCAN, MID_OP_SCAN_BLOCKS, GATE_NONE, SIZE_SCAN, ONLY_ALL),
     STEP("scan.top", K_SCAN, MID_OP_SCAN_TOP, GATE_NONE, SIZE_ONE, ONLY_ALL),
     STEP("scan.add", K_SCAN, MID_OP_SCAN_ADD, GATE_NONE, SIZE_SCAN, ONLY_ALL),
     STEP("window.fill", K_WINDOW, MID_OP_FILL, GATE_NONE, SIZE_N, ONLY_ALL),
@@ -57,6 +60,7 @@ static const step_def k_build[] = {
 static const step_def k_init[] = {
     STEP("vec.init", K_VEC, MID_OP_INIT, GATE_NONE, SIZE_N, ONLY_ALL),
     STEP("terms.linearize", K_TERMS, MID_OP_LIN_F, GATE_NONE, SIZE_N, ONLY_ALL),
+    SUM_COST(GATE_NONE),
     CONTROL("control.cost", MID_OP_C_INIT_COST),
 };
 /* A Gauss-Newton iteration up to its first CG step (gauss_newton_step). */
@@ -65,28 +69,35 @@ static const step_def k_prologue[] = {
     STEP("terms.gradient", K_TERMS, MID_OP_GATHER_GRAD, GATE_ACTIVE, SIZE_N, ONLY_ALL),
     STEP("terms.diagonal", K_TERMS, MID_OP_DIAGONAL, GATE_ACTIVE, SIZE_N, ONLY_ALL),
     STEP("vec.cg_start", K_VEC, MID_OP_CG_START, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    SUM_VEC(GATE_ACTIVE, ONLY_ALL),
     CONTROL("control.pg2", MID_OP_C_PG2),
     STEP("precond.assemble", K_PRECOND, MID_OP_ASSEMBLE, GATE_ACTIVE, SIZE_N, ONLY_LINES),
     STEP("precond.factor", K_PRECOND, MID_OP_FACTOR, GATE_ACTIVE, SIZE_N, ONLY_LINES),
     STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_ACTIVE, SIZE_N, ONLY_LINES),
     STEP("vec.zp_init", K_VEC, MID_OP_ZP_INIT, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    SUM_VEC(GATE_ACTIVE, ONLY_ALL),
     CONTROL("control.rz0", MID_OP_C_RZ0),
 };
 /* One preconditioned CG step. */
 static const step_def k_cg[] = {
     STEP("terms.direction", K_TERMS, MID_OP_DIRECTION, GATE_CG, SIZE_N, ONLY_ALL),
     STEP("terms.product", K_TERMS, MID_OP_GATHER_HESS, GATE_CG, SIZE_N, ONLY_ALL),
+    SUM_VEC(GATE_CG, ONLY_ALL),
     CONTROL("control.php", MID_OP_C_PHP),
     STEP("vec.cg_update", K_VEC, MID_OP_CG_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
+    SUM_VEC(GATE_CG, ONLY_JACOBI),
     STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_CG, SIZE_N, ONLY_LINES),
     STEP("vec.rz", K_VEC, MID_OP_RZ, GATE_CG, SIZE_N, ONLY_LINES),
+    SUM_VEC(GATE_CG, ONLY_LINES),
     CONTROL("control.rz", MID_OP_C_RZNEW),
     STEP("vec.p_update", K_VEC, MID_OP_P_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
 };
 /* One trial of the backtracking line search. */
 static const step_def k_trial[] = {
     STEP("vec.trial", K_VEC, MID_OP_TRIAL, GATE_LINE, SIZE_N, ONLY_ALL),
+    SUM_VEC(GATE_LINE, ONLY_ALL),
     STEP("terms.linearize", K_TERMS, MID_OP_LIN_FTRY, GATE_LINE, SIZE_N, ONLY_ALL),
+    SUM_COST(GATE_LINE),
     CONTROL("control.armijo", MID_OP_C_TRIAL),
 };
 static const step_def k_end[] = {
@@ -99,6 +110,7 @@ static const step_def k_descent[] = {
     STEP("terms.diagonal", K_TERMS, MID_OP_DIAGONAL, GATE_ACTIVE, SIZE_N, ONLY_ALL),
     STEP("vec.descent", K_VEC, MID_OP_DESCENT, GATE_ACTIVE, SIZE_N, ONLY_ALL),
     STEP("terms.linearize", K_TERMS, MID_OP_LIN_FTRY, GATE_ACTIVE, SIZE_N, ONLY_ALL),
+    SUM_COST(GATE_ACTIVE),
     CONTROL("control.descent", MID_OP_C_DESCENT),
     STEP("vec.commit", K_VEC, MID_OP_COMMIT, GATE_COMMIT, SIZE_N, ONLY_ALL),
 };
@@ -152,7 +164,7 @@ struct mid_gpu {
     VkWriteDescriptorSet writes[MID_B_COUNT];
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
-    VkPipeline pipe[K_COUNT];
+    VkPipeline pipe[K_COUNT][MID_OP_COUNT]; /* one per kernel and operation (specialisation) */
     rg_graph *graph[G_COUNT];
     step_ref refs[G_COUNT][MAX_STEPS];
 
@@ -172,23 +184,26 @@ static void step_execute(const rg_context *ctx, void *user)
     if ((s->only == ONLY_LINES && m->jacobi) || (s->only == ONLY_JACOBI && !m->jacobi))
         return;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipe[s->kernel]);
-    m->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 0, MID_B_COUNT, m->writes);
     mid_push p = m->push;
     p.op = s->op == MID_OP_GATHER && !m->gather ? MID_OP_PREPARE : s->op;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipe[s->kernel][s->kernel == K_CONTROL ? 0 : p.op]);
+    m->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 0, MID_B_COUNT, m->writes);
     if (s->op == MID_OP_TRIAL)
         p.scalar = m->trial_t;
     else if (s->op == MID_OP_DESCENT)
         p.scalar = m->lambda;
     vkCmdPushConstants(cmd, m->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof p, &p);
     if (s->gate != GATE_NONE) {
-        vkCmdDispatchIndirect(cmd, m->args.buffer, (VkDeviceSize)(s->gate - 1) * 3 * sizeof(uint32_t));
+        uint32_t slot = 2 * (uint32_t)(s->gate - 1) + (s->size == SIZE_SUM);
+        vkCmdDispatchIndirect(cmd, m->args.buffer, (VkDeviceSize)slot * 3 * sizeof(uint32_t));
     } else if (s->size == SIZE_ONE) {
         vkCmdDispatch(cmd, 1, 1, 1);
     } else if (s->size == SIZE_SCAN) {
-        vkCmdDispatch(cmd, (p.n + 1 + MID_SCAN_BLOCK - 1) / MID_SCAN_BLOCK, 2, 1);
+        vkCmdDispatch(cmd, ((p.n + 1 + MID_SCAN_BLOCK - 1) / MID_SCAN_BLOCK + 63) / 64, 2, 1);
+    } else if (s->size == SIZE_SUM) {
+        vkCmdDispatch(cmd, (p.blocks + 63) / 64, 1, 1);
     } else {
-        vkCmdDispatch(cmd, p.blocks, 1, 1);
+        vkCmdDispatch(cmd, (p.nx + MID_TILE - 1) / MID_TILE, (p.ny + MID_TILE - 1) / MID_TILE, p.nt);
     }
 }
 
@@ -244,7 +259,7 @@ static vg_status graph_build(mid_gpu *m, int gi)
 /* Byte sizes of the arena's arrays (mid_shared.h MID_B_*). */
 static void arena_layout(mid_gpu *m)
 {
-    VkDeviceSize n = m->cap, f = sizeof(float), blocks = (n + MID_LOCAL_SIZE - 1) / MID_LOCAL_SIZE;
+    VkDeviceSize n = m->cap, f = sizeof(float), blocks = (n + MID_SUM_CHUNK - 1) / MID_SUM_CHUNK;
     VkDeviceSize sz[MID_B_COUNT] = {
         [MID_B_STATE] = sizeof(mid_solve_state),
         [MID_B_PARTIAL] = blocks * MID_PARTIAL_FLOATS * f,
@@ -262,6 +277,7 @@ static void arena_layout(mid_gpu *m)
         [MID_B_SCAN] = 2 * ((n + 1) / MID_SCAN_BLOCK + 1) * f,
         [MID_B_L] = 3 * n * f,
         [MID_B_LIN] = MID_LIN_FIELDS * n * f,
+        [MID_B_DOT] = MID_DOT_COLUMNS * n * f,
     };
     int singles[] = {MID_B_F, MID_B_FTRY, MID_B_GRAD, MID_B_DIAG, MID_B_S, MID_B_R, MID_B_Z,
                      MID_B_P, MID_B_HP, MID_B_FREE, MID_B_FPREV};
@@ -314,7 +330,6 @@ static vg_status pipelines_create(mid_gpu *m)
         .pPushConstantRanges = &(VkPushConstantRange){VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(mid_push)}},
         NULL, &m->layout));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, m->layout, "mid layout");
-    vg_status st = VG_OK;
     static const struct {
         const uint32_t *code;
         size_t size;
@@ -327,15 +342,45 @@ static vg_status pipelines_create(mid_gpu *m)
         [K_PRECOND] = {spv_mid_precond_comp, sizeof spv_mid_precond_comp, "mid.precond"},
         [K_CONTROL] = {spv_mid_control_comp, sizeof spv_mid_control_comp, "mid.control"},
         [K_PUBLISH] = {spv_mid_publish_comp, sizeof spv_mid_publish_comp, "mid.publish"},
+        [K_SUM] = {spv_mid_sum_comp, sizeof spv_mid_sum_comp, "mid.sum"},
     };
-    for (int k = 0; k < K_COUNT && st == VG_OK; k++) {
-        VkShaderModule mod = VK_NULL_HANDLE;
-        st = gpu_shader_create(m->gpu, src[k].code, src[k].size, src[k].name, &mod);
-        if (st == VG_OK)
-            st = gpu_compute_pipeline_create(m->gpu, m->layout, mod, src[k].name, &m->pipe[k]);
-        if (mod)
-            vkDestroyShaderModule(m->gpu->device, mod, NULL);
-    }
+    VkShaderModule mod[K_COUNT] = {0};
+    vg_status st = VG_OK;
+    for (int k = 0; k < K_COUNT && st == VG_OK; k++)
+        st = gpu_shader_create(g, src[k].code, src[k].size, src[k].name, &mod[k]);
+    /* Every (kernel, operation) the steps use; the control kernel branches
+     * at run time (one workgroup: cheap), the element kernels get their
+     * operation as a specialisation constant (a CPU rasteriser would run
+     * every branch of a switch under masks). */
+    for (int gi = 0; gi < G_COUNT && st == VG_OK; gi++)
+        for (int i = 0; i < k_graphs[gi].count && st == VG_OK; i++) {
+            const step_def *sd = &k_graphs[gi].steps[i];
+            uint32_t ops[2] = {sd->kernel == K_CONTROL ? 0u : sd->op, MID_OP_PREPARE};
+            int variants = sd->op == MID_OP_GATHER ? 2 : 1;
+            for (int v = 0; v < variants && st == VG_OK; v++) {
+                VkPipeline *out = &m->pipe[sd->kernel][ops[v]];
+                if (*out)
+                    continue;
+                VkSpecializationMapEntry entry = {0, 0, sizeof(uint32_t)};
+                VkComputePipelineCreateInfo info = {
+                    .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+                    .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                              .stage = VK_SHADER_STAGE_COMPUTE_BIT, .module = mod[sd->kernel], .pName = "main",
+                              .pSpecializationInfo = &(VkSpecializationInfo){1, &entry, sizeof ops[v], &ops[v]}},
+                    .layout = m->layout,
+                };
+                VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+                if (r != VK_SUCCESS) {
+                    gpu_report_failure(__FILE__, __LINE__, "vkCreateComputePipelines", r);
+                    st = VG_ERR_VULKAN;
+                    break;
+                }
+                GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s op %u", src[sd->kernel].name, ops[v]);
+            }
+        }
+    for (int k = 0; k < K_COUNT; k++)
+        if (mod[k])
+            vkDestroyShaderModule(g->device, mod[k], NULL);
     return st;
 }
 
@@ -400,8 +445,9 @@ void mid_gpu_destroy(mid_gpu *m)
     for (int gi = 0; gi < G_COUNT; gi++)
         rg_destroy(m->graph[gi]);
     for (int k = 0; k < K_COUNT; k++)
-        if (m->pipe[k])
-            vkDestroyPipeline(dev, m->pipe[k], NULL);
+        for (int op = 0; op < (int)MID_OP_COUNT; op++)
+            if (m->pipe[k][op])
+                vkDestroyPipeline(dev, m->pipe[k][op], NULL);
     if (m->layout)
         vkDestroyPipelineLayout(dev, m->layout, NULL);
     if (m->set_layout)
@@ -444,7 +490,7 @@ void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
     float occ = s->occlusion_tolerance > 0 ? s->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
     m->push = (mid_push){
         .nx = (uint32_t)m->d.nx, .ny = (uint32_t)m->d.ny, .nt = nt, .ns = m->ns,
-        .n = n, .cap = m->cap, .blocks = (n + MID_LOCAL_SIZE - 1) / MID_LOCAL_SIZE,
+        .n = n, .cap = m->cap, .blocks = (n + MID_SUM_CHUNK - 1) / MID_SUM_CHUNK,
         .w_data = w.data, .w_spatial = w.spatial, .w_temporal = w.temporal, .w_accel = w.accel,
         .grad_scale = 2.0f / (float)n, .log_tol = logf(1.0f + occ),
         .flow_tol = s->flow_tolerance > 0 ? s->flow_tolerance : MID_FLOW_TOLERANCE,
@@ -517,6 +563,19 @@ void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes)
     if (bytes)
         *bytes = m->bytes[binding];
     return (uint8_t *)m->arena.mapped + m->offset[binding];
+}
+
+int mid_gpu_graph_count(void) { return G_COUNT; }
+const char *mid_gpu_graph_name(int graph) { return graph >= 0 && graph < G_COUNT ? k_graphs[graph].name : "?"; }
+
+uint32_t mid_gpu_step_timings(const mid_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap)
+{
+    if (graph < 0 || graph >= G_COUNT)
+        return 0;
+    uint32_t n = rg_timings(m->graph[graph], slot, ms, cap);
+    for (uint32_t i = 0; i < n; i++)
+        names[i] = rg_pass_name(m->graph[graph], rg_order_pass(m->graph[graph], i));
+    return n;
 }
 
 void mid_gpu_dump(const mid_gpu *m, FILE *out)

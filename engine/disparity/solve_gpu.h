@@ -77,5 +77,11 @@ void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes);
 uint32_t mid_gpu_capacity(const mid_gpu *m);
 uint32_t mid_gpu_adj_capacity(const mid_gpu *m);
 
+/* GPU ms of each step of step graph `graph` (0 .. mid_gpu_graph_count() - 1)
+ * at its last execution in the given slot; returns the steps written. */
+int mid_gpu_graph_count(void);
+const char *mid_gpu_graph_name(int graph);
+uint32_t mid_gpu_step_timings(const mid_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap);
+
 /* The step graphs, for the documentation's dumps. */
 void mid_gpu_dump(const mid_gpu *m, FILE *out);

@@ -340,7 +340,7 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     if (!d.shadow_size)
         d.shadow_size = 2048;
     if (d.mode == FRAME_MODE_DEFAULT)
-        d.mode = FRAME_MODE_ORIGINAL; /* until h and f are computed on the GPU (issue 4) */
+        d.mode = FRAME_MODE_OPTIMIZED; /* f: motion in depth restored (issue 4) */
     if (d.compose == FRAME_COMPOSE_DEFAULT)
         d.compose = FRAME_COMPOSE_SBS;
     if (d.tess_px <= 0 && d.tess_error <= 0)

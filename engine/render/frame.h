@@ -16,6 +16,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "disparity/disp_operator.h"
+#include "disparity/mid_solver.h"
 #include "gpu/gpu.h"
 #include "graph/graph.h"
 #include "scene/scene.h"
@@ -85,6 +87,16 @@ typedef struct frame_desc {
     VkFormat present_format;     /* windowed: the swapchain format, UNDEFINED = headless */
     uint32_t present_width, present_height; /* windowed: the swapchain extent */
     const struct vg_curve *curve; /* a baked global curve instead of the per-frame one (copied) */
+    /* The disparity pipeline (issue 4, DESIGN.md steps 4-7); zero = default. */
+    disp_operator_kind op;       /* h = M(g, saliency), 0 = lang */
+    disp_operator_preset op_preset; /* 0 = comfort (+-60 arcmin) */
+    double target_range;         /* half-width of the target range, arcmin, 0 = the preset's */
+    double window_seconds;       /* MID keyframe window, 0 = 3 s (paper 4.2: several seconds) */
+    double window_future;        /* share of the window ahead of the frame, 0 = 0.5 */
+    int coarse_stride;           /* solver grid stride in pixels, 0 = 5 (paper 4.4); larger frames
+                                    widen it so the grid stays 192 x 108 (paper 4.5: constant time) */
+    mid_solver_kind solver;      /* 0 = Gauss-Newton (the CPU reference's default) */
+    int solver_iterations;       /* outer iterations per window, 0 = the solver's default */
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at

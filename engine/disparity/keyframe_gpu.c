@@ -1,0 +1,259 @@
+/* vergence — mid.keyframes: coarse renders of the window's keyframes. */
+#include "keyframe_gpu.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CGLM_FORCE_DEPTH_ZERO_TO_ONE
+#include <cglm/cglm.h>
+
+#include "gpu/pipeline.h"
+#include "render/gbuffer.h"
+#include "shared.h"
+
+#include "gbuffer_unlit_frag.h"
+#include "gbuffer_vert.h"
+#include "sky_frag.h"
+#include "sky_vert.h"
+
+#define UBO_STRIDE ((sizeof(vg_frame_ubo) + 255) & ~(size_t)255)
+
+struct kf_gpu {
+    frame_ctx *fc;
+    kf_gpu_desc d;
+    VkPipeline sky, scene;
+    scene_state now, prev, next;
+    gpu_buffer vertices[VG_FRAMES_IN_FLIGHT]; /* per tile: current (6 floats) | prev (3) | next (3) */
+    gpu_buffer ubo[VG_FRAMES_IN_FLIGHT];      /* per tile: vg_frame_ubo */
+    VkDeviceSize tile_bytes;
+    rg_graph *graph;
+    rg_res r_vertices, r_ubo;
+    int tiles;                                /* this frame */
+};
+
+static vg_status pipelines_create(kf_gpu *k)
+{
+    frame_ctx *fc = k->fc;
+    gpu *g = fc->gpu;
+    VkShaderModule vert = 0, frag = 0, skyv = 0, skyf = 0;
+    vg_status st = GPU_SHADER(g, spv_gbuffer_vert, &vert);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_gbuffer_unlit_frag, &frag);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &skyv);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_frag, &skyf);
+    if (st == VG_OK)
+        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
+            .name = "mid.keyframes sky", .layout = fc->scene_layout, .vert = skyv, .frag = skyf,
+            .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, &k->sky);
+    VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
+    VkVertexInputAttributeDescription va[8];
+    uint32_t nb, na;
+    scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
+    if (st == VG_OK)
+        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
+            .name = "mid.keyframes", .layout = fc->scene_layout, .vert = vert, .frag = frag, .bindings = vb,
+            .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true, .depth_write = true,
+            .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, &k->scene);
+    VkShaderModule mods[] = {vert, frag, skyv, skyf};
+    for (size_t i = 0; i < sizeof mods / sizeof mods[0]; i++)
+        if (mods[i])
+            vkDestroyShaderModule(g->device, mods[i], NULL);
+    return st;
+}
+
+vg_status kf_gpu_create(frame_ctx *fc, const kf_gpu_desc *desc, kf_gpu **out)
+{
+    *out = NULL;
+    kf_gpu *k = calloc(1, sizeof *k);
+    if (!k)
+        return VG_ERR_NOMEM;
+    k->fc = fc;
+    k->d = *desc;
+    const scene *s = fc->scene;
+    k->tile_bytes = (VkDeviceSize)(s->vertex_count ? s->vertex_count : 1) * 12 * sizeof(float);
+    vg_status st = scene_state_init(s, &k->now);
+    if (st == VG_OK) st = scene_state_init(s, &k->prev);
+    if (st == VG_OK) st = scene_state_init(s, &k->next);
+    for (int i = 0; i < VG_FRAMES_IN_FLIGHT && st == VG_OK; i++) {
+        char name[64];
+        snprintf(name, sizeof name, "mid.keyframes vertices slot %d", i);
+        st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = name, .size = k->tile_bytes * desc->max_tiles,
+                                                            .usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, .host_visible = true},
+                               &k->vertices[i]);
+        snprintf(name, sizeof name, "mid.keyframes constants slot %d", i);
+        if (st == VG_OK)
+            st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = name, .size = UBO_STRIDE * desc->max_tiles,
+                                                                .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                                                .host_visible = true}, &k->ubo[i]);
+    }
+    if (st == VG_OK)
+        st = pipelines_create(k);
+    if (st != VG_OK) {
+        kf_gpu_destroy(k);
+        return st;
+    }
+    *out = k;
+    return VG_OK;
+}
+
+void kf_gpu_destroy(kf_gpu *k)
+{
+    if (!k)
+        return;
+    gpu *g = k->fc->gpu;
+    if (k->sky)
+        vkDestroyPipeline(g->device, k->sky, NULL);
+    if (k->scene)
+        vkDestroyPipeline(g->device, k->scene, NULL);
+    for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
+        gpu_buffer_destroy(g, &k->vertices[i]);
+        gpu_buffer_destroy(g, &k->ubo[i]);
+    }
+    scene_state_free(&k->now);
+    scene_state_free(&k->prev);
+    scene_state_free(&k->next);
+    free(k);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Per frame                                                                 */
+/* ------------------------------------------------------------------------- */
+
+/* Clip space of the full frame to the atlas: the centre of coarse pixel q of
+ * tile m lands where full-resolution sample X(q) = q s + s/2 has its centre
+ * (disp_grid), so a coarse keyframe is a point sample of the frame it
+ * predicts; clip' = A clip. */
+static void atlas_matrix(const kf_gpu *k, int tile, mat4 a)
+{
+    double w = k->fc->desc.width, h = k->fc->desc.height, s = k->d.stride, half = floor(s / 2.0) + 0.5;
+    double nx = k->d.nx, ny = k->d.ny, rows = (double)k->d.ny * k->d.max_tiles;
+    glm_mat4_identity(a);
+    a[0][0] = (float)(w / (nx * s));
+    a[3][0] = (float)(2.0 / nx * ((w / 2.0 - half) / s + 0.5) - 1.0);
+    a[1][1] = (float)(h / (s * rows));
+    a[3][1] = (float)(2.0 / rows * ((h / 2.0 - half) / s + 0.5 + tile * ny) - 1.0);
+}
+
+static void tile_ubo(kf_gpu *k, int tile, const vg_camera *cam, const vg_camera *prev, const vg_camera *next,
+                     vg_frame_ubo *u)
+{
+    frame_ctx *fc = k->fc;
+    memcpy(u, fc->ubo[fc->slot].mapped, sizeof *u); /* light, sky, rig, display of this frame */
+    mat4 a, vp, out, inv;
+    atlas_matrix(k, tile, a);
+    const vg_camera *cams[3] = {cam, prev, next};
+    float *dst[3] = {u->view_proj.m, u->view_proj_prev.m, u->view_proj_next.m};
+    for (int i = 0; i < 3; i++) {
+        memcpy(vp, cams[i]->view_proj, sizeof vp);
+        glm_mat4_mul(a, vp, out);
+        memcpy(dst[i], out, sizeof out);
+    }
+    memcpy(vp, u->view_proj.m, sizeof vp);
+    glm_mat4_inv(vp, inv);
+    memcpy(u->inv_view_proj.m, inv, sizeof inv);
+    memcpy(u->view.m, cam->view, 64);
+    memcpy(u->camera_pos.v, (float[4]){cam->position[0], cam->position[1], cam->position[2], cam->zfar}, 16);
+    float aw = (float)k->d.nx, ah = (float)(k->d.ny * k->d.max_tiles);
+    memcpy(u->viewport.v, (float[4]){aw, ah, 1.0f / aw, 1.0f / ah}, 16);
+}
+
+void kf_gpu_prepare(kf_gpu *k, long first, int count)
+{
+    frame_ctx *fc = k->fc;
+    const scene *s = fc->scene;
+    int slot = fc->slot;
+    k->tiles = count < (int)k->d.max_tiles ? count : (int)k->d.max_tiles;
+    float aspect = (float)fc->desc.width / (float)fc->desc.height;
+    double step = fc->desc.keyframe_stride / fc->desc.fps;
+    for (int m = 0; m < k->tiles; m++) {
+        /* The times the frame at that keyframe would be evaluated at. */
+        double t = (double)((first + m) * fc->desc.keyframe_stride) / fc->desc.fps;
+        scene_evaluate(s, (float)t, &k->now);
+        scene_evaluate(s, (float)(t - step), &k->prev);
+        scene_evaluate(s, (float)(t + step), &k->next);
+        vg_camera cam, cp, cn;
+        scene_camera_resolve(s, &k->now, fc->desc.camera, aspect, &cam);
+        scene_camera_resolve(s, &k->prev, fc->desc.camera, aspect, &cp);
+        scene_camera_resolve(s, &k->next, fc->desc.camera, aspect, &cn);
+        tile_ubo(k, m, &cam, &cp, &cn, (vg_frame_ubo *)((uint8_t *)k->ubo[slot].mapped + UBO_STRIDE * m));
+        float *v = (float *)((uint8_t *)k->vertices[slot].mapped + k->tile_bytes * m);
+        float *pv = v + 6 * (size_t)s->vertex_count, *nv = pv + 3 * (size_t)s->vertex_count;
+        for (uint32_t i = 0; i < s->vertex_count; i++) {
+            memcpy(v + 6 * i, k->now.positions + 3 * i, 3 * sizeof(float));
+            memcpy(v + 6 * i + 3, k->now.normals + 3 * i, 3 * sizeof(float));
+        }
+        memcpy(pv, k->prev.positions, (size_t)s->vertex_count * 3 * sizeof(float));
+        memcpy(nv, k->next.positions, (size_t)s->vertex_count * 3 * sizeof(float));
+    }
+    rg_bind_buffer(k->graph, k->r_vertices, k->vertices[slot].buffer);
+    rg_bind_buffer(k->graph, k->r_ubo, k->ubo[slot].buffer);
+}
+
+int kf_gpu_tiles(const kf_gpu *k) { return k->tiles; }
+
+/* ------------------------------------------------------------------------- */
+/* Pass                                                                      */
+/* ------------------------------------------------------------------------- */
+
+static void keyframes_execute(const rg_context *ctx, void *user)
+{
+    kf_gpu *k = user;
+    frame_ctx *fc = k->fc;
+    const scene *s = fc->scene;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    VkBuffer ubo = rg_ctx_buffer(ctx, k->r_ubo), verts = rg_ctx_buffer(ctx, k->r_vertices);
+    VkDeviceSize nv = s->vertex_count;
+    for (int m = 0; m < k->tiles; m++) {
+        vkCmdSetScissor(cmd, 0, 1, &(VkRect2D){{0, (int32_t)(m * k->d.ny)}, {k->d.nx, k->d.ny}});
+        VkDescriptorBufferInfo info = {ubo, UBO_STRIDE * (VkDeviceSize)m, sizeof(vg_frame_ubo)};
+        VkWriteDescriptorSet w = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME,
+                                  .descriptorCount = 1, .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                                  .pBufferInfo = &info};
+        fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 0, 1, &w);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, k->sky);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        if (!s->index_count)
+            continue;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, k->scene);
+        VkDeviceSize base = k->tile_bytes * (VkDeviceSize)m;
+        VkBuffer buffers[4] = {verts, verts, verts, fc->sg.statics.buffer};
+        VkDeviceSize offsets[4] = {base, base + nv * 6 * sizeof(float), base + nv * 9 * sizeof(float), 0};
+        vkCmdBindVertexBuffers(cmd, 0, 4, buffers, offsets);
+        vkCmdBindIndexBuffer(cmd, fc->sg.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        for (int i = 0; i < s->instance_count; i++) {
+            const scene_instance *in = &s->instances[i];
+            scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, 0);
+            vkCmdDrawIndexed(cmd, s->primitives[in->primitive].index_count, 1, in->first_index,
+                             (int32_t)in->first_vertex, 0);
+        }
+    }
+}
+
+void kf_gpu_add(kf_gpu *k, rg_graph *g, const frame_resources *res, kf_gpu_atlas *a)
+{
+    uint32_t w = k->d.nx, h = k->d.ny * k->d.max_tiles;
+    k->graph = g;
+    k->r_vertices = rg_import_buffer(g, &(rg_buffer_desc){"mid.keyframes.vertices", k->vertices[0].size},
+                                     &(rg_import_desc){.initial = RG_VERTEX});
+    k->r_ubo = rg_import_buffer(g, &(rg_buffer_desc){"mid.keyframes.ubo", k->ubo[0].size},
+                                &(rg_import_desc){.initial = RG_UNIFORM});
+    a->color = rg_image(g, &(rg_image_desc){"mid.keyframes.color", gbuffer_formats[VG_GBUFFER_COLOR], w, h, 1});
+    a->depth = rg_image(g, &(rg_image_desc){"mid.keyframes.depth", gbuffer_formats[VG_GBUFFER_DEPTH], w, h, 1});
+    a->ids = rg_image(g, &(rg_image_desc){"mid.keyframes.ids", gbuffer_formats[VG_GBUFFER_ID], w, h, 1});
+    a->motion = rg_image(g, &(rg_image_desc){"mid.keyframes.motion", gbuffer_formats[VG_GBUFFER_MOTION], w, h, 1});
+    a->zbuffer = rg_image(g, &(rg_image_desc){"mid.keyframes.zbuffer", GBUFFER_DEPTH_FORMAT, w, h, 1});
+    rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "mid.keyframes", .type = RG_PASS_GRAPHICS,
+                                               .execute = keyframes_execute, .user = k});
+    rg_use(g, p, k->r_ubo, RG_UNIFORM);
+    rg_use(g, p, k->r_vertices, RG_VERTEX);
+    rg_use(g, p, res->statics, RG_VERTEX);
+    rg_use(g, p, res->indices, RG_INDEX);
+    /* Attachment order = shader output locations; each rendered tile is
+     * covered by its sky first, the others are never read. */
+    rg_use(g, p, a->color, RG_COLOR_WRITE);
+    rg_use(g, p, a->depth, RG_COLOR_WRITE);
+    rg_use(g, p, a->ids, RG_COLOR_WRITE);
+    rg_use(g, p, a->motion, RG_COLOR_WRITE);
+    rg_use_clear(g, p, a->zbuffer, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
+}

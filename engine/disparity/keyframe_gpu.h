@@ -1,0 +1,34 @@
+/* vergence — mid.keyframes: the keyframes of the MID window rendered at the
+ * solver's coarse resolution (paper 4.5: "a prediction of future frames").
+ * Every animation is a function of time, so the keyframe the window needs
+ * next (several seconds ahead) is the scene evaluated at that time; its
+ * depth, saliency and motion to the neighbouring keyframes come from the
+ * G-buffer shaders (exact for rigid, skinned and morphed meshes), rendered
+ * into a tile of an atlas with a projection that puts each coarse pixel's
+ * centre on the ray of its full-resolution sample (disp_grid). Keyframes
+ * are rendered once, when they enter the window; the store keeps them. */
+#pragma once
+#include <stdint.h>
+
+#include "render/frame_ctx.h"
+
+typedef struct kf_gpu kf_gpu;
+
+typedef struct kf_gpu_desc {
+    uint32_t nx, ny, stride;   /* coarse grid of the full-resolution frame */
+    uint32_t max_tiles;        /* keyframes rendered in one frame */
+} kf_gpu_desc;
+
+/* The atlas images (max_tiles tiles of nx x ny stacked vertically). */
+typedef struct kf_gpu_atlas {
+    rg_res color, depth, ids, motion, zbuffer;
+} kf_gpu_atlas;
+
+vg_status kf_gpu_create(frame_ctx *fc, const kf_gpu_desc *desc, kf_gpu **out);
+void kf_gpu_destroy(kf_gpu *k);
+/* Adds "mid.keyframes"; fills the atlas resources. */
+void kf_gpu_add(kf_gpu *k, rg_graph *g, const frame_resources *res, kf_gpu_atlas *atlas);
+/* This frame renders keyframes first .. first + count - 1 (count 0: none):
+ * evaluates the scene at their times and fills the slot's streams. */
+void kf_gpu_prepare(kf_gpu *k, long first, int count);
+int kf_gpu_tiles(const kf_gpu *k);

@@ -1,0 +1,194 @@
+/* vergence — science metrics over the GPU pipeline's frames. */
+#include "metrics_gpu.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "disp_upsample.h"
+#include "mid_window.h"
+
+struct gpu_metrics {
+    gpu_metrics_desc d;
+    disp_grid grid;
+    int ns, nt, cap;
+    float *g, *h, *f, *z, *ffw, *fbw;  /* keyframe samples (cap keyframes) */
+    long last_index;
+    double g_lo, g_hi;                 /* the range the frames were measured in */
+    double h_out, f_out, pixels;
+    /* the two frames before, for second differences */
+    float *f1, *f2, *h1, *h2;
+    uint32_t *id1, *id2;
+    int held;
+    gpu_second_difference f_d2, h_d2;
+};
+
+vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
+{
+    *out = NULL;
+    gpu_metrics *m = calloc(1, sizeof *m);
+    if (!m)
+        return VG_ERR_NOMEM;
+    m->d = *desc;
+    disp_grid_init(&m->grid, (int)desc->width, (int)desc->height, (int)desc->stride);
+    m->ns = m->grid.nx * m->grid.ny;
+    m->cap = desc->max_keyframes > 0 ? desc->max_keyframes : 256;
+    size_t nk = (size_t)m->ns * m->cap, np = (size_t)desc->width * desc->height;
+    m->g = malloc(nk * sizeof(float));
+    m->h = malloc(nk * sizeof(float));
+    m->f = malloc(nk * sizeof(float));
+    m->z = malloc(nk * sizeof(float));
+    m->ffw = calloc(2 * nk, sizeof(float));
+    m->fbw = calloc(2 * nk, sizeof(float));
+    m->f1 = malloc(np * sizeof(float));
+    m->f2 = malloc(np * sizeof(float));
+    m->h1 = malloc(np * sizeof(float));
+    m->h2 = malloc(np * sizeof(float));
+    m->id1 = malloc(np * sizeof(uint32_t));
+    m->id2 = malloc(np * sizeof(uint32_t));
+    m->last_index = -1;
+    m->g_lo = desc->range_lo;
+    m->g_hi = desc->range_hi;
+    if (!m->g || !m->h || !m->f || !m->z || !m->ffw || !m->fbw || !m->f1 || !m->f2 || !m->h1 || !m->h2 || !m->id1 ||
+        !m->id2) {
+        gpu_metrics_destroy(m);
+        return VG_ERR_NOMEM;
+    }
+    *out = m;
+    return VG_OK;
+}
+
+void gpu_metrics_destroy(gpu_metrics *m)
+{
+    if (!m)
+        return;
+    free(m->g); free(m->h); free(m->f); free(m->z); free(m->ffw); free(m->fbw);
+    free(m->f1); free(m->f2); free(m->h1); free(m->h2); free(m->id1); free(m->id2);
+    free(m);
+}
+
+static long outside(const float *x, size_t n, double lo, double hi)
+{
+    long c = 0;
+    for (size_t i = 0; i < n; i++)
+        c += !(x[i] >= lo - 1e-3 && x[i] <= hi + 1e-3);
+    return c;
+}
+
+/* Second difference at frame t - 1 (x1), from t - 2 (x2) and t (x). */
+static void second_difference(gpu_metrics *m, gpu_second_difference *acc, const float *x, const float *x1,
+                              const float *x2, const uint32_t *ids, long t_mid)
+{
+    size_t np = (size_t)m->d.width * m->d.height, n = 0;
+    double sum = 0;
+    for (size_t i = 0; i < np; i++) {
+        if (!ids[i] || ids[i] != m->id1[i] || ids[i] != m->id2[i])
+            continue;
+        sum += fabs((double)x[i] - 2.0 * x1[i] + x2[i]);
+        n++;
+    }
+    if (!n)
+        return;
+    int s = m->d.keyframe_stride;
+    long ph = ((t_mid % s) + s) % s;
+    bool boundary = ph == 0 || ph == s - 1; /* f(t_mid + 1) or f(t_mid) starts an interval */
+    if (boundary) {
+        acc->boundary += sum / (double)n;
+        acc->boundary_frames++;
+    } else {
+        acc->between += sum / (double)n;
+        acc->between_frames++;
+    }
+}
+
+void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
+                     const float *motion, const uint32_t *ids)
+{
+    size_t np = (size_t)m->d.width * m->d.height;
+    double lo = m->d.range_lo, hi = m->d.range_hi;
+    for (size_t i = 0; m->d.hull && i < np; i++) {
+        lo = g[i] < lo ? g[i] : lo;
+        hi = g[i] > hi ? g[i] : hi;
+    }
+    m->h_out += (double)outside(h, np, lo, hi);
+    m->f_out += (double)outside(f, np, lo, hi);
+    m->g_lo = lo < m->g_lo ? lo : m->g_lo;
+    m->g_hi = hi > m->g_hi ? hi : m->g_hi;
+    m->pixels += (double)np;
+    if (m->held >= 2 && index == m->last_index + 1) {
+        second_difference(m, &m->f_d2, f, m->f1, m->f2, ids, index - 1);
+        second_difference(m, &m->h_d2, h, m->h1, m->h2, ids, index - 1);
+    }
+    if (index != m->last_index + 1)
+        m->held = 0;
+    /* Shift the history: t-1 becomes t-2. */
+    float *tf = m->f2, *th = m->h2;
+    uint32_t *ti = m->id2;
+    m->f2 = m->f1; m->h2 = m->h1; m->id2 = m->id1;
+    m->f1 = tf; m->h1 = th; m->id1 = ti;
+    memcpy(m->f1, f, np * sizeof(float));
+    memcpy(m->h1, h, np * sizeof(float));
+    memcpy(m->id1, ids, np * sizeof(uint32_t));
+    m->held = m->held < 2 ? m->held + 1 : 2;
+    m->last_index = index;
+    if (index % m->d.keyframe_stride != 0 || m->nt >= m->cap)
+        return;
+    /* A keyframe: coarse samples and the motion to its neighbours as the
+     * window's flows (coarse pixels). */
+    size_t o = (size_t)m->nt * m->ns;
+    disp_grid_sample(&m->grid, g, 1, m->g + o);
+    disp_grid_sample(&m->grid, h, 1, m->h + o);
+    disp_grid_sample(&m->grid, f, 1, m->f + o);
+    disp_grid_sample(&m->grid, depth, 1, m->z + o);
+    float inv = 1.0f / (float)m->grid.stride;
+    for (int q = 0; q < m->ns; q++) {
+        const float *mv = motion + 4 * ((size_t)disp_grid_py(&m->grid, q / m->grid.nx) * m->d.width +
+                                        disp_grid_px(&m->grid, q % m->grid.nx));
+        m->fbw[2 * (o + q)] = mv[0] * inv;
+        m->fbw[2 * (o + q) + 1] = mv[1] * inv;
+        m->ffw[2 * (o + q)] = mv[2] * inv;
+        m->ffw[2 * (o + q) + 1] = mv[3] * inv;
+    }
+    m->nt++;
+}
+
+vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
+{
+    memset(out, 0, sizeof *out);
+    out->keyframes = m->nt;
+    out->h_range_violation = m->pixels > 0 ? m->h_out / m->pixels : 0;
+    out->f_range_violation = m->pixels > 0 ? m->f_out / m->pixels : 0;
+    out->f_d2 = m->f_d2;
+    out->h_d2 = m->h_d2;
+    gpu_second_difference *d2[2] = {&out->f_d2, &out->h_d2};
+    for (int i = 0; i < 2; i++) {
+        d2[i]->boundary = d2[i]->boundary_frames ? d2[i]->boundary / d2[i]->boundary_frames : 0;
+        d2[i]->between = d2[i]->between_frames ? d2[i]->between / d2[i]->between_frames : 0;
+    }
+    out->range_lo = m->g_lo;
+    out->range_hi = m->g_hi;
+    if (m->nt < 3)
+        return VG_OK; /* no acceleration to measure */
+    mid_window *w;
+    vg_status st = mid_window_create(&(mid_window_desc){.width = m->grid.nx, .height = m->grid.ny, .keyframes = m->nt,
+                                                        .range_lo = (float)m->g_lo, .range_hi = (float)m->g_hi,
+                                                        .keyframe_seconds = (float)(m->d.keyframe_stride / m->d.fps)},
+                                     &w);
+    if (st != VG_OK)
+        return st;
+    size_t n = (size_t)w->n;
+    memcpy(w->g, m->g, n * sizeof(float));
+    memcpy(w->h, m->h, n * sizeof(float));
+    memcpy(w->depth, m->z, n * sizeof(float));
+    memcpy(w->flow_fwd, m->ffw, 2 * n * sizeof(float));
+    memcpy(w->flow_bwd, m->fbw, 2 * n * sizeof(float));
+    st = mid_window_build(w, NULL);
+    if (st == VG_OK) {
+        disp_metrics_window(w, w->h, NULL, &out->h);
+        disp_metrics_window(w, m->f, NULL, &out->f);
+    }
+    mid_window_destroy(w);
+    return st;
+}

@@ -1,0 +1,51 @@
+/* vergence — the science metrics (disp_metrics.c) over frames the GPU
+ * pipeline produced: `vergence capture` adds them to capture.json, the tests
+ * and the bench read them. Like `vergence optimize` (docs/method.md Sec. 11):
+ * a MID window over the captured keyframes (coarse samples of g, h, depth
+ * and the G-buffer's exact motion to the neighbouring keyframes), h and f
+ * point-sampled at the keyframes (so upsampling errors count), range
+ * violations over every full-resolution pixel of every frame. Also the
+ * temporal second difference of f at keyframe boundaries and between them
+ * (a pop at a boundary shows there). */
+#pragma once
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/status.h"
+#include "disp_metrics.h"
+
+typedef struct gpu_metrics_desc {
+    uint32_t width, height, stride;  /* frames and the solver's coarse stride */
+    int keyframe_stride;
+    double fps;
+    double range_lo, range_hi;       /* target range (arcmin) */
+    bool hull;                       /* operator none: the range also holds each frame's g */
+    int max_keyframes;               /* window capacity, 0 = 256 */
+} gpu_metrics_desc;
+
+/* Mean |f(t+1) - 2 f(t) + f(t-1)| over pixels that show the same instance in
+ * all three frames, at frames next to a keyframe boundary (t or t + 1 a
+ * keyframe) and at the others. */
+typedef struct gpu_second_difference {
+    double boundary, between;
+    int boundary_frames, between_frames;
+} gpu_second_difference;
+
+typedef struct gpu_metrics_result {
+    disp_metrics h, f;
+    double h_range_violation, f_range_violation; /* over every pixel of every frame */
+    gpu_second_difference f_d2, h_d2;
+    int keyframes;
+    double range_lo, range_hi;
+} gpu_metrics_result;
+
+typedef struct gpu_metrics gpu_metrics;
+
+vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out);
+void gpu_metrics_destroy(gpu_metrics *m);
+/* One frame (absolute index); frames must come in order. motion: 4 floats
+ * per pixel (px to the previous keyframe, to the next). */
+void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
+                     const float *motion, const uint32_t *ids);
+/* The metrics over the frames added (needs at least 3 keyframes for MID). */
+vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out);
