@@ -224,6 +224,7 @@ static vg_status ask(pref *p, int trial, int *choice, double *response_s, bool *
     static const char *const labels[3] = {"A", "reference", "B"};
     *choice = -1;
     long t0 = -1;
+    vg_info("study preference: trial %d: showing %d frames per version", trial, p->frames);
     while (*choice < 0 && !p->quit && !*relayout) {
         window_event ev[32];
         int n;
