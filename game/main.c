@@ -14,6 +14,7 @@ static const vg_cmd *const g_commands[] = {
     &vg_cmd_optimize,
     &vg_cmd_play, &vg_cmd_study,
     &vg_cmd_bake_curve,
+    &vg_cmd_demo,
 };
 #define COMMAND_COUNT (int)(sizeof g_commands / sizeof g_commands[0])
 

@@ -1,0 +1,410 @@
+/* vergence demo — one scene in one mode: render the clip's sampled frames
+ * (video, x-t rows, object tracks, keyframes for the MID metrics, stills),
+ * then the stills again against the two-camera reference with the warp and
+ * with the image-warping baseline (holes, PSNR), then capture.json. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/clock.h"
+#include "core/io.h"
+#include "core/log.h"
+#include "demo.h"
+#include "demo_image.h"
+#include "disparity/disparity_gpu.h"
+#include "disparity/metrics_gpu.h"
+#include "stereo/stereo_display.h"
+
+typedef struct run_ctx {
+    gpu *gpu;
+    frame *frame;                /* the clip's */
+    const scene *s;
+    const demo_opts *o;
+    demo_scene *sc;
+    demo_run *r;
+    char dir[4096];
+    int *node_track;             /* node -> track index or -1 */
+    bool own[DEMO_MAPS];         /* this run writes the scene's slices and tracks of map m */
+    double *pass_samples;        /* samples x RG_MAX_PASSES, NAN where a pass did not run */
+    double *cpu_ms;
+    gpu_metrics *science;        /* MID metrics of h and f (the analysis run) */
+    FILE *video;
+    demo_progress_fn progress;
+    void *user;
+} run_ctx;
+
+int demo_run_units(const demo_opts *o, const demo_scene *sc, bool analysis)
+{
+    int step = analysis ? o->analysis_step : o->step;
+    return (int)(sc->last / step) + 1 + 2;
+}
+
+void demo_run_free(demo_run *r)
+{
+    warp_metrics_free(&r->warp);
+    warp_metrics_free(&r->imagewarp);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of the finite values among n with the given stride. */
+static double median_of(const double *v, int n, int stride)
+{
+    double *tmp = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+    int k = 0;
+    for (int i = 0; tmp && i < n; i++)
+        if (isfinite(v[(size_t)i * (size_t)stride]))
+            tmp[k++] = v[(size_t)i * (size_t)stride];
+    double m = NAN;
+    if (k) {
+        qsort(tmp, (size_t)k, sizeof *tmp, cmp_double);
+        m = k % 2 ? tmp[k / 2] : 0.5 * (tmp[k / 2 - 1] + tmp[k / 2]);
+    }
+    free(tmp);
+    return m;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Per frame                                                                 */
+/* ------------------------------------------------------------------------- */
+
+static uint32_t pass_slot(demo_run *r, const char *name)
+{
+    for (uint32_t p = 0; p < r->pass_count; p++)
+        if (!strcmp(r->pass_names[p], name))
+            return p;
+    if (r->pass_count >= RG_MAX_PASSES)
+        return RG_MAX_PASSES;
+    snprintf(r->pass_names[r->pass_count], DEMO_NAME, "%s", name);
+    return r->pass_count++;
+}
+
+static void record_timings(run_ctx *c, frame *f, int sample)
+{
+    const char *names[RG_MAX_PASSES];
+    double ms[RG_MAX_PASSES];
+    uint32_t n = frame_pass_timings(f, names, ms, RG_MAX_PASSES);
+    for (uint32_t p = 0; p < n; p++) {
+        uint32_t slot = pass_slot(c->r, names[p]);
+        if (slot < RG_MAX_PASSES)
+            c->pass_samples[(size_t)sample * RG_MAX_PASSES + slot] = ms[p];
+    }
+}
+
+/* Mean vergence of every tracked object, and the slice row. */
+static void record_maps(run_ctx *c, const frame_outputs *fo, int sample, uint32_t w, uint32_t h)
+{
+    const float *maps[DEMO_MAPS] = {fo->g, fo->h, fo->f};
+    double sum[DEMO_MAX_TRACKS][DEMO_MAPS] = {{0}};
+    int count[DEMO_MAX_TRACKS] = {0};
+    size_t px = (size_t)w * h;
+    const scene *s = c->s;
+    for (size_t i = 0; i < px; i++) {
+        uint32_t id = fo->ids[i];
+        if (id == 0 || id > (uint32_t)s->instance_count)
+            continue;
+        int t = c->node_track[s->instances[id - 1].node];
+        if (t < 0)
+            continue;
+        count[t]++;
+        for (int m = 0; m < DEMO_MAPS; m++)
+            if (maps[m])
+                sum[t][m] += maps[m][i];
+    }
+    demo_scene *sc = c->sc;
+    for (int m = 0; m < DEMO_MAPS; m++) {
+        if (!c->own[m])
+            continue;
+        for (int t = 0; t < sc->track_count; t++)
+            sc->tracks[t].v[m][sample] = count[t] >= 3 ? (float)(sum[t][m] / count[t]) : NAN;
+        memcpy(sc->xt[m] + (size_t)sample * w, maps[m] + (size_t)sc->row * w, sizeof(float) * w);
+    }
+}
+
+/* The analysis run keeps the maps its frames carry (optimized: g, h, f). */
+static vg_status claim_maps(run_ctx *c, const frame_outputs *fo)
+{
+    const float *maps[DEMO_MAPS] = {fo->g, fo->h, fo->f};
+    demo_scene *sc = c->sc;
+    for (int m = 0; m < DEMO_MAPS; m++) {
+        c->r->maps[m] = maps[m] != NULL;
+        c->own[m] = maps[m] && c->r->analysis;
+        if (!c->own[m])
+            continue;
+        sc->xt[m] = malloc(sizeof(float) * (size_t)sc->samples * (size_t)sc->width);
+        if (!sc->xt[m])
+            return VG_ERR_NOMEM;
+        for (int t = 0; t < sc->track_count; t++) {
+            float *v = sc->tracks[t].v[m] = malloc(sizeof(float) * (size_t)sc->samples);
+            if (!v)
+                return VG_ERR_NOMEM;
+            for (int i = 0; i < sc->samples; i++)
+                v[i] = NAN;
+        }
+    }
+    return VG_OK;
+}
+
+static FILE *video_open(run_ctx *c, uint32_t w, uint32_t h)
+{
+    if (!c->o->video || !c->o->ffmpeg || strchr(c->dir, '\'') || strchr(c->o->ffmpeg, '\''))
+        return NULL;
+    char cmd[8192];
+    /* H.264 in MP4 plays in every browser; even sizes for yuv420p. */
+    snprintf(cmd, sizeof cmd,
+             "'%s' -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s %ux%u -r %g -i - -an "
+             "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p "
+             "-movflags +faststart '%s/video.mp4'",
+             c->o->ffmpeg, w, h, c->o->fps / c->o->step, c->dir);
+    FILE *p = popen(cmd, "w");
+    if (!p)
+        vg_warn("demo: could not start ffmpeg; no video for %s/%s", c->sc->name, frame_mode_names[c->r->mode]);
+    return p;
+}
+
+static void video_frame(run_ctx *c, const frame_outputs *fo)
+{
+    if (!c->video)
+        return;
+    size_t px = (size_t)fo->stereo_width * fo->stereo_height;
+    uint8_t *rgb = malloc(px * 3);
+    if (!rgb)
+        return;
+    for (size_t i = 0; i < px; i++)
+        memcpy(rgb + 3 * i, fo->stereo + 4 * i, 3);
+    if (fwrite(rgb, 3, px, c->video) != px) {
+        vg_warn("demo: ffmpeg stopped reading; no video for %s/%s", c->sc->name, frame_mode_names[c->r->mode]);
+        pclose(c->video);
+        c->video = NULL;
+    }
+    free(rgb);
+}
+
+static vg_status write_still(run_ctx *c, int k, const frame_outputs *fo, uint32_t w, uint32_t h)
+{
+    char name[64];
+    vg_status st;
+    snprintf(name, sizeof name, "still_%d_sbs.png", k);
+    if ((st = demo_png_sbs(c->dir, name, fo->left, fo->right, w, h)))
+        return st;
+    snprintf(name, sizeof name, "still_%d_anaglyph.png", k);
+    if ((st = demo_png_rgba(c->dir, name, fo->stereo, fo->stereo_width, fo->stereo_height)))
+        return st;
+    snprintf(name, sizeof name, "still_%d_cascade.png", k);
+    return demo_png_cascade(c->dir, name, fo, w, h);
+}
+
+/* ------------------------------------------------------------------------- */
+/* Passes over the clip                                                      */
+/* ------------------------------------------------------------------------- */
+
+static frame_desc base_desc(const run_ctx *c)
+{
+    return (frame_desc){
+        .width = (uint32_t)c->o->width, .height = (uint32_t)c->o->height, .fps = c->o->fps,
+        .keyframe_stride = c->o->keyframe_stride, .readback = true, .stereo = FRAME_STEREO_WARP,
+        .mode = c->r->mode, .compose = FRAME_COMPOSE_ANAGLYPH, .measure = true, .op = c->o->op,
+    };
+}
+
+/* The science metrics over the clip (as `vergence capture` computes them),
+ * in the target range of the frame's operator; for `none`, which keeps g,
+ * the hull of g is added. */
+static vg_status science_create(run_ctx *c, gpu_metrics **out)
+{
+    const frame_desc *d = frame_get_desc(c->frame);
+    stereo_display disp;
+    stereo_display_init(&disp, &d->display);
+    disp_operator *op;
+    vg_status st = disp_operator_create(&(disp_operator_desc){.kind = d->op, .preset = d->op_preset,
+                                                              .screen_vergence = disp.screen_vergence,
+                                                              .range = d->target_range}, &op);
+    if (st != VG_OK)
+        return st;
+    disp_operator_range(op, &c->r->range_lo, &c->r->range_hi);
+    disp_operator_destroy(op);
+    return gpu_metrics_create(&(gpu_metrics_desc){
+        .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
+        .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride),
+        .range_lo = c->r->range_lo, .range_hi = c->r->range_hi, .hull = d->op == DISP_OPERATOR_NONE}, out);
+}
+
+static vg_status science_finish(run_ctx *c)
+{
+    gpu_metrics_result res;
+    vg_status st = gpu_metrics_finish(c->science, &res);
+    if (st != VG_OK)
+        return st;
+    demo_run *r = c->r;
+    r->has_mid = res.keyframes >= 3;
+    r->mid[0] = res.h;
+    r->mid[1] = res.f;
+    r->range_violation[0] = res.h_range_violation;
+    r->range_violation[1] = res.f_range_violation;
+    r->second_difference[0][0] = res.h_d2.boundary;
+    r->second_difference[0][1] = res.h_d2.between;
+    r->second_difference[1][0] = res.f_d2.boundary;
+    r->second_difference[1][1] = res.f_d2.between;
+    r->range_lo = res.range_lo;
+    r->range_hi = res.range_hi;
+    r->keyframes = res.keyframes;
+    return VG_OK;
+}
+
+/* The clip: every step-th frame in this run's mode. */
+static vg_status render_clip(run_ctx *c, frame *f)
+{
+    demo_run *r = c->r;
+    uint32_t w = (uint32_t)c->o->width, h = (uint32_t)c->o->height;
+    vg_status st = VG_OK;
+    int still = 0;
+    for (int i = 0; i < r->frames && st == VG_OK; i++) {
+        long n = (long)i * r->step;
+        double t0 = vg_now_ms();
+        if ((st = frame_render(f, n)) != VG_OK)
+            break;
+        c->cpu_ms[i] = vg_now_ms() - t0;
+        record_timings(c, f, i);
+        const frame_outputs *fo = frame_get_outputs(f);
+        if (i == 0) {
+            if ((st = claim_maps(c, fo)) != VG_OK)
+                break;
+            if (r->analysis && fo->h && fo->f)
+                st = science_create(c, &c->science);
+            c->video = video_open(c, fo->stereo_width, fo->stereo_height);
+        }
+        if (r->analysis)
+            record_maps(c, fo, i, w, h);
+        if (c->science)
+            gpu_metrics_add(c->science, n, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
+        /* Every run's video has the same frames (every o->step-th). */
+        if (n % c->o->step == 0)
+            video_frame(c, fo);
+        if (still < r->still_count && r->still_frames[still] == n)
+            st = write_still(c, still++, fo, w, h);
+        c->progress(c->user, 1);
+    }
+    return st;
+}
+
+/* The middle still again, against the two-camera reference: the warp
+ * (accuracy, holes) and the image-warping baseline (holes). A fresh frame
+ * starts the MID window there (the clip's f had the frames before). */
+static vg_status render_stills(run_ctx *c, frame_stereo how)
+{
+    frame_desc d = base_desc(c);
+    d.stereo = how;
+    d.reference = true;
+    d.compose = FRAME_COMPOSE_SBS;
+    frame *f = NULL;
+    vg_status st = frame_create(c->gpu, c->s, &d, &f);
+    uint32_t w = (uint32_t)c->o->width, h = (uint32_t)c->o->height;
+    warp_metrics *m = how == FRAME_STEREO_WARP ? &c->r->warp : &c->r->imagewarp;
+    int k = c->r->still_count / 2;
+    if (st == VG_OK)
+        st = frame_render(f, c->r->still_frames[k]);
+    if (st == VG_OK) {
+        const frame_outputs *fo = frame_get_outputs(f);
+        st = warp_metrics_add(m, fo, w, h);
+        char name[64];
+        snprintf(name, sizeof name, "%s_%d_left.png", how == FRAME_STEREO_WARP ? "warp" : "imagewarp", k);
+        if (st == VG_OK)
+            st = demo_png_holes(c->dir, name, fo->left, w, h, NULL);
+        c->progress(c->user, 1);
+    }
+    if (st == VG_OK)
+        warp_metrics_finish(m);
+    frame_destroy(f);
+    return st;
+}
+
+/* Stills spread over the middle of the clip, where the motion happens, on
+ * frames every run renders. */
+static void pick_stills(run_ctx *c)
+{
+    demo_run *r = c->r;
+    int step = c->o->step;
+    r->still_count = c->o->stills < DEMO_MAX_STILLS ? c->o->stills : DEMO_MAX_STILLS;
+    for (int k = 0; k < r->still_count; k++) {
+        double frac = r->still_count > 1 ? 0.25 + 0.6 * k / (r->still_count - 1) : 0.55;
+        r->still_frames[k] = lround(frac * (double)c->sc->last / step) * step;
+    }
+}
+
+vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_scene *sc, int mode_index,
+                              bool analysis, demo_progress_fn progress, void *user)
+{
+    demo_run *r = &sc->runs[mode_index];
+    run_ctx c = {.gpu = g, .s = s, .o = o, .sc = sc, .r = r, .progress = progress, .user = user};
+    int units = demo_run_units(o, sc, analysis);
+    r->analysis = analysis;
+    r->step = analysis ? o->analysis_step : o->step;
+    r->frames = (int)(sc->last / r->step) + 1;
+    char sub[4096];
+    vg_status st = vg_path_join(sub, sizeof sub, o->out, sc->name);
+    if (st == VG_OK)
+        st = vg_path_join(c.dir, sizeof c.dir, sub, frame_mode_names[r->mode]);
+    if (st == VG_OK)
+        st = vg_dir_prepare(c.dir);
+    if (st != VG_OK)
+        return st;
+    pick_stills(&c);
+
+    frame_desc d = base_desc(&c);
+    frame *f = NULL;
+    st = frame_create(g, s, &d, &f);
+    if (st == VG_ERR_UNSUPPORTED && r->mode != FRAME_MODE_ORIGINAL) {
+        snprintf(r->note, sizeof r->note,
+                 "mode '%s' is not available in this build: the frame does not produce its disparity map yet "
+                 "(the GPU disparity pipeline, issue 4)", frame_mode_names[r->mode]);
+        vg_warn("demo: %s: %s; the report leaves it out", sc->name, r->note);
+        progress(user, units);
+        return VG_OK;
+    }
+    if (st != VG_OK)
+        return st;
+    c.node_track = malloc(sizeof(int) * (size_t)(s->node_count > 0 ? s->node_count : 1));
+    c.pass_samples = malloc(sizeof(double) * (size_t)r->frames * RG_MAX_PASSES);
+    c.cpu_ms = malloc(sizeof(double) * (size_t)r->frames);
+    if (!c.node_track || !c.pass_samples || !c.cpu_ms)
+        st = VG_ERR_NOMEM;
+    for (int n = 0; st == VG_OK && n < s->node_count; n++)
+        c.node_track[n] = -1;
+    for (int t = 0; st == VG_OK && t < sc->track_count; t++)
+        c.node_track[sc->tracks[t].node] = t;
+    for (size_t i = 0; st == VG_OK && i < (size_t)r->frames * RG_MAX_PASSES; i++)
+        c.pass_samples[i] = NAN;
+
+    if (st == VG_OK)
+        st = render_clip(&c, c.frame = f);
+    frame_destroy(f);
+    if (c.video) {
+        r->video = pclose(c.video) == 0;
+        if (!r->video)
+            vg_warn("demo: ffmpeg failed; no video for %s/%s", sc->name, frame_mode_names[r->mode]);
+    }
+    r->available = st == VG_OK;
+    for (uint32_t p = 0; st == VG_OK && p < r->pass_count; p++)
+        r->pass_ms[p] = median_of(c.pass_samples + p, r->frames, RG_MAX_PASSES);
+    if (st == VG_OK) {
+        r->frame_ms = median_of(c.cpu_ms, r->frames, 1);
+        if (c.science)
+            st = science_finish(&c);
+    }
+    if (st == VG_OK)
+        st = render_stills(&c, FRAME_STEREO_WARP);
+    if (st == VG_OK)
+        st = render_stills(&c, FRAME_STEREO_IMAGEWARP);
+    if (st == VG_OK)
+        st = demo_capture_json(c.dir, s, sc, r, o, g->props.deviceName, gpu_device_type_text(g->props.deviceType));
+    gpu_metrics_destroy(c.science);
+    free(c.node_track);
+    free(c.pass_samples);
+    free(c.cpu_ms);
+    return st;
+}
