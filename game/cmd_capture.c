@@ -34,7 +34,7 @@ typedef struct capture_opts {
     int size[2];
     int stereo, mode, compose, op;
     double target_range;
-    bool swap_eyes, diffuse, no_reference;
+    bool swap_eyes, diffuse, no_reference, write_aux;
     const char *curve;
     double tess_px, tess_error;
     gpu_cli gpu;
@@ -69,6 +69,7 @@ static const vg_opt k_opts[] = {
     {"--diffuse", VG_OPT_FLAG, &o.diffuse, NULL, "no specular highlights (eyes shade identically)", NULL, 0, 0},
     {"--curve", VG_OPT_STRING, &o.curve, "FILE", "use a global curve baked by 'vergence bake-curve'", NULL, 0, 0},
     {"--no-reference", VG_OPT_FLAG, &o.no_reference, NULL, "skip the two-camera reference (no holes or PSNR figures)", NULL, 0, 0},
+    {"--write-aux", VG_OPT_FLAG, &o.write_aux, NULL, "also write frame_NNNN_{left,right}_aux.pfm (centre x, disparity error px, cascade stage)", NULL, 0, 0},
     {"--dump-graph", VG_OPT_STRING, &o.dump_graph, "FILE", "print the compiled frame graph and write it as Graphviz DOT to FILE", NULL, 0, 0},
     GPU_CLI_OPTIONS(o.gpu),
 };
@@ -134,6 +135,24 @@ static vg_status write_stereo(const char *dir, int n, const frame_outputs *fo, u
         return st;
     if ((st = write_cascade(dir, n, fo, w, h)))
         return st;
+    for (int e = 0; e < 2 && o.write_aux; e++) {
+        vg_imagef aux;
+        if ((st = vg_imagef_alloc(&aux, (int)w, (int)h, 3)))
+            return st;
+        const float *src = e ? fo->right_aux : fo->left_aux;
+        const uint8_t *rgba = e ? fo->right : fo->left;
+        for (size_t i = 0; i < (size_t)w * h; i++) {
+            aux.data[3 * i] = src[4 * i];
+            aux.data[3 * i + 1] = rgba[4 * i + 3] > 192 ? src[4 * i + 2] : 0.0f; /* geometry only */
+            aux.data[3 * i + 2] = src[4 * i + 3];
+        }
+        snprintf(name, sizeof name, "frame_%04d_%s_aux.pfm", n, e ? "right" : "left");
+        if (!(st = vg_path_join(path, sizeof path, dir, name)))
+            st = vg_pfm_write(path, &aux);
+        vg_imagef_free(&aux);
+        if (st)
+            return st;
+    }
     vg_imagef g = {.width = (int)w, .height = (int)h, .channels = 1, .data = (float *)fo->g};
     snprintf(name, sizeof name, "frame_%04d_g.pfm", n);
     if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = vg_pfm_write(path, &g)))
