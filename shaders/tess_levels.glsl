@@ -22,6 +22,16 @@ float visible_target_px(vec3 world)
     return px_from_vergence(texelFetch(target_map, p, 0).r);
 }
 
+// The disparity (image px) the warp will give a vertex: the cascade, or the
+// curve's near continuation for points nearer than every pixel.
+float vertex_target_px(vec3 world)
+{
+    vec4 c = u.view_proj * vec4(world, 1.0);
+    if (c.w * curve.inv_depth_near > 1.0)
+        return px_from_vergence(cascade(centre_pixel(c), c.w).x);
+    return near_disparity_times_depth(c.w) / max(c.w, 1e-6);
+}
+
 float edge_level(vec3 a, vec3 b)
 {
     // The same edge seen from both of its triangles must get the same level
@@ -35,11 +45,17 @@ float edge_level(vec3 a, vec3 b)
     float near_w = 1e-3;
     if (ca.w < near_w && cb.w < near_w)
         return 1.0;
-    // Measure the part in front of the camera.
-    if (ca.w < near_w)
-        ca = mix(ca, cb, (near_w - ca.w) / (cb.w - ca.w));
-    if (cb.w < near_w)
-        cb = mix(cb, ca, (near_w - cb.w) / (ca.w - cb.w));
+    // Measure the part in front of the camera (clip space is linear in world space).
+    if (ca.w < near_w) {
+        float k = (near_w - ca.w) / (cb.w - ca.w);
+        ca = mix(ca, cb, k);
+        a = mix(a, b, k);
+    }
+    if (cb.w < near_w) {
+        float k = (near_w - cb.w) / (ca.w - cb.w);
+        cb = mix(cb, ca, k);
+        b = mix(b, a, k);
+    }
     float len = distance(centre_pixel(ca), centre_pixel(cb));
     if (len <= 1.0)
         return 1.0; /* a pixel or less: nothing to gain */
@@ -47,15 +63,18 @@ float edge_level(vec3 a, vec3 b)
     if (u.warp.x > 0.0) {
         level = len / u.warp.x;
     } else if (u.warp.y > 0.0) {
+        // Between its vertices the warp interpolates disparity linearly in
+        // screen space (perspective-correct interpolation of d w over w):
+        // compare the target along the edge with that line.
         const int N = 6;
-        float da = visible_target_px(a), db = visible_target_px(b), err = 0.0;
-        if (da > -1e8 && db > -1e8)
-            for (int i = 1; i < N; i++) {
-                float t = float(i) / float(N);
-                float di = visible_target_px(mix(a, b, t));
-                if (di > -1e8)
-                    err = max(err, abs(di - mix(da, db, t)));
-            }
+        float da = vertex_target_px(a), db = vertex_target_px(b), err = 0.0;
+        for (int i = 1; i < N; i++) {
+            float t = float(i) / float(N);
+            float di = visible_target_px(mix(a, b, t));
+            float s = t * cb.w / mix(ca.w, cb.w, t); /* screen-space parameter of 3D t */
+            if (di > -1e8)
+                err = max(err, abs(di - mix(da, db, s)));
+        }
         // Linear interpolation error falls with the square of the segment length.
         level = min(sqrt(err / u.warp.y), len);
     }
