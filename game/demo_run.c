@@ -208,7 +208,7 @@ static frame_desc base_desc(const run_ctx *c)
     return (frame_desc){
         .width = (uint32_t)c->o->width, .height = (uint32_t)c->o->height, .fps = c->o->fps,
         .keyframe_stride = c->o->keyframe_stride, .readback = true, .stereo = FRAME_STEREO_WARP,
-        .mode = c->r->mode, .compose = FRAME_COMPOSE_ANAGLYPH, .measure = true, .op = c->o->op,
+        .mode = c->r->mode, .compose = FRAME_COMPOSE_ANAGLYPH, .op = c->o->op,
     };
 }
 
@@ -300,6 +300,7 @@ static vg_status render_stills(run_ctx *c, frame_stereo how)
     frame_desc d = base_desc(c);
     d.stereo = how;
     d.reference = true;
+    d.measure = true; /* the disparity error per pixel: the cascade again in every fragment */
     d.compose = FRAME_COMPOSE_SBS;
     frame *f = NULL;
     vg_status st = frame_create(c->gpu, c->s, &d, &f);
