@@ -41,6 +41,22 @@ static int interior(const uint8_t *ref, uint32_t width, uint32_t height, size_t 
     return 1;
 }
 
+/* A pixel the method left empty (nothing drawn: the disocclusions of image
+ * warping), or a crack: sky between geometry on both sides. Sky beside a
+ * silhouette that the target disparity moved is neither. */
+static int hole(const uint8_t *eye, uint32_t width, uint32_t height, size_t i)
+{
+    const uint8_t *p = eye + 4 * i;
+    if (p[3] < 64)
+        return 1;
+    if (is_geometry(p))
+        return 0;
+    uint32_t x = (uint32_t)(i % width), y = (uint32_t)(i / width);
+    bool lr = x > 0 && x + 1 < width && is_geometry(p - 4) && is_geometry(p + 4);
+    bool ud = y > 0 && y + 1 < height && is_geometry(p - 4 * (size_t)width) && is_geometry(p + 4 * (size_t)width);
+    return lr || ud;
+}
+
 vg_status warp_metrics_add(warp_metrics *m, const frame_outputs *o, uint32_t width, uint32_t height)
 {
     size_t n = (size_t)width * height;
@@ -67,7 +83,7 @@ vg_status warp_metrics_add(warp_metrics *m, const frame_outputs *o, uint32_t wid
         for (size_t i = 0; i < n; i++) {
             if (interior(refs[e], width, height, i)) {
                 m->reference_geometry++;
-                m->holes += !is_geometry(eyes[e] + 4 * i);
+                m->holes += hole(eyes[e], width, height, i);
             }
             for (int c = 0; c < 3; c++) {
                 double d = (double)eyes[e][4 * i + c] - (double)refs[e][4 * i + c];

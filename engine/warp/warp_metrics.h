@@ -8,9 +8,12 @@
  *                  disparity is twice their horizontal offset, and the target
  *                  is the cascade at the centre-view position
  *   holes          pixels where the two-camera reference shows geometry, away
- *                  from its silhouettes (all 8 neighbours are geometry too), and
- *                  the method shows none (sky or nothing): disocclusions, not
- *                  sub-pixel differences of coverage along an edge
+ *                  from its silhouettes (all 8 neighbours are geometry too),
+ *                  and the method left empty (nothing drawn: image warping's
+ *                  disocclusions) or cracked open (sky with geometry on both
+ *                  sides). Sky beside a silhouette is not a hole: under h or f
+ *                  an object's silhouette rightly sits elsewhere than the
+ *                  cameras (which show g) put it.
  *   PSNR           of each eye against the two-camera reference, in dB */
 #pragma once
 #include <stddef.h>
