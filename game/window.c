@@ -26,7 +26,7 @@ struct window {
     int queued;
     /* ticks */
     long tick;
-    double start_ms, last_ms, tick_seconds;
+    double last_ms, tick_seconds, wall_s;
     /* scripted input */
     window_event *script;
     int script_count, script_next;
@@ -272,7 +272,7 @@ vg_status window_create(const window_desc *d, window **out)
         gpu_destroy(g); /* after the surface it made */
         return st;
     }
-    w->start_ms = w->last_ms = vg_now_ms();
+    w->last_ms = vg_now_ms();
     w->tick = -1;
     *out = w;
     return VG_OK;
@@ -323,13 +323,18 @@ long window_tick(window *w, window_event *events, int cap, int *count)
         w->last_ms = vg_now_ms();
     }
     double now = vg_now_ms();
-    if (w->fixed_step) {
-        w->tick++;
-        w->tick_seconds = 1.0 / w->fps;
-    } else {
-        w->tick = (long)floor((now - w->start_ms) * 1e-3 * w->fps);
-        w->tick_seconds = fmin(0.1, (now - w->last_ms) * 1e-3);
+    long steps = 1;
+    if (!w->fixed_step) {
+        /* Whole ticks of wall time, at most 6 (0.1 s) per frame so a stall
+         * (making a frame for a new mode) is no jump. Game time is ticks /
+         * fps either way, so a recording replays at the same game times. */
+        w->wall_s += (now - w->last_ms) * 1e-3;
+        steps = (long)floor(w->wall_s * w->fps);
+        w->wall_s = steps > 6 ? 0.0 : w->wall_s - steps / w->fps;
+        steps = steps > 6 ? 6 : steps;
     }
+    w->tick += steps;
+    w->tick_seconds = steps / w->fps;
     w->last_ms = now;
     int n = 0;
     while (w->script_next < w->script_count && w->script[w->script_next].tick <= w->tick && n < cap)

@@ -1,12 +1,13 @@
 /* vergence — a game window: GLFW, the Vulkan context and swapchain, input,
  * and scripted input (record / replay).
  *
- * Input arrives as window_event values stamped with a tick: the number of
- * fixed time steps (1 / fps) since the window opened. Live, the tick follows
- * the wall clock; with a replay file it is the frame count, so a replayed
- * session runs at a fixed time step and does the same thing every time
- * (docs/game.md "Scripted input"). A recording stamps live events with the
- * same tick, so it replays as it was played.
+ * Input arrives as window_event values stamped with a tick: a fixed time
+ * step of 1 / fps. Live, ticks follow the wall clock (whole ticks, at most 6
+ * per frame, so a stall is no jump); with a replay file every frame is one
+ * tick, so a replayed session runs at a fixed time step and does the same
+ * thing every time (docs/game.md "Scripted input"). Game time advances by
+ * window_tick_seconds() = the frame's ticks / fps in both cases, so a
+ * recording (live events stamped with their tick) replays as it was played.
  *
  * Replay / record file, one event per line ('#' starts a comment):
  *   TICK key NAME          NAME: A-Z, 0-9, SPACE, ESCAPE, ENTER, TAB, LEFT, RIGHT, UP, DOWN
@@ -61,8 +62,8 @@ void window_pump(window *w);
 /* Advances one tick (waits for events when minimised), returns the events
  * of this tick: live ones and replayed ones. */
 long window_tick(window *w, window_event *events, int cap, int *count);
-/* Seconds of game time this tick covers: 1 / fps replaying, else the
- * wall time since the last tick (capped, so a stall is no jump). */
+/* Seconds of game time the last window_tick covered: its ticks / fps
+ * (0 when the frame came within the same tick, 1 / fps replaying). */
 double window_tick_seconds(const window *w);
 
 /* Acquires the next image. *stale: the swapchain no longer fits the window;

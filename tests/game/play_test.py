@@ -140,12 +140,13 @@ def case_play_live():
 
 
 def case_play_replay():
+    # R at tick 3 launches at tick 70 (a keyframe a second on); shown 0.2 s: gone by 82.
     script = replay_file("# restart, H, mode keys, a click once the ball is gone, quit\n"
-                         "3 key R\n5 key H\n10 key M\n12 key 3\n15 key 1\n125 click 0.5 0.75\n128 key H\n"
-                         "135 key Q\n")
+                         "3 key R\n5 key H\n10 key M\n12 key 3\n15 key 1\n90 click 0.5 0.75\n92 key H\n"
+                         "96 key Q\n")
     results = []
     for _ in range(2):
-        g = Game(["play", "--size", "320x180", "--seed", "4", "--replay", script])
+        g = Game(["play", "--size", "256x144", "--seed", "4", "--visible", "0.2", "--replay", script])
         log = g.finish(300)
         for must in ("technical HUD on", "click at", "technical HUD off", "restart", r"1 throw\(s\)"):
             if not re.search(must, log):
@@ -219,15 +220,16 @@ def windowed_study(args, out, check):
 def case_preference_window():
     out = os.path.join(tempfile.mkdtemp(prefix="vergence_pref_"), "pref.csv")
     script = replay_file("300 key RIGHT\n900 key Q\n")
-    windowed_study(["study", "preference", "--participant", "w1", "--trials", "1", "--size", "384x216", "--replay",
-                    script, "--out", out], out, lambda row: ",right," in row)
+    # Seed 1 starts with the arena (the shortest clip: 2 s).
+    windowed_study(["study", "preference", "--participant", "w1", "--trials", "1", "--seed", "1", "--size", "384x216",
+                    "--replay", script, "--out", out], out, lambda row: ",arena," in row and ",right," in row)
 
 
 def case_study_window():
     out = os.path.join(tempfile.mkdtemp(prefix="vergence_hit_"), "hit.csv")
-    script = replay_file("125 click 0.5 0.7\n140 key Q\n")
-    windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--size", "320x180", "--replay", script,
-                    "--out", out], out, lambda row: row.startswith("w2,hit,0,") and ",human," in row)
+    script = replay_file("90 click 0.5 0.7\n96 key Q\n")  # launch at 60, shown 0.2 s
+    windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--visible", "0.2", "--size", "256x144",
+                    "--replay", script, "--out", out], out, lambda row: row.startswith("w2,hit,0,") and ",human," in row)
 
 
 if __name__ == "__main__":
