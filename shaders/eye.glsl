@@ -50,5 +50,7 @@ void main()
             best = e_stage[i];
             stage = float(i + 1);
         }
-    o_aux = vec4(centre, error, stage);
+    // Eyes move points only horizontally: the centre-view row is this row,
+    // so the second channel holds the view depth instead.
+    o_aux = vec4(centre.x, e_centre_clip.w, error, stage);
 }

@@ -5,5 +5,5 @@ layout(location = 1) out vec4 o_aux;
 void main()
 {
     o_color = v_color;
-    o_aux = vec4(-1.0, -1.0, 0.0, 0.0);
+    o_aux = vec4(-1.0, 0.0, 0.0, 0.0);
 }

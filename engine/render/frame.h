@@ -113,7 +113,7 @@ typedef struct frame_outputs {
     const float *motion;         /* 4 floats per pixel: pixels to prev keyframe (xy), to next (zw) */
     const float *g, *h, *f;      /* vergence maps, arcmin */
     const uint8_t *left, *right; /* RGBA8 sRGB; alpha 255 geometry, 128 sky, 0 nothing (hole) */
-    const float *left_aux, *right_aux; /* 4 floats: centre-view x, y (px), target disparity (px), stage */
+    const float *left_aux, *right_aux; /* 4 floats: centre-view x (px), view depth (m), disparity error (px), stage */
     const uint8_t *ref_left, *ref_right; /* the two-camera reference (desc.reference) */
     const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
     uint32_t stereo_width, stereo_height;

@@ -41,10 +41,20 @@ static int interior(const uint8_t *ref, uint32_t width, uint32_t height, size_t 
     return 1;
 }
 
+/* Geometry on both sides of pixel i (offset k) at one depth: one surface. */
+static bool same_surface_across(const uint8_t *eye, const float *aux, size_t i, size_t k)
+{
+    if (!is_geometry(eye + 4 * (i - k)) || !is_geometry(eye + 4 * (i + k)))
+        return false;
+    float a = aux[4 * (i - k) + 1], b = aux[4 * (i + k) + 1];
+    return fabsf(a - b) < 0.02f * fmaxf(a, b);
+}
+
 /* A pixel the method left empty (nothing drawn: the disocclusions of image
- * warping), or a crack: sky between geometry on both sides. Sky beside a
- * silhouette that the target disparity moved is neither. */
-static int hole(const uint8_t *eye, uint32_t width, uint32_t height, size_t i)
+ * warping), or a crack: sky between geometry of one surface on both sides.
+ * Sky between two objects at different depths, where the target disparity
+ * moved one against the other, is neither. */
+static int hole(const uint8_t *eye, const float *aux, uint32_t width, uint32_t height, size_t i)
 {
     const uint8_t *p = eye + 4 * i;
     if (p[3] < 64)
@@ -52,8 +62,8 @@ static int hole(const uint8_t *eye, uint32_t width, uint32_t height, size_t i)
     if (is_geometry(p))
         return 0;
     uint32_t x = (uint32_t)(i % width), y = (uint32_t)(i / width);
-    bool lr = x > 0 && x + 1 < width && is_geometry(p - 4) && is_geometry(p + 4);
-    bool ud = y > 0 && y + 1 < height && is_geometry(p - 4 * (size_t)width) && is_geometry(p + 4 * (size_t)width);
+    bool lr = x > 0 && x + 1 < width && same_surface_across(eye, aux, i, 1);
+    bool ud = y > 0 && y + 1 < height && same_surface_across(eye, aux, i, width);
     return lr || ud;
 }
 
@@ -83,7 +93,7 @@ vg_status warp_metrics_add(warp_metrics *m, const frame_outputs *o, uint32_t wid
         for (size_t i = 0; i < n; i++) {
             if (interior(refs[e], width, height, i)) {
                 m->reference_geometry++;
-                m->holes += hole(eyes[e], width, height, i);
+                m->holes += hole(eyes[e], aux[e], width, height, i);
             }
             for (int c = 0; c < 3; c++) {
                 double d = (double)eyes[e][4 * i + c] - (double)refs[e][4 * i + c];
