@@ -1,0 +1,368 @@
+/* vergence — the GPU disparity pipeline's cost per frame at 960x540 and
+ * 1920x1080 (issue 4): the frame graph's per-pass GPU ms, medians of N
+ * frames after the window is full and a keyframe interval has passed, and
+ * wall-clock ms of the resolution-dependent passes run on their own.
+ *
+ * The solver's grid is the same at both sizes (192 x 108: the stride widens
+ * with the frame, paper 4.5), so mid.solve should cost the same; the
+ * upsampling is per output pixel, so it should grow with the pixel count.
+ *
+ * On lavapipe a compute pass's GPU timestamps are only meaningful when the
+ * pass waits for its own work (the solver's step graphs do: every indirect
+ * dispatch makes lavapipe finish what came before); the others' time shows
+ * up in the next pass that waits. So the per-output-pixel passes are also
+ * timed on their own, with a wait after each (wall clock).
+ *
+ *   bench_disparity [--scene FILE] [--frames N]
+ *
+ * Not a test: figures go to docs/method.md "GPU passes". */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/clock.h"
+#include "core/log.h"
+#include "disparity/disparity_gpu.h"
+#include "disparity/mid_shared.h"
+#include "disparity/operator_gpu.h"
+#include "disparity/upsample_gpu.h"
+#include "render/frame.h"
+#include "stereo/stereo_display.h"
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(const double *v, int n)
+{
+    double *t = malloc((size_t)n * sizeof *t);
+    memcpy(t, v, (size_t)n * sizeof *t);
+    qsort(t, (size_t)n, sizeof *t, cmp_double);
+    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    free(t);
+    return m;
+}
+
+static double mean(const double *v, int n)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++)
+        s += v[i];
+    return n ? s / n : 0;
+}
+
+/* ------------------------------------------------------------------------- */
+/* The frame                                                                 */
+/* ------------------------------------------------------------------------- */
+
+#define MAX_PASSES 64
+
+typedef struct frame_result {
+    int passes;
+    const char *names[MAX_PASSES];
+    double median_ms[MAX_PASSES], mean_ms[MAX_PASSES];
+    double frame_wall_ms;
+} frame_result;
+
+static vg_status run_frame(gpu *g, const scene *s, uint32_t w, uint32_t h, int frames, frame_result *out)
+{
+    frame *f;
+    /* Two real cameras: the cheapest stereo pair (the disparity passes are
+     * the same whichever way the pair is made). */
+    vg_status st = frame_create(g, s, &(frame_desc){.width = w, .height = h, .stereo = FRAME_STEREO_CAMERAS,
+                                                    .mode = FRAME_MODE_OPTIMIZED, .diffuse = true}, &f);
+    if (st != VG_OK)
+        return st;
+    double *ms = calloc((size_t)frames * MAX_PASSES, sizeof *ms), *wall = calloc((size_t)frames, sizeof *wall);
+    /* Warm-up: the first frame solves its whole window, then one interval
+     * of amortised solves; measured from the next keyframe on. */
+    int warm = 2 * frame_get_desc(f)->keyframe_stride;
+    for (int i = -warm; i < frames && st == VG_OK; i++) {
+        double t0 = vg_now_ms();
+        st = frame_render(f, 60 + warm + i);
+        if (i < 0 || st != VG_OK)
+            continue;
+        wall[i] = vg_now_ms() - t0;
+        double row[MAX_PASSES];
+        out->passes = (int)frame_pass_timings(f, out->names, row, MAX_PASSES);
+        for (int p = 0; p < out->passes; p++)
+            ms[(size_t)p * frames + i] = row[p];
+    }
+    if (st == VG_OK) {
+        for (int p = 0; p < out->passes; p++) {
+            out->median_ms[p] = median(ms + (size_t)p * frames, frames);
+            out->mean_ms[p] = mean(ms + (size_t)p * frames, frames);
+        }
+        out->frame_wall_ms = median(wall, frames);
+    }
+    free(ms);
+    free(wall);
+    frame_destroy(f);
+    return st;
+}
+
+static double pass_ms(const frame_result *r, const char *name, bool use_mean)
+{
+    for (int p = 0; p < r->passes; p++)
+        if (!strcmp(r->names[p], name))
+            return use_mean ? r->mean_ms[p] : r->median_ms[p];
+    return NAN;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Per-pixel passes on their own                                             */
+/* ------------------------------------------------------------------------- */
+
+typedef struct alone {
+    gpu *gpu;
+    uint32_t w, h, stride, nx, ny;
+    ups_gpu *ups;
+    op_gpu *op;
+    gpu_buffer store, published;
+    rg_res depth, motion, hmap, fmap, g, color, ratio, r_store, r_pub, state;
+} alone;
+
+/* Clears the inputs: a flat scene 10 m away, h and g 300 arcmin, some motion. */
+static void clear_execute(const rg_context *ctx, void *user)
+{
+    alone *a = user;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    struct { rg_res r; VkClearColorValue v; } items[] = {
+        {a->depth, {.float32 = {10, 0, 0, 0}}}, {a->motion, {.float32 = {1.0f, 0.5f, -1.0f, -0.5f}}},
+        {a->hmap, {.float32 = {300, 0, 0, 0}}}, {a->g, {.float32 = {300, 0, 0, 0}}},
+        {a->color, {.float32 = {0, 0, 0, 0.5f}}}};
+    VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
+        vkCmdClearColorImage(cmd, rg_ctx_image(ctx, items[i].r), rg_ctx_layout(ctx, items[i].r), &items[i].v, 1, &all);
+}
+
+static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
+{
+    return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
+}
+
+static ups_gpu_frame ups_frame(const alone *a)
+{
+    return (ups_gpu_frame){.width = a->w, .height = a->h, .stride = a->stride, .tau = 0.3f, .has1 = true,
+                           .slot0 = 0, .slot1 = 1};
+}
+
+static void time_execute(const rg_context *ctx, void *user)
+{
+    alone *a = user;
+    ups_gpu_frame fr = ups_frame(a);
+    VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion);
+    ups_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
+                        rg_ctx_buffer(ctx, a->ratio));
+}
+
+static void space_execute(const rg_context *ctx, void *user)
+{
+    alone *a = user;
+    ups_gpu_frame fr = ups_frame(a);
+    VkDescriptorImageInfo h = image_of(ctx, a->hmap), f = image_of(ctx, a->fmap);
+    ups_gpu_record_space(a->ups, rg_ctx_cmd(ctx), &fr, &h, rg_ctx_buffer(ctx, a->r_pub), rg_ctx_buffer(ctx, a->ratio), &f);
+}
+
+static void fit_execute(const rg_context *ctx, void *user)
+{
+    alone *a = user;
+    VkDescriptorImageInfo g = image_of(ctx, a->g), c = image_of(ctx, a->color);
+    op_gpu_record_fit(a->op, rg_ctx_cmd(ctx), &g, &c, a->w, a->h);
+}
+
+static void map_execute(const rg_context *ctx, void *user)
+{
+    alone *a = user;
+    VkDescriptorImageInfo g = image_of(ctx, a->g), h = image_of(ctx, a->hmap);
+    op_gpu_record_map(a->op, rg_ctx_cmd(ctx), &g, &h, a->w, a->h);
+}
+
+/* A graph of the clear and the first `passes` of: mid.upsample.time,
+ * mid.upsample.space (chain 0) or disparity.operator.fit, disparity.operator
+ * (chain 1). */
+static rg_graph *alone_graph(alone *a, int chain, int passes)
+{
+    rg_graph *g = rg_create();
+    a->depth = rg_image(g, &(rg_image_desc){"gbuffer.depth", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
+    a->motion = rg_image(g, &(rg_image_desc){"gbuffer.motion", VK_FORMAT_R32G32B32A32_SFLOAT, a->w, a->h, 1});
+    a->hmap = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
+    a->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
+    a->color = rg_image(g, &(rg_image_desc){"gbuffer.color", VK_FORMAT_R8G8B8A8_UNORM, a->w, a->h, 1});
+    a->fmap = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
+    a->ratio = rg_buffer(g, &(rg_buffer_desc){"mid.ratio", (uint64_t)a->nx * a->ny * sizeof(float)});
+    rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
+    a->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", a->store.size}, &rw);
+    a->r_pub = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", a->published.size}, &rw);
+    a->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", op_gpu_state_size(a->op)}, &rw);
+    rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "clear", .type = RG_PASS_TRANSFER, .execute = clear_execute,
+                                               .user = a, .side_effects = true});
+    rg_res cleared[] = {a->depth, a->motion, a->hmap, a->g, a->color};
+    for (size_t i = 0; i < sizeof cleared / sizeof cleared[0]; i++)
+        rg_use(g, p, cleared[i], RG_TRANSFER_DST);
+    if (chain == 0 && passes >= 1) {
+        p = rg_pass_add(g, &(rg_pass_desc){.name = "mid.upsample.time", .type = RG_PASS_COMPUTE, .execute = time_execute,
+                                           .user = a, .side_effects = true});
+        rg_use(g, p, a->depth, RG_STORAGE_READ);
+        rg_use(g, p, a->motion, RG_STORAGE_READ);
+        rg_use(g, p, a->r_store, RG_STORAGE_READ);
+        rg_use(g, p, a->r_pub, RG_STORAGE_READ);
+        rg_use(g, p, a->ratio, RG_STORAGE_WRITE);
+    }
+    if (chain == 0 && passes >= 2) {
+        p = rg_pass_add(g, &(rg_pass_desc){.name = "mid.upsample.space", .type = RG_PASS_COMPUTE,
+                                           .execute = space_execute, .user = a, .side_effects = true});
+        rg_use(g, p, a->hmap, RG_STORAGE_READ);
+        rg_use(g, p, a->r_pub, RG_STORAGE_READ);
+        rg_use(g, p, a->ratio, RG_STORAGE_READ);
+        rg_use(g, p, a->fmap, RG_STORAGE_WRITE);
+    }
+    if (chain == 1 && passes >= 1) {
+        p = rg_pass_add(g, &(rg_pass_desc){.name = "disparity.operator.fit", .type = RG_PASS_COMPUTE,
+                                           .execute = fit_execute, .user = a, .side_effects = true});
+        rg_use(g, p, a->g, RG_STORAGE_READ);
+        rg_use(g, p, a->color, RG_STORAGE_READ);
+        rg_use(g, p, a->state, RG_STORAGE_READ_WRITE);
+    }
+    if (chain == 1 && passes >= 2) {
+        p = rg_pass_add(g, &(rg_pass_desc){.name = "disparity.operator", .type = RG_PASS_COMPUTE,
+                                           .execute = map_execute, .user = a, .side_effects = true});
+        rg_use(g, p, a->g, RG_STORAGE_READ);
+        rg_use(g, p, a->state, RG_STORAGE_READ);
+        rg_use(g, p, a->hmap, RG_STORAGE_WRITE);
+    }
+    if (rg_compile(g) != VG_OK || rg_realize(g, a->gpu) != VG_OK) {
+        rg_destroy(g);
+        return NULL;
+    }
+    rg_bind_buffer(g, a->r_store, a->store.buffer);
+    rg_bind_buffer(g, a->r_pub, a->published.buffer);
+    rg_bind_buffer(g, a->state, op_gpu_state(a->op));
+    return g;
+}
+
+/* Median wall ms of one graph, submitted and waited for reps times. */
+static double graph_ms(gpu *g, rg_graph *graph, int reps)
+{
+    double *t = malloc((size_t)reps * sizeof *t);
+    for (int i = 0; i < reps + 2; i++) {
+        VkCommandBuffer cmd;
+        double t0 = vg_now_ms();
+        if (gpu_oneshot_begin(g, &cmd) != VG_OK)
+            break;
+        rg_execute(graph, cmd, 0);
+        gpu_oneshot_submit(g, cmd);
+        if (i >= 2)
+            t[i - 2] = vg_now_ms() - t0;
+    }
+    double m = median(t, reps);
+    free(t);
+    return m;
+}
+
+typedef struct alone_result {
+    double time_ms, space_ms, fit_ms, map_ms;
+} alone_result;
+
+/* Each per-pixel pass's wall ms: the graph up to it minus the graph before it. */
+static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int reps, alone_result *out)
+{
+    stereo_display disp;
+    stereo_display_init(&disp, &(stereo_display_desc){0});
+    alone a = {.gpu = g, .w = w, .h = h, .stride = stride, .nx = (w + stride - 1) / stride, .ny = (h + stride - 1) / stride};
+    size_t ns = (size_t)a.nx * a.ny;
+    vg_status st = ups_gpu_create(g, &a.ups);
+    if (st == VG_OK)
+        st = op_gpu_create(g, &(op_gpu_desc){.op = {.kind = DISP_OPERATOR_LANG, .screen_vergence = disp.screen_vergence},
+                                             .stride = stride}, &a.op);
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "store", .size = 2 * MID_STORE_FLOATS * ns * sizeof(float),
+                                                     .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                               &a.store);
+    if (st == VG_OK)
+        st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "published", .size = sizeof(mid_published) + 2 * ns * sizeof(float),
+                                                     .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                               &a.published);
+    if (st != VG_OK)
+        return st;
+    float *sf = a.store.mapped, *pf = (float *)((mid_published *)a.published.mapped + 1);
+    for (size_t i = 0; i < 2 * MID_STORE_FLOATS * ns; i++)
+        sf[i] = 10.0f;
+    for (size_t i = 0; i < 2 * ns; i++)
+        pf[i] = 1.0f + 0.01f * (float)(i % 7);
+    *(mid_published *)a.published.mapped = (mid_published){.range_lo = 200, .range_hi = 360};
+    double base[2] = {0}, one[2] = {0}, two[2] = {0};
+    for (int chain = 0; chain < 2; chain++) {
+        rg_graph *g0 = alone_graph(&a, chain, 0), *g1 = alone_graph(&a, chain, 1), *g2 = alone_graph(&a, chain, 2);
+        if (g0 && g1 && g2) {
+            base[chain] = graph_ms(g, g0, reps);
+            one[chain] = graph_ms(g, g1, reps);
+            two[chain] = graph_ms(g, g2, reps);
+        }
+        rg_destroy(g0);
+        rg_destroy(g1);
+        rg_destroy(g2);
+    }
+    *out = (alone_result){one[0] - base[0], two[0] - one[0], one[1] - base[1], two[1] - one[1]};
+    ups_gpu_destroy(a.ups);
+    op_gpu_destroy(a.op);
+    gpu_buffer_destroy(g, &a.store);
+    gpu_buffer_destroy(g, &a.published);
+    return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Report                                                                    */
+/* ------------------------------------------------------------------------- */
+
+int main(int argc, char **argv)
+{
+    const char *scene_path = "content/balloon.gltf";
+    int frames = 30;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!strcmp(argv[i], "--scene"))
+            scene_path = argv[i + 1];
+        else if (!strcmp(argv[i], "--frames"))
+            frames = atoi(argv[i + 1]) > 0 ? atoi(argv[i + 1]) : frames;
+    }
+    gpu *g;
+    scene *s;
+    if (gpu_create(&(gpu_desc){.auto_device = true}, &g) != VG_OK || scene_load(scene_path, &s) != VG_OK)
+        return 1;
+    static const uint32_t sizes[2][2] = {{960, 540}, {1920, 1080}};
+    frame_result fr[2];
+    alone_result ar[2];
+    for (int k = 0; k < 2; k++) {
+        uint32_t w = sizes[k][0], h = sizes[k][1];
+        vg_info("bench_disparity: %ux%u, %d frames of %s", w, h, frames, scene_path);
+        if (run_frame(g, s, w, h, frames, &fr[k]) != VG_OK)
+            return 1;
+        if (run_alone(g, w, h, disparity_gpu_grid_stride(w, h, 0), frames, &ar[k]) != VG_OK)
+            return 1;
+    }
+    printf("%s on %s (%s): GPU ms per pass of the frame graph, median (mean) of %d frames\n", scene_path,
+           g->props.deviceName, gpu_device_type_text(g->props.deviceType), frames);
+    printf("%-24s %18s %18s\n", "pass", "960x540", "1920x1080");
+    for (int p = 0; p < fr[0].passes; p++)
+        printf("%-24s %9.2f (%6.2f) %9.2f (%6.2f)\n", fr[0].names[p], fr[0].median_ms[p], fr[0].mean_ms[p],
+               pass_ms(&fr[1], fr[0].names[p], false), pass_ms(&fr[1], fr[0].names[p], true));
+    printf("%-24s %9.1f          %9.1f\n", "frame (wall ms)", fr[0].frame_wall_ms, fr[1].frame_wall_ms);
+    printf("\nper-pixel passes on their own, wall ms (median of %d):\n", frames);
+    const char *what[4] = {"mid.upsample.time", "mid.upsample.space", "disparity.operator.fit", "disparity.operator"};
+    double v0[4] = {ar[0].time_ms, ar[0].space_ms, ar[0].fit_ms, ar[0].map_ms};
+    double v1[4] = {ar[1].time_ms, ar[1].space_ms, ar[1].fit_ms, ar[1].map_ms};
+    for (int i = 0; i < 4; i++)
+        printf("%-24s %9.2f          %9.2f   x%.2f\n", what[i], v0[i], v1[i], v1[i] / v0[i]);
+    double s0 = pass_ms(&fr[0], "mid.solve", true), s1 = pass_ms(&fr[1], "mid.solve", true);
+    double m0 = pass_ms(&fr[0], "mid.solve", false), m1 = pass_ms(&fr[1], "mid.solve", false);
+    printf("\nmid.solve per frame (same 192x108 grid): median %.2f vs %.2f ms (%+.1f %%), mean %.2f vs %.2f ms (%+.1f %%)\n",
+           m0, m1, 100.0 * (m1 - m0) / m0, s0, s1, 100.0 * (s1 - s0) / s0);
+    double up0 = ar[0].time_ms + ar[0].space_ms, up1 = ar[1].time_ms + ar[1].space_ms;
+    printf("upsampling (time + space): %.2f vs %.2f ms: x%.2f for x4 pixels\n", up0, up1, up1 / up0);
+    scene_destroy(s);
+    gpu_destroy(g);
+    return 0;
+}
