@@ -221,7 +221,7 @@ def case_preference_window():
     out = os.path.join(tempfile.mkdtemp(prefix="vergence_pref_"), "pref.csv")
     script = replay_file("300 key RIGHT\n900 key Q\n")
     # Seed 1 starts with the arena (the shortest clip: 2 s).
-    windowed_study(["study", "preference", "--participant", "w1", "--trials", "1", "--seed", "1", "--size", "384x216",
+    windowed_study(["study", "preference", "--participant", "w1", "--trials", "1", "--seed", "1", "--size", "288x162",
                     "--replay", script, "--out", out], out, lambda row: ",arena," in row and ",right," in row)
 
 
