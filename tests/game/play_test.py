@@ -81,6 +81,16 @@ class Game:
         data = subprocess.run(["xwd", "-silent", "-id", self.wid], capture_output=True, check=True, timeout=30).stdout
         return xwd.read(data)
 
+    def poll(self, ok, what, timeout=60):
+        """Grabs the window until ok(image) (a slow, busy CPU shows a frame late)."""
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            img = self.grab()
+            if ok(img):
+                return img
+            time.sleep(0.5)
+        fail(f"gave up waiting for {what}")
+
     def finish(self, timeout=120):
         try:
             code = self.p.wait(timeout)
@@ -107,19 +117,16 @@ def case_play_live():
     g = Game(["play", "--size", "320x180", "--seed", "11", "--record", rec])
     g.window()
     time.sleep(2)
+    base = g.grab().astype(int)
     g.key("h")
     g.wait_for("technical HUD on")
-    time.sleep(2)
-    on = g.grab().astype(int)
+    # The technical lines sit under the game lines, top left: wait for them.
+    hud = lambda img: np.abs(img.astype(int)[28:70, 0:140] - base[28:70, 0:140]).mean()
+    on = g.poll(lambda img: hud(img) > 8, "the technical HUD to appear")
     g.key("h")
     g.wait_for("technical HUD off")
-    time.sleep(2)
-    off = g.grab().astype(int)
-    # The technical lines sit under the game lines, top left.
-    diff = np.abs(on[28:70, 0:140] - off[28:70, 0:140]).mean()
-    print(f"HUD on/off: mean difference {diff:.1f} levels in the HUD area")
-    if diff < 8:
-        fail("the picture did not change when H toggled the technical HUD")
+    off = g.poll(lambda img: hud(img) < 3, "the technical HUD to go")
+    print(f"HUD area against the first frame: {hud(on):.1f} levels with H on, {hud(off):.1f} off")
     for _ in range(60):  # the ball must have flown and vanished first
         g.xdo("mousemove", "--window", g.wid, "160", "130", "click", "1")
         if "click at" in g.text():
@@ -164,8 +171,16 @@ def case_golden():
     g = Game(["play", "--size", "320x180", "--seed", "5", "--replay", script])
     g.window()
     g.wait_for("replay finished")
-    time.sleep(3)  # the paused frame is drawn again and again: let it settle
-    img = g.grab()
+    # The paused frame is drawn again and again: take it once two grabs a
+    # second apart agree.
+    last = [None]
+
+    def settled(img):
+        same = last[0] is not None and np.array_equal(img, last[0])
+        last[0] = img
+        time.sleep(1)
+        return same
+    img = g.poll(settled, "the paused frame to settle")
     g.key("q")
     g.finish()
     from matplotlib import image
