@@ -62,7 +62,7 @@ static double mean(const double *v, int n)
 
 typedef struct frame_result {
     int passes;
-    const char *names[MAX_PASSES];
+    char names[MAX_PASSES][48];  /* copied: the graph's names die with the frame */
     double median_ms[MAX_PASSES], mean_ms[MAX_PASSES];
     double frame_wall_ms;
 } frame_result;
@@ -87,7 +87,10 @@ static vg_status run_frame(gpu *g, const scene *s, uint32_t w, uint32_t h, int f
             continue;
         wall[i] = vg_now_ms() - t0;
         double row[MAX_PASSES];
-        out->passes = (int)frame_pass_timings(f, out->names, row, MAX_PASSES);
+        const char *names[MAX_PASSES];
+        out->passes = (int)frame_pass_timings(f, names, row, MAX_PASSES);
+        for (int p = 0; p < out->passes; p++)
+            snprintf(out->names[p], sizeof out->names[p], "%s", names[p]);
         for (int p = 0; p < out->passes; p++)
             ms[(size_t)p * frames + i] = row[p];
     }
