@@ -8,6 +8,7 @@
 #include "core/log.h"
 #include "disparity/mid_solver.h"
 #include "disparity/mid_window.h"
+#include "game.h"
 
 struct observer_view {
     observer_view_desc d;
@@ -33,12 +34,9 @@ typedef struct screen_pt {
 
 static screen_pt to_screen(const observer_view *v, const float *p)
 {
-    const vg_camera *c = &v->cam;
-    double d[3] = {p[0] - c->position[0], p[1] - c->position[1], p[2] - c->position[2]};
-    double x = d[0] * c->right[0] + d[1] * c->right[1] + d[2] * c->right[2];
-    double y = d[0] * c->up[0] + d[1] * c->up[1] + d[2] * c->up[2];
-    double z = d[0] * c->forward[0] + d[1] * c->forward[1] + d[2] * c->forward[2];
-    return (screen_pt){(0.5 + 0.5 * x / (z * v->tan_x)) * v->w, (0.5 - 0.5 * y / (z * v->tan_y)) * v->h, z};
+    double q[3] = {p[0], p[1], p[2]}, u, w;
+    double z = game_project(&v->cam, q, &u, &w);
+    return (screen_pt){u * v->w, w * v->h, z};
 }
 
 /* Depth interpolated as 1/z across the screen (perspective-correct), both

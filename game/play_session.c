@@ -42,7 +42,6 @@ typedef struct session {
     bool unavailable[FRAME_MODE_OPTIMIZED + 1];
     frame_mode mode;
     uint32_t rw, rh;             /* eye image size */
-    double tess_error;
     /* game */
     double clock;                /* game seconds */
     bool paused, quit, hud_tech;
@@ -212,12 +211,13 @@ static void choose_render_size(session *ss, bool announce)
     }
     ss->rw = (uint32_t)fmax(16, round(ew));
     ss->rh = (uint32_t)fmax(16, round(eh));
-    ss->tess_error = w->tess_error > 0 ? w->tess_error : cpu ? 0.5 : 0.1;
+    frame_desc fd = {0};
+    play_frame_defaults(window_gpu(ss->win), w, &fd);
     if (announce && cpu)
         vg_warn("play: %s is a CPU rasteriser: rendering %ux%u per eye%s, error-driven tessellation to %.2g px, "
                 "1024 px shadows, to stay interactive (--render-size and --tess-error override)",
                 window_gpu(ss->win)->props.deviceName, ss->rw, ss->rh,
-                interleaved ? " (1:1 for the interleaved output: slow)" : "", ss->tess_error);
+                interleaved ? " (1:1 for the interleaved output: slow)" : "", fd.tess_error);
     scene_state st;
     if (scene_state_init(ss->scene, &st) == VG_OK) {
         scene_evaluate(ss->scene, 0.0f, &st);
@@ -239,15 +239,21 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     frame_desc fd = {
         .width = ss->rw, .height = ss->rh, .fps = 60, .keyframe_stride = 10, .camera = 0,
         .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = mode,
-        .compose = (frame_compose)(d->win->compose + 1), .tess_error = ss->tess_error,
-        .shadow_size = g->is_cpu ? 1024 : 0,
+        .compose = (frame_compose)(d->win->compose + 1),
         .present_format = window_format(ss->win), .present_width = e.width, .present_height = e.height,
         /* A study compresses as the paper's did (more than the display needs); play for comfort. */
         .op = d->op, .op_preset = ss->study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
     };
+    play_frame_defaults(g, d->win, &fd);
     vg_status st = frame_create(g, ss->scene, &fd, &ss->frames[mode]);
     *out = ss->frames[mode];
     return st;
+}
+
+void play_frame_defaults(const gpu *g, const play_window_cli *w, frame_desc *fd)
+{
+    fd->tess_error = w->tess_error > 0 ? w->tess_error : g->is_cpu ? 0.5 : 0.1;
+    fd->shadow_size = g->is_cpu ? 1024 : 0;
 }
 
 /* Switches mode, or says on screen why not. */

@@ -76,3 +76,7 @@ typedef struct play_session_desc {
 } play_session_desc;
 
 vg_status play_session_run(const play_session_desc *desc);
+
+/* What keeps a CPU rasteriser interactive (error-driven tessellation at
+ * 0.5 px, a 1024 px shadow map) unless --tess-error says otherwise. */
+void play_frame_defaults(const gpu *g, const play_window_cli *w, frame_desc *fd);

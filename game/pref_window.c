@@ -185,11 +185,13 @@ static vg_status prerender(pref *p, int trial, scene *s, const frame_mode modes[
     for (int v = 0; v < 3 && st == VG_OK; v++) {
         frame *f;
         int errors = vg_log_error_count();
-        st = frame_create(g, s, &(frame_desc){
+        frame_desc fd = {
             .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .fps = 60, .keyframe_stride = 10,
             .readback = true, .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = modes[v],
-            .compose = p->lay.compose, .tess_error = d->win->tess_error > 0 ? d->win->tess_error : g->is_cpu ? 0.5 : 0.1,
-            .shadow_size = g->is_cpu ? 1024 : 0, .op = d->op, .op_preset = DISP_PRESET_STUDY}, &f);
+            .compose = p->lay.compose, .op = d->op, .op_preset = DISP_PRESET_STUDY,
+        };
+        play_frame_defaults(g, d->win, &fd);
+        st = frame_create(g, s, &fd, &f);
         if (st != VG_OK) {
             if (vg_log_error_count() == errors)
                 vg_error("the preference study shows the %s version beside the others; this build cannot "

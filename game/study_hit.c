@@ -106,32 +106,30 @@ static vg_status check_rows(hit_run *r)
     return VG_OK;
 }
 
-/* The seed: the file's when resuming, else --seed, else the participant's. */
-static vg_status pick_seed(hit_run *r)
+vg_status study_pick_seed(const study_opts *o, const study_log *log, int column, uint64_t *seed)
 {
-    const study_opts *o = r->o;
-    r->seed = o->seed >= 0 ? (uint64_t)o->seed : game_seed_from_text(o->participant);
-    if (r->log.rows_read == 0)
+    *seed = o->seed >= 0 ? (uint64_t)o->seed : game_seed_from_text(o->participant);
+    if (log->rows_read == 0)
         return VG_OK;
-    const char *s = study_log_cell(&r->log, 0, COL_SEED);
+    const char *s = study_log_cell(log, 0, column);
     char *end;
     unsigned long long v = strtoull(s, &end, 10);
     if (!*s || *end) {
-        vg_error("%s: line 2 has seed '%s', not a number: the file is corrupt (left as it is)", r->log.path, s);
+        vg_error("%s: line 2 has seed '%s', not a number: the file is corrupt (left as it is)", log->path, s);
         return VG_ERR_FORMAT;
     }
     if (o->seed >= 0 && v != (uint64_t)o->seed) {
         vg_error("%s was run with --seed %llu, not %d: resume without --seed (or with the same one)",
-                 r->log.path, v, o->seed);
+                 log->path, v, o->seed);
         return VG_ERR_ARG;
     }
-    r->seed = v;
-    for (int i = 1; i < r->log.rows_read; i++)
-        if (strcmp(study_log_cell(&r->log, i, COL_SEED), s)) {
+    for (int i = 1; i < log->rows_read; i++)
+        if (strcmp(study_log_cell(log, i, column), s)) {
             vg_error("%s: line %d has another seed than line 2: the file is corrupt (left as it is)",
-                     r->log.path, i + 2);
+                     log->path, i + 2);
             return VG_ERR_FORMAT;
         }
+    *seed = v;
     return VG_OK;
 }
 
@@ -186,7 +184,7 @@ vg_status study_hit_run(const study_opts *o)
         .path = o->out, .kind = "hit", .columns = k_columns, .column_count = COL_COUNT,
         .participant = o->participant, .resume = o->resume}, &r.log);
     if (st == VG_OK)
-        st = pick_seed(&r);
+        st = study_pick_seed(o, &r.log, COL_SEED, &r.seed);
     r.trials = o->trials > 0 ? o->trials : 48;
     int scheduled = r.trials > r.log.rows_read ? r.trials : r.log.rows_read;
     if (st == VG_OK && !(r.cells = malloc((size_t)scheduled * sizeof(int))))

@@ -187,11 +187,9 @@ static vg_status check_rows(pref_run *r)
     const study_log *l = &r->log;
     for (int i = 0; i < l->rows_read; i++) {
         pref_cell c = pref_cell_of(r->cells[i]);
-        char want[32], seed[32];
+        char want[32];
         snprintf(want, sizeof want, "%d", i);
-        snprintf(seed, sizeof seed, "%" PRIu64, r->seed);
         if (strcmp(study_log_cell(l, i, COL_STUDY), "preference") || strcmp(study_log_cell(l, i, COL_TRIAL), want) ||
-            strcmp(study_log_cell(l, i, COL_SEED), seed) ||
             strcmp(study_log_cell(l, i, COL_SCENE), pref_scene_names[c.scene]) ||
             strcmp(study_log_cell(l, i, COL_SALIENCY), pref_saliency_names[c.saliency]) ||
             strcmp(study_log_cell(l, i, COL_SIDE), k_sides[c.optimized_right])) {
@@ -213,17 +211,8 @@ vg_status study_preference_run(const study_opts *o)
     vg_status st = study_log_open(&(study_log_desc){
         .path = o->out, .kind = "preference", .columns = k_columns, .column_count = COL_COUNT,
         .participant = o->participant, .resume = o->resume}, &r.log);
-    r.seed = o->seed >= 0 ? (uint64_t)o->seed : game_seed_from_text(o->participant);
-    if (st == VG_OK && r.log.rows_read > 0) {
-        const char *s = study_log_cell(&r.log, 0, COL_SEED);
-        uint64_t v = strtoull(s, NULL, 10);
-        if (o->seed >= 0 && v != (uint64_t)o->seed) {
-            vg_error("%s was run with --seed %s, not %d: resume without --seed (or with the same one)", o->out, s,
-                     o->seed);
-            st = VG_ERR_ARG;
-        }
-        r.seed = v;
-    }
+    if (st == VG_OK)
+        st = study_pick_seed(o, &r.log, COL_SEED, &r.seed);
     r.trials = o->trials > 0 ? o->trials : 24;
     int scheduled = r.trials > r.log.rows_read ? r.trials : r.log.rows_read;
     if (st == VG_OK && !(r.cells = malloc((size_t)scheduled * sizeof(int))))
