@@ -287,6 +287,8 @@ static vg_status handle(session *ss, const window_event *ev)
     case GLFW_KEY_Q: ss->quit = true; break;
     case GLFW_KEY_P:
     case GLFW_KEY_SPACE:
+        if (ss->study && ss->ph == PHASE_FLIGHT && !ss->paused)
+            break; /* a frozen ball would be seen longer than the visible interval */
         ss->paused = !ss->paused;
         vg_info("play: %s", ss->paused ? "paused" : "resumed");
         break;
