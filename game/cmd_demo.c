@@ -39,7 +39,7 @@ typedef struct demo_cli {
 } demo_cli;
 
 static demo_cli o = {
-    .out = "out/demo", .scenes = DEMO_DEFAULT_SCENES, .content = "content", .size = {480, 270},
+    .out = "out/demo", .scenes = DEMO_DEFAULT_SCENES, .content = "content", .size = {400, 225},
     .op = DISP_OPERATOR_LANG - 1, .step = 2, .analysis_step = 1, .stills = 3, .stride = 5, .fps = 30, .gpu = {.device = -1},
 };
 
@@ -50,7 +50,7 @@ static const vg_opt k_opts[] = {
     {"--out", VG_OPT_STRING, &o.out, "DIR", "report folder (default out/demo; created if missing)", NULL, 0, 0},
     {"--scenes", VG_OPT_STRING, &o.scenes, "LIST", "comma-separated scene names (default " DEMO_DEFAULT_SCENES ")", NULL, 0, 0},
     {"--content", VG_OPT_STRING, &o.content, "DIR", "folder of the scenes' .gltf files (default content)", NULL, 0, 0},
-    {"--size", VG_OPT_SIZE, o.size, "WxH", "image size of each eye (default 480x270)", NULL, 0, 0},
+    {"--size", VG_OPT_SIZE, o.size, "WxH", "image size of each eye (default 400x225)", NULL, 0, 0},
     {"--step", VG_OPT_INT, &o.step, "N", "videos and stills: every N-th frame (default 2)", NULL, 1, 100},
     {"--analysis-step", VG_OPT_INT, &o.analysis_step, "N", "the optimized run (maps, plots, metrics): every N-th frame; "
      "f is exact only with 1, the default (the solver is amortised over a keyframe interval)", NULL, 1, 100},

@@ -53,7 +53,6 @@ typedef struct demo_run {
     bool analysis;           /* this run recorded the scene's maps (the first available mode) */
     int step, frames;        /* rendered every step-th frame, frames in all */
     char note[DEMO_NOTE];
-    bool maps[DEMO_MAPS];    /* which of g, h, f the frames carried */
     uint32_t pass_count;
     char pass_names[RG_MAX_PASSES][DEMO_NAME];
     double pass_ms[RG_MAX_PASSES]; /* median over the rendered frames */
@@ -84,7 +83,6 @@ typedef struct demo_scene {
     float xt_lo[DEMO_MAPS], xt_hi[DEMO_MAPS]; /* colour scale of each slice (demo_figures_write) */
     demo_track tracks[DEMO_MAX_TRACKS];
     int track_count;
-    float screen_vergence;
     demo_run runs[DEMO_MODES];
 } demo_scene;
 

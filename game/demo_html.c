@@ -25,20 +25,20 @@ static const scene_text k_scenes[] = {
      "comfort range around the screen.",
      "In <b>h</b> the balloon's vergence jumps where the manipulation compresses the gap between house and tree: it "
      "crosses the compressed depth quickly and then slows down, although it really flies at a constant 5.5&nbsp;m/s. "
-     "In <b>f</b> the change is smooth again, while the house and the tree keep the disparity the manipulation gave "
-     "them."},
+     "<b>f</b> smooths that change back toward the steady approach of <b>g</b>, while the house and the tree keep "
+     "the disparity the manipulation gave them; the table says how much distortion is left."},
     {"cubes", "Cubes &mdash; paper Fig. 2",
      "A small red cube flies away from the viewer, from 3&nbsp;m to 25&nbsp;m, right past a group of static cubes "
      "at 8&ndash;13&nbsp;m.",
      "In <b>h</b> the flying cube's vergence bends where it passes the static cubes (the histogram operator gives "
-     "their depth range more room than the empty space around it); <b>f</b> keeps the cube's acceleration of the "
-     "original <b>g</b>, so it recedes steadily."},
+     "their depth range more room than the empty space around it); <b>f</b> brings the cube's acceleration back "
+     "toward that of the original <b>g</b>, so it recedes more steadily."},
     {"bird", "Bird &mdash; deforming objects and camera motion, like paper Fig. 8",
      "A bird flaps its skinned wings as it flies from far behind the windmill toward the viewer, while the camera "
      "dollies forward; a flag waves in the wind (morph targets).",
      "The bird's track in <b>h</b> changes speed as it crosses the depth range the operator compresses between the "
-     "windmill and the tree line; <b>f</b> restores the steady approach while the camera motion moves everything "
-     "else."},
+     "windmill and the tree line; <b>f</b> brings back more of its steady approach, while the camera's own motion "
+     "moves everything else in depth too."},
 };
 
 static const scene_text *scene_text_for(const char *name)
@@ -305,7 +305,7 @@ static void tracks(demo_buf *b, const demo_scene *sc)
     P("<h3>Vergence of each object over time</h3><p class=\"explain\">The mean vergence of each object's pixels "
       "in every frame (gaps: out of view or hidden). Left: the original g. Right: h dashed and f solid, in the "
       "compressed range. The first object, %s, is the one that moves in depth: its h curve bends where the "
-      "manipulation compresses depth, f follows the original's shape within the comfort range.</p>"
+      "manipulation compresses depth; f stays in the comfort range and bends less.</p>"
       "<div class=\"grid2\">\n", sc->tracks[0].name);
     char src[160];
     snprintf(src, sizeof src, "%s/tracks_g.svg", sc->name);
@@ -338,7 +338,7 @@ static void cascade(demo_buf *b, const demo_scene *sc)
       "<span class=\"sw\" style=\"background:#ff731a\"></span>64 Halton samples, "
       "<span class=\"sw\" style=\"background:#bf33e6\"></span>global curve. Middle: the tessellated warp's left eye. "
       "Right: the image-warping baseline's left eye, <span class=\"sw\" style=\"background:#ff00c8\"></span>magenta "
-      "where it has nothing to show (disocclusions); the warp has no such holes (table below).</p>"
+      "where it has nothing to show (disocclusions); the tessellated warp has next to none (table below).</p>"
       "<div class=\"grid3\">\n", mode, r->still_frames[k] / sc->fps);
     char src[256];
     snprintf(src, sizeof src, "%s/%s/still_%d_cascade.png", sc->name, mode, k);

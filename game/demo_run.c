@@ -132,7 +132,6 @@ static vg_status claim_maps(run_ctx *c, const frame_outputs *fo)
     const float *maps[DEMO_MAPS] = {fo->g, fo->h, fo->f};
     demo_scene *sc = c->sc;
     for (int m = 0; m < DEMO_MAPS; m++) {
-        c->r->maps[m] = maps[m] != NULL;
         c->own[m] = maps[m] && c->r->analysis;
         if (!c->own[m])
             continue;

@@ -8,7 +8,6 @@
 #include "core/json.h"
 #include "core/log.h"
 #include "demo.h"
-#include "stereo/stereo_display.h"
 
 const frame_mode demo_modes[DEMO_MODES] = {FRAME_MODE_ORIGINAL, FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED};
 const char *const demo_map_names[DEMO_MAPS] = {"g", "h", "f"};
@@ -131,9 +130,6 @@ vg_status demo_scene_init(demo_scene *sc, const scene *s, const char *name, cons
         return VG_ERR_NOMEM;
     for (int i = 0; i < sc->samples; i++)
         sc->frames[i] = (long)i * o->analysis_step;
-    stereo_display d;
-    stereo_display_init(&d, &(stereo_display_desc){0});
-    sc->screen_vergence = (float)d.screen_vergence;
     pick_tracks(sc, s);
     for (int r = 0; r < DEMO_MODES; r++)
         sc->runs[r].mode = demo_modes[r];

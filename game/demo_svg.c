@@ -136,23 +136,42 @@ vg_status demo_svg_chart(const char *dir, const char *name, const demo_chart *c)
     }
     demo_buf_printf(&b, "</g>\n");
 
-    /* Legend: one row per labelled series, top right inside the plot. */
+    /* Legend: one row per labelled series, in the corner of the plot that
+     * covers the fewest data points. */
     int rows = 0;
     for (int s = 0; s < c->count; s++)
         rows += c->series[s].label != NULL;
     if (rows) {
-        double lw = 150, lx = ml + pw - lw - 6, ly = mt + 6;
-        demo_buf_printf(&b, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%d\" fill=\"#fff\" fill-opacity=\"0.85\" "
-                "stroke=\"#ddd\"/>\n", lx, ly, lw, 16 * rows + 6);
+        double lw = 150, lh = 16 * rows + 6, best_x = 0, best_y = 0;
+        int best = -1;
+        for (int corner = 0; corner < 4; corner++) {
+            double lx = corner & 1 ? ml + 6 : ml + pw - lw - 6, ly = corner & 2 ? mt + ph - lh - 6 : mt + 6;
+            int covered = 0;
+            for (int s = 0; s < c->count; s++)
+                for (int i = 0; i < c->n; i++) {
+                    if (!isfinite(c->series[s].y[i]))
+                        continue;
+                    double x = PX(c->x[i]), y = PY(c->series[s].y[i]);
+                    covered += x >= lx - 4 && x <= lx + lw + 4 && y >= ly - 4 && y <= ly + lh + 4;
+                }
+            if (best < 0 || covered < best) {
+                best = covered;
+                best_x = lx;
+                best_y = ly;
+            }
+        }
+        double lx = best_x, ly = best_y;
+        demo_buf_printf(&b, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"#fff\" "
+                            "fill-opacity=\"0.85\" stroke=\"#ddd\"/>\n", lx, ly, lw, lh);
         int r = 0;
         for (int s = 0; s < c->count; s++) {
             const demo_series *se = &c->series[s];
             if (!se->label)
                 continue;
             double y = ly + 14 + 16 * r++;
-            demo_buf_printf(&b, "<line x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" stroke=\"%s\" stroke-width=\"%g\"%s/>\n", lx + 8,
-                y - 4, lx + 32, y - 4, se->color, se->width > 0 ? se->width : 2.0,
-                se->dashed ? " stroke-dasharray=\"6 4\"" : "");
+            demo_buf_printf(&b, "<line x1=\"%g\" y1=\"%g\" x2=\"%g\" y2=\"%g\" stroke=\"%s\" stroke-width=\"%g\"%s/>\n",
+                            lx + 8, y - 4, lx + 32, y - 4, se->color, se->width > 0 ? se->width : 2.0,
+                            se->dashed ? " stroke-dasharray=\"6 4\"" : "");
             demo_buf_printf(&b, "<text x=\"%g\" y=\"%g\" fill=\"#333\">%s</text>\n", lx + 38, y, se->label);
         }
     }
