@@ -65,7 +65,7 @@ static const vg_opt k_opts[] = {
     {"--target-range", VG_OPT_FLOAT, &o.target_range, "ARCMIN", "half-width of the target range around the screen (default 60)", NULL, 1, 600},
     {"--swap-eyes", VG_OPT_FLAG, &o.swap_eyes, NULL, "exchange left and right in the composed output", NULL, 0, 0},
     {"--tess-px", VG_OPT_FLOAT, &o.tess_px, "PX", "tessellate edges down to PX pixels (paper: 1); default: error-driven", NULL, 0.05, 1000},
-    {"--tess-error", VG_OPT_FLOAT, &o.tess_error, "PX", "error-driven tessellation tolerance in pixels (default 0.1)", NULL, 0.001, 100},
+    {"--tess-error", VG_OPT_FLOAT, &o.tess_error, "PX", "error-driven tessellation tolerance in pixels (default 0.025)", NULL, 0.001, 100},
     {"--diffuse", VG_OPT_FLAG, &o.diffuse, NULL, "no specular highlights (eyes shade identically)", NULL, 0, 0},
     {"--curve", VG_OPT_STRING, &o.curve, "FILE", "use a global curve baked by 'vergence bake-curve'", NULL, 0, 0},
     {"--no-reference", VG_OPT_FLAG, &o.no_reference, NULL, "skip the two-camera reference (no holes or PSNR figures)", NULL, 0, 0},

@@ -5,8 +5,8 @@
 // departs from linear interpolation along it), and frustum culling.
 // Needs common.glsl, stereo.glsl and cascade.glsl.
 
-// Target disparity (image px) where the depth map sees this point, else
-// -1e9. A cheap estimate (nearest texel): it only decides subdivision.
+// Target disparity (image px) where the depth map sees this point (the
+// cascade's direct stage), else -1e9.
 float visible_target_px(vec3 world)
 {
     vec4 c = u.view_proj * vec4(world, 1.0);
@@ -16,10 +16,9 @@ float visible_target_px(vec3 world)
     ivec2 p = ivec2(floor(centre_pixel(c)));
     if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size)))
         return -1e9;
-    float zq = texelFetch(depth_map, p, 0).r;
-    if (!same_surface(zq, c.w))
+    if (!same_surface(texelFetch(depth_map, p, 0).r, c.w))
         return -1e9;
-    return px_from_vergence(texelFetch(target_map, p, 0).r);
+    return px_from_vergence(cascade(centre_pixel(c), c.w).x);
 }
 
 // The disparity (image px) the warp will give a vertex: the cascade, or the
@@ -75,8 +74,10 @@ float edge_level(vec3 a, vec3 b)
             if (di > -1e8)
                 err = max(err, abs(di - mix(da, db, s)));
         }
-        // Linear interpolation error falls with the square of the segment length.
-        level = min(sqrt(err / u.warp.y), len);
+        // The manipulated and optimised maps bend sharply (the operators are
+        // piecewise linear in disparity), so the error falls only linearly
+        // with the number of segments: size them for that.
+        level = min(err / u.warp.y, len);
     }
     return clamp(ceil(level), 1.0, u.warp2.x);
 }

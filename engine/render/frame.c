@@ -344,7 +344,7 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     if (d.compose == FRAME_COMPOSE_DEFAULT)
         d.compose = FRAME_COMPOSE_SBS;
     if (d.tess_px <= 0 && d.tess_error <= 0)
-        d.tess_error = 0.1;
+        d.tess_error = 0.025;
     /* 1-pixel tessellation needs the hardware's full range; error-driven
      * levels seldom pass 4, and a lower cap packs more patches into each of
      * lavapipe's bounded draws. */
