@@ -5,8 +5,8 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
 
   play_live          starts, renders, reacts to H and to a mouse click sent by
                      xdotool, survives a resize, records the input, quits on Q
-  play_replay        a replay file drives the same at a fixed time step, twice
-                     with the same result
+  play_replay        a replay file drives the same at a fixed time step, with
+                     the same result every time
   golden             a paused frame of a replayed game matches
                      tests/golden/game_play.png (VG_UPDATE_GOLDEN=1 rewrites it)
   preference_window  the side-by-side preference study answers a replayed key
@@ -151,19 +151,19 @@ def case_play_replay():
     script = replay_file("# restart, H, mode keys, a click once the ball is gone, quit\n"
                          "3 key R\n5 key H\n10 key M\n12 key 3\n15 key 1\n90 click 0.5 0.75\n92 key H\n"
                          "96 key Q\n")
-    results = []
-    for _ in range(2):
-        g = Game(["play", "--size", "256x144", "--seed", "4", "--visible", "0.2", "--replay", script])
-        log = g.finish(300)
-        for must in ("technical HUD on", "click at", "technical HUD off", "restart", r"1 throw\(s\)"):
-            if not re.search(must, log):
-                fail(f"no '{must}' in the log of the replayed game")
-        if not re.search(r"mode manipulated \(h\)|manipulated \(h\) not available", log):
-            fail("M did not switch to manipulated nor say why not")
-        results.append(re.search(r"click at .*", log).group(0))
-    print(results)
-    if results[0] != results[1]:
-        fail("two replays of one file did not click the same")
+    g = Game(["play", "--size", "256x144", "--seed", "4", "--visible", "0.2", "--replay", script])
+    log = g.finish(300)
+    for must in ("technical HUD on", "click at", "technical HUD off", "restart", r"1 throw\(s\)"):
+        if not re.search(must, log):
+            fail(f"no '{must}' in the log of the replayed game")
+    if not re.search(r"mode manipulated \(h\)|manipulated \(h\) not available", log):
+        fail("M did not switch to manipulated nor say why not")
+    # A fixed time step makes the game a function of the file: throw 1 of
+    # seed 4 and the click at (0.5, 0.75) give this miss on every run.
+    click = re.search(r"click at .*", log).group(0)
+    want = "click at (0.500, 0.750) of the picture: missed by 5.86 m (original (g), near-to-far, straight)"
+    if click != want:
+        fail(f"the replayed click gave '{click}', want '{want}'")
 
 
 def case_golden():
