@@ -41,20 +41,27 @@ static int interior(const uint8_t *ref, uint32_t width, uint32_t height, size_t 
     return 1;
 }
 
-/* Geometry on both sides of pixel i (offset k) at one depth: one surface. */
-static bool same_surface_across(const uint8_t *eye, const float *aux, size_t i, size_t k)
+/* A sky pixel between geometry of one surface (offset k on both sides, the
+ * same depth) that the centre view, at the place the two sides come from,
+ * covers with geometry: the warp tore the surface open. Sky the centre view
+ * itself shows there (a gap, a notch) is rightly sky in the eye too. */
+static bool torn(const uint8_t *eye, const float *aux, const uint32_t *centre_ids, uint32_t width, size_t i,
+                 size_t k)
 {
     if (!is_geometry(eye + 4 * (i - k)) || !is_geometry(eye + 4 * (i + k)))
         return false;
     float a = aux[4 * (i - k) + 1], b = aux[4 * (i + k) + 1];
-    return fabsf(a - b) < 0.02f * fmaxf(a, b);
+    if (fabsf(a - b) >= 0.02f * fmaxf(a, b))
+        return false;
+    long xc = lroundf(0.5f * (aux[4 * (i - k)] + aux[4 * (i + k)]) - 0.5f);
+    size_t row = i / width;
+    return xc >= 0 && xc < (long)width && centre_ids[row * width + (size_t)xc] != 0;
 }
 
 /* A pixel the method left empty (nothing drawn: the disocclusions of image
- * warping), or a crack: sky between geometry of one surface on both sides.
- * Sky between two objects at different depths, where the target disparity
- * moved one against the other, is neither. */
-static int hole(const uint8_t *eye, const float *aux, uint32_t width, uint32_t height, size_t i)
+ * warping), or a crack (torn above). */
+static int hole(const uint8_t *eye, const float *aux, const uint32_t *centre_ids, uint32_t width, uint32_t height,
+                size_t i)
 {
     const uint8_t *p = eye + 4 * i;
     if (p[3] < 64)
@@ -62,8 +69,8 @@ static int hole(const uint8_t *eye, const float *aux, uint32_t width, uint32_t h
     if (is_geometry(p))
         return 0;
     uint32_t x = (uint32_t)(i % width), y = (uint32_t)(i / width);
-    bool lr = x > 0 && x + 1 < width && same_surface_across(eye, aux, i, 1);
-    bool ud = y > 0 && y + 1 < height && same_surface_across(eye, aux, i, width);
+    bool lr = x > 0 && x + 1 < width && torn(eye, aux, centre_ids, width, i, 1);
+    bool ud = y > 0 && y + 1 < height && torn(eye, aux, centre_ids, width, i, width);
     return lr || ud;
 }
 
@@ -93,7 +100,7 @@ vg_status warp_metrics_add(warp_metrics *m, const frame_outputs *o, uint32_t wid
         for (size_t i = 0; i < n; i++) {
             if (interior(refs[e], width, height, i)) {
                 m->reference_geometry++;
-                m->holes += hole(eyes[e], aux[e], width, height, i);
+                m->holes += hole(eyes[e], aux[e], o->ids, width, height, i);
             }
             for (int c = 0; c < 3; c++) {
                 double d = (double)eyes[e][4 * i + c] - (double)refs[e][4 * i + c];

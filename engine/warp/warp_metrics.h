@@ -10,11 +10,12 @@
  *   holes          pixels where the two-camera reference shows geometry, away
  *                  from its silhouettes (all 8 neighbours are geometry too),
  *                  and the method left empty (nothing drawn: image warping's
- *                  disocclusions) or cracked open (sky between geometry of one
- *                  surface: the same depth on both sides). Sky between two
- *                  objects at different depths is not a hole: under h or f
- *                  their silhouettes rightly move against each other, away
- *                  from where the cameras (which show g) put them.
+ *                  disocclusions) or tore open (sky between geometry of one
+ *                  surface, where the centre view shows that surface). Sky
+ *                  the centre view shows too, or sky between objects at
+ *                  different depths, is not a hole: under h or f silhouettes
+ *                  rightly move against each other, away from where the
+ *                  cameras (which show g) put them.
  *   PSNR           of each eye against the two-camera reference, in dB */
 #pragma once
 #include <stddef.h>
