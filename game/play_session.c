@@ -252,7 +252,7 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
 
 void play_frame_defaults(const gpu *g, const play_window_cli *w, frame_desc *fd)
 {
-    fd->tess_error = w->tess_error > 0 ? w->tess_error : g->is_cpu ? 0.5 : 0.1;
+    fd->tess_error = w->tess_error > 0 ? w->tess_error : g->is_cpu ? 0.5 : 0.0; /* 0: the engine's */
     fd->shadow_size = g->is_cpu ? 1024 : 0;
 }
 

@@ -29,7 +29,7 @@ typedef struct play_window_cli {
     const char *replay, *record;
     int ticks;                   /* quit after this many ticks (1/60 s), 0 = never */
     int seed;                    /* free play throws, -1 = from the clock */
-    double tess_error;           /* 0 = 0.1 px, 0.5 px on a CPU device */
+    double tess_error;           /* 0 = the engine's default, 0.5 px on a CPU device */
     gpu_cli gpu;
 } play_window_cli;
 
@@ -40,8 +40,8 @@ typedef struct play_window_cli {
     {"--render-size", VG_OPT_SIZE, (w).render, "WxH", "eye image size (default: fit the window; "      \
      "at most 480 wide on a CPU device)", NULL, 0, 0},                                                  \
     {"--fullscreen", VG_OPT_FLAG, &(w).fullscreen, NULL, "full screen on the primary monitor", NULL, 0, 0}, \
-    {"--tess-error", VG_OPT_FLOAT, &(w).tess_error, "PX", "warp tessellation tolerance (default 0.1; "  \
-     "0.5 on a CPU device)", NULL, 0.001, 100},                                                         \
+    {"--tess-error", VG_OPT_FLOAT, &(w).tess_error, "PX", "warp tessellation tolerance (default: the "  \
+     "engine's; 0.5 on a CPU device)", NULL, 0.001, 100},                                               \
     {"--replay", VG_OPT_STRING, &(w).replay, "FILE", "feed recorded key and mouse events at a fixed "    \
      "time step (docs/game.md)", NULL, 0, 0},                                                           \
     {"--record", VG_OPT_STRING, &(w).record, "FILE", "write key and mouse events for --replay", NULL, 0, 0}, \
