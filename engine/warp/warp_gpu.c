@@ -499,7 +499,8 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     /* Measuring costs the fragment shader a second cascade: only captures do it. */
     VkShaderModule warp_frag = fc->desc.measure ? s->eye_measure_frag : s->eye_frag;
     d.frag = warp_frag;
-    vg_status st = gpu_graphics_pipeline_create(g, &d, &w->warp);
+    /* Only the warp tessellates: the baselines run on devices without it. */
+    vg_status st = fc->desc.stereo == FRAME_STEREO_WARP ? gpu_graphics_pipeline_create(g, &d, &w->warp) : VG_OK;
     if (st == VG_OK) {
         d = eye;
         d.name = "warp.stereo flat";
