@@ -174,7 +174,8 @@ def case_device_limits():
         sys.exit(f"FAIL: the two-camera stereo needs no tessellation:\n{p.stderr}")
     # No multi-draw indirect and no timestamps: the warp still renders.
     env = dict(os.environ, VERGENCE_DISABLE="indirect,timestamps,multiview")
-    p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--size", "64x36", "--out", tmp],
+    p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--size", "64x36", "--out", tmp,
+                        "--mode", "original"],
                        capture_output=True, text=True, timeout=300, env=env)
     if p.returncode != 0:
         sys.exit(f"FAIL: the warp without indirect counts, timestamps or multiview:\n{p.stderr}")
