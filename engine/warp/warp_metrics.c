@@ -53,9 +53,13 @@ static bool torn(const uint8_t *eye, const float *aux, const uint32_t *centre_id
     float a = aux[4 * (i - k) + 1], b = aux[4 * (i + k) + 1];
     if (fabsf(a - b) >= 0.02f * fmaxf(a, b))
         return false;
+    /* Where the two sides come from in the centre view, give or take a pixel:
+     * a silhouette there (sky nearby) makes the gap the object's own edge. */
     long xc = lroundf(0.5f * (aux[4 * (i - k)] + aux[4 * (i + k)]) - 0.5f);
-    size_t row = i / width;
-    return xc >= 0 && xc < (long)width && centre_ids[row * width + (size_t)xc] != 0;
+    const uint32_t *row = centre_ids + (i / width) * width;
+    if (xc < 1 || xc + 1 >= (long)width)
+        return false;
+    return row[xc - 1] != 0 && row[xc] != 0 && row[xc + 1] != 0;
 }
 
 /* A pixel the method left empty (nothing drawn: the disocclusions of image
