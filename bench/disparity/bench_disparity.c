@@ -1,6 +1,7 @@
 /* vergence — the GPU disparity pipeline's cost per frame at 960x540 and
  * 1920x1080 (issue 4): the frame graph's per-pass GPU ms, medians of N
- * frames after the window is full and a keyframe interval has passed, and
+ * frames after a keyframe interval of amortised solves (the two sizes
+ * rendered frame by frame in turn), and
  * wall-clock ms of the resolution-dependent passes run on their own.
  *
  * The solver's grid is the same at both sizes (192 x 108: the stride widens
@@ -67,43 +68,48 @@ typedef struct frame_result {
     double frame_wall_ms;
 } frame_result;
 
-static vg_status run_frame(gpu *g, const scene *s, uint32_t w, uint32_t h, int frames, frame_result *out)
+/* Both sizes frame by frame in turn, so both see the same load on a shared
+ * machine. */
+static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], int frames, frame_result *out)
 {
-    frame *f;
+    frame *f[2] = {0};
+    vg_status st = VG_OK;
     /* Two real cameras: the cheapest stereo pair (the disparity passes are
      * the same whichever way the pair is made). */
-    vg_status st = frame_create(g, s, &(frame_desc){.width = w, .height = h, .stereo = FRAME_STEREO_CAMERAS,
-                                                    .mode = FRAME_MODE_OPTIMIZED, .diffuse = true}, &f);
-    if (st != VG_OK)
-        return st;
-    double *ms = calloc((size_t)frames * MAX_PASSES, sizeof *ms), *wall = calloc((size_t)frames, sizeof *wall);
+    for (int k = 0; k < 2 && st == VG_OK; k++)
+        st = frame_create(g, s, &(frame_desc){.width = sizes[k][0], .height = sizes[k][1],
+                                              .stereo = FRAME_STEREO_CAMERAS, .mode = FRAME_MODE_OPTIMIZED,
+                                              .diffuse = true}, &f[k]);
+    double *ms = calloc(2 * (size_t)frames * MAX_PASSES, sizeof *ms), *wall = calloc(2 * (size_t)frames, sizeof *wall);
     /* Warm-up: the first frame solves its whole window, then one interval
      * of amortised solves; measured from the next keyframe on. */
-    int warm = 2 * frame_get_desc(f)->keyframe_stride;
-    for (int i = -warm; i < frames && st == VG_OK; i++) {
-        double t0 = vg_now_ms();
-        st = frame_render(f, 60 + warm + i);
-        if (i < 0 || st != VG_OK)
-            continue;
-        wall[i] = vg_now_ms() - t0;
-        double row[MAX_PASSES];
-        const char *names[MAX_PASSES];
-        out->passes = (int)frame_pass_timings(f, names, row, MAX_PASSES);
-        for (int p = 0; p < out->passes; p++)
-            snprintf(out->names[p], sizeof out->names[p], "%s", names[p]);
-        for (int p = 0; p < out->passes; p++)
-            ms[(size_t)p * frames + i] = row[p];
-    }
-    if (st == VG_OK) {
-        for (int p = 0; p < out->passes; p++) {
-            out->median_ms[p] = median(ms + (size_t)p * frames, frames);
-            out->mean_ms[p] = mean(ms + (size_t)p * frames, frames);
+    int warm = st == VG_OK ? 2 * frame_get_desc(f[0])->keyframe_stride : 0;
+    for (int i = -warm; i < frames && st == VG_OK; i++)
+        for (int k = 0; k < 2 && st == VG_OK; k++) {
+            double t0 = vg_now_ms();
+            st = frame_render(f[k], 60 + warm + i);
+            if (i < 0 || st != VG_OK)
+                continue;
+            wall[(size_t)k * frames + i] = vg_now_ms() - t0;
+            double row[MAX_PASSES];
+            const char *names[MAX_PASSES];
+            out[k].passes = (int)frame_pass_timings(f[k], names, row, MAX_PASSES);
+            for (int p = 0; p < out[k].passes; p++) {
+                snprintf(out[k].names[p], sizeof out[k].names[p], "%s", names[p]);
+                ms[((size_t)k * MAX_PASSES + p) * frames + i] = row[p];
+            }
         }
-        out->frame_wall_ms = median(wall, frames);
+    for (int k = 0; k < 2 && st == VG_OK; k++) {
+        for (int p = 0; p < out[k].passes; p++) {
+            out[k].median_ms[p] = median(ms + ((size_t)k * MAX_PASSES + p) * frames, frames);
+            out[k].mean_ms[p] = mean(ms + ((size_t)k * MAX_PASSES + p) * frames, frames);
+        }
+        out[k].frame_wall_ms = median(wall + (size_t)k * frames, frames);
     }
     free(ms);
     free(wall);
-    frame_destroy(f);
+    frame_destroy(f[0]);
+    frame_destroy(f[1]);
     return st;
 }
 
@@ -338,11 +344,11 @@ int main(int argc, char **argv)
     static const uint32_t sizes[2][2] = {{960, 540}, {1920, 1080}};
     frame_result fr[2];
     alone_result ar[2];
+    vg_info("bench_disparity: 960x540 and 1920x1080 in turn, %d frames of %s", frames, scene_path);
+    if (run_frames(g, s, sizes, frames, fr) != VG_OK)
+        return 1;
     for (int k = 0; k < 2; k++) {
         uint32_t w = sizes[k][0], h = sizes[k][1];
-        vg_info("bench_disparity: %ux%u, %d frames of %s", w, h, frames, scene_path);
-        if (run_frame(g, s, w, h, frames, &fr[k]) != VG_OK)
-            return 1;
         if (run_alone(g, w, h, disparity_gpu_grid_stride(w, h, 0), frames, &ar[k]) != VG_OK)
             return 1;
     }
