@@ -25,6 +25,7 @@
 #include "warp_tese.h"
 #include "warp_classify_comp.h"
 #include "warp_compact_comp.h"
+#include "warp_fill_comp.h"
 #include "warp_flat_vert.h"
 #include "warp_vert.h"
 
@@ -46,7 +47,9 @@ typedef struct eye_pass {
 
 struct warp_gpu {
     frame_ctx *fc;
-    VkPipeline warp, warp_flat, cameras, imagewarp, sky, classify, compact;
+    VkPipeline warp, warp_flat, cameras, imagewarp, sky, classify, compact, fill;
+    VkDescriptorSetLayout fill_set;
+    VkPipelineLayout fill_layout;
     VkDescriptorSetLayout classify_set;
     VkPipelineLayout classify_layout;
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
@@ -60,6 +63,10 @@ struct warp_gpu {
     uint32_t tiles_x, tiles_y;
     uint32_t patches_per_draw;
     eye_pass eyes[6];
+    struct fill_pass {
+        warp_gpu *w;
+        rg_res raw_color, raw_aux, color, aux;
+    } fills[2];
     /* this frame's graph resources */
     frame_resources *res;
     rg_res target, tiles_count, tiles_sum, tiles_offset;
@@ -298,6 +305,26 @@ static void eye_execute(const rg_context *ctx, void *user)
     }
 }
 
+static void fill_execute(const rg_context *ctx, void *user)
+{
+    const struct fill_pass *f = user;
+    warp_gpu *w = f->w;
+    const rg_res images[5] = {f->raw_color, f->raw_aux, w->res->ids, f->color, f->aux};
+    VkDescriptorImageInfo info[5];
+    VkWriteDescriptorSet wr[5];
+    for (uint32_t i = 0; i < 5; i++) {
+        info[i] = (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, images[i]),
+                                          .imageLayout = rg_ctx_layout(ctx, images[i])};
+        wr[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
+                                       .descriptorCount = 1, .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                       .pImageInfo = &info[i]};
+    }
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->fill);
+    w->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->fill_layout, 0, 5, wr);
+    vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
+}
+
 static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e, const char *name,
                     rg_res color, rg_res aux)
 {
@@ -425,7 +452,28 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
     res->right_aux = rg_image(g, &(rg_image_desc){"eye.right.aux", WARP_AUX_FORMAT, width, height, 1});
     for (int i = 0; i < 2; i++) {
         w->eyes[i] = (eye_pass){w, kind, i == 1};
-        add_eye(w, g, res, &w->eyes[i], names[kind][i], i ? res->right : res->left, i ? res->right_aux : res->left_aux);
+        rg_res color = i ? res->right : res->left, aux = i ? res->right_aux : res->left_aux;
+        if (kind != EYE_WARP) {
+            add_eye(w, g, res, &w->eyes[i], names[kind][i], color, aux);
+            continue;
+        }
+        /* The warp renders into raw images that warp.fill closes cracks in. */
+        struct fill_pass *f = &w->fills[i];
+        *f = (struct fill_pass){
+            .w = w, .color = color, .aux = aux,
+            .raw_color = rg_image(g, &(rg_image_desc){i ? "warp.right.raw" : "warp.left.raw", WARP_COLOR_FORMAT,
+                                                      width, height, 1}),
+            .raw_aux = rg_image(g, &(rg_image_desc){i ? "warp.right.raw_aux" : "warp.left.raw_aux", WARP_AUX_FORMAT,
+                                                    width, height, 1}),
+        };
+        add_eye(w, g, res, &w->eyes[i], names[kind][i], f->raw_color, f->raw_aux);
+        rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = i ? "warp.fill.right" : "warp.fill.left",
+                                                   .type = RG_PASS_COMPUTE, .execute = fill_execute, .user = f});
+        rg_use(g, p, f->raw_color, RG_STORAGE_READ);
+        rg_use(g, p, f->raw_aux, RG_STORAGE_READ);
+        rg_use(g, p, res->ids, RG_STORAGE_READ);
+        rg_use(g, p, color, RG_STORAGE_WRITE);
+        rg_use(g, p, aux, RG_STORAGE_WRITE);
     }
     if (d->reference && kind != EYE_CAMERAS) {
         res->ref_left = rg_image(g, &(rg_image_desc){"reference.left", WARP_COLOR_FORMAT, width, height, 1});
@@ -445,7 +493,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
 /* ------------------------------------------------------------------------- */
 
 typedef struct shader_set {
-    VkShaderModule warp_vert, warp_flat_vert, warp_classify, warp_compact, warp_tesc, warp_tese, eye_frag, eye_measure_frag, cameras_vert, sky_vert, eye_sky_frag,
+    VkShaderModule warp_vert, warp_flat_vert, warp_classify, warp_compact, warp_fill, warp_tesc, warp_tese, eye_frag, eye_measure_frag, cameras_vert, sky_vert, eye_sky_frag,
         imagewarp_vert, imagewarp_frag, curve_range, curve_bins, curve_resolve;
 } shader_set;
 
@@ -455,6 +503,7 @@ static vg_status load_shaders(gpu *g, shader_set *s)
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_flat_vert, &s->warp_flat_vert);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_classify_comp, &s->warp_classify);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_compact_comp, &s->warp_compact);
+    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_fill_comp, &s->warp_fill);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tesc, &s->warp_tesc);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tese, &s->warp_tese);
     if (st == VG_OK) st = GPU_SHADER(g, spv_eye_frag, &s->eye_frag);
@@ -548,6 +597,14 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
         st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_classify, "warp.classify", &w->classify);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_compact, "warp.compact", &w->compact);
+    static const VkDescriptorType ftypes[5] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+    if (st == VG_OK)
+        st = gpu_push_layout_create(g, "warp.fill", ftypes, 5, VK_SHADER_STAGE_COMPUTE_BIT, 0, &w->fill_set,
+                                    &w->fill_layout);
+    if (st == VG_OK)
+        st = gpu_compute_pipeline_create(g, w->fill_layout, s->warp_fill, "warp.fill", &w->fill);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_bins, "warp.curve.bins", &w->curve_bins);
     if (st == VG_OK)
@@ -654,7 +711,7 @@ void warp_gpu_destroy(warp_gpu *w)
     if (!w)
         return;
     VkDevice dev = w->fc->gpu->device;
-    VkPipeline pipes[] = {w->warp, w->warp_flat, w->cameras, w->imagewarp, w->sky, w->classify, w->compact,
+    VkPipeline pipes[] = {w->warp, w->warp_flat, w->cameras, w->imagewarp, w->sky, w->classify, w->compact, w->fill,
                           w->curve_range, w->curve_bins, w->curve_resolve};
     for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
         if (pipes[i])
@@ -667,6 +724,10 @@ void warp_gpu_destroy(warp_gpu *w)
         vkDestroyPipelineLayout(dev, w->classify_layout, NULL);
     if (w->classify_set)
         vkDestroyDescriptorSetLayout(dev, w->classify_set, NULL);
+    if (w->fill_layout)
+        vkDestroyPipelineLayout(dev, w->fill_layout, NULL);
+    if (w->fill_set)
+        vkDestroyDescriptorSetLayout(dev, w->fill_set, NULL);
     gpu_buffer_destroy(w->fc->gpu, &w->instances);
     gpu_buffer_destroy(w->fc->gpu, &w->chunks);
     gpu_buffer_destroy(w->fc->gpu, &w->baked);
