@@ -176,7 +176,7 @@ static void passes_table(demo_buf *b, const demo_scene *sc)
                 empty_cells(b, 1);
                 continue;
             }
-            char src[DEMO_NAME * 2 + 2], key[DEMO_NAME + 16];
+            char src[DEMO_NAME * 2 + 2], key[DEMO_NAME + 32];
             snprintf(src, sizeof src, "%s/%s", sc->name, frame_mode_names[r->mode]);
             snprintf(key, sizeof key, "passes[%s].ms_median", r->pass_names[q]);
             cell(b, src, key, r->pass_ms[q], 1, 2, "");
