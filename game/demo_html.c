@@ -400,7 +400,7 @@ static void scene_section(demo_buf *b, const demo_scene *sc, const demo_opts *o)
       "optimized run's frames: <b>MID distortion</b> is the RMS error of the perceived acceleration in depth "
       "against g (JND) over moving pixels; <b>out of range</b> the share of pixels, over every frame, outside the "
       "operator's target range; <b>static RMS</b> and its gradient tell how far the map strays from h where "
-      "nothing moves. f should have a much smaller MID distortion than h, no pixel out of range, and a small "
+      "nothing moves. f should have a smaller MID distortion than h, no pixel out of range, and a small "
       "static change.</p>\n");
     mid_table(b, sc);
     P("<p class=\"explain\">The stereo pair of each mode at the middle still against two real cameras: how far "
