@@ -5,31 +5,26 @@
 // departs from linear interpolation along it), and frustum culling.
 // Needs common.glsl, stereo.glsl and cascade.glsl.
 
-// Target disparity (image px) where the depth map sees this point (the
-// cascade's direct stage), else -1e9.
-float visible_target_px(vec3 world)
+// The disparity (image px) the warp gives a point: the cascade, or the
+// curve's near continuation for points nearer than every pixel. `seen` tells
+// whether one of the first three cascade stages resolves it on screen (where
+// the warp's error is held to the tolerance; any eye may show the point).
+float target_px(vec3 world, out bool seen)
 {
     vec4 c = u.view_proj * vec4(world, 1.0);
-    if (c.w <= 1e-6)
-        return -1e9;
-    ivec2 size = textureSize(depth_map, 0);
-    ivec2 p = ivec2(floor(centre_pixel(c)));
-    if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size)))
-        return -1e9;
-    if (!same_surface(texelFetch(depth_map, p, 0).r, c.w))
-        return -1e9;
-    return px_from_vergence(cascade(centre_pixel(c), c.w).x);
+    seen = false;
+    if (c.w * curve.inv_depth_near <= 1.0)
+        return near_disparity_times_depth(c.w) / max(c.w, 1e-6);
+    vec2 px = centre_pixel(c);
+    ivec2 p = ivec2(floor(px)), size = textureSize(depth_map, 0);
+    vec2 v = cascade(px, c.w);
+    seen = all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, size)) && v.y < float(VG_STAGE_CURVE);
+    return px_from_vergence(v.x);
 }
 
-// The disparity (image px) the warp will give a vertex: the cascade, or the
-// curve's near continuation for points nearer than every pixel.
-float vertex_target_px(vec3 world)
-{
-    vec4 c = u.view_proj * vec4(world, 1.0);
-    if (c.w * curve.inv_depth_near > 1.0)
-        return px_from_vergence(cascade(centre_pixel(c), c.w).x);
-    return near_disparity_times_depth(c.w) / max(c.w, 1e-6);
-}
+// Samples along a long edge for the error-driven level. Keep the arrays
+// small: with 49 samples lavapipe drew long garbage triangles (silently).
+const int EDGE_SAMPLES = 24;
 
 float edge_level(vec3 a, vec3 b)
 {
@@ -58,28 +53,50 @@ float edge_level(vec3 a, vec3 b)
     float len = distance(centre_pixel(ca), centre_pixel(cb));
     if (len <= 1.0)
         return 1.0; /* a pixel or less: nothing to gain */
-    float level = 1.0;
-    if (u.warp.x > 0.0) {
-        level = len / u.warp.x;
-    } else if (u.warp.y > 0.0) {
-        // Between its vertices the warp interpolates disparity linearly in
-        // screen space (perspective-correct interpolation of d w over w):
-        // compare the target along the edge with that line.
-        const int N = 6;
-        float da = vertex_target_px(a), db = vertex_target_px(b), err = 0.0;
-        for (int i = 1; i < N; i++) {
-            float t = float(i) / float(N);
-            float di = visible_target_px(mix(a, b, t));
-            float s = t * cb.w / mix(ca.w, cb.w, t); /* screen-space parameter of 3D t */
-            if (di > -1e8)
-                err = max(err, abs(di - mix(da, db, s)));
-        }
-        // The manipulated and optimised maps bend sharply (the operators are
-        // piecewise linear in disparity), so the error falls only linearly
-        // with the number of segments: size them for that.
-        level = min(err / u.warp.y, len);
+    float max_level = min(ceil(len), u.warp2.x);
+    if (u.warp.x > 0.0)
+        return clamp(ceil(len / u.warp.x), 1.0, u.warp2.x);
+    // Error-driven: between its vertices the warp interpolates disparity
+    // linearly in screen space (perspective-correct interpolation of d w
+    // over w). The target need not be smooth at any scale the mesh knows
+    // (operator kinks, the solver's coarse grid), so sample the edge about
+    // every two pixels (at most EDGE_SAMPLES) and take the fewest equal
+    // segments whose vertices, interpolated, stay within the tolerance at
+    // every sample inside them; m is a multiple of every level tried, so
+    // segment ends are samples. An edge no level fits gets the 1-pixel level.
+    int m = len <= 12.0 ? 6 : len <= 24.0 ? 12 : EDGE_SAMPLES;
+    float d[EDGE_SAMPLES + 1];
+    uint seen = 0u; /* bit i: sample i is on a surface the warp measures */
+    for (int i = 0; i <= m; i++) {
+        bool s;
+        d[i] = target_px(mix(a, b, float(i) / float(m)), s);
+        seen |= s ? 1u << i : 0u;
     }
-    return clamp(ceil(level), 1.0, u.warp2.x);
+    const int LEVELS[7] = int[7](1, 2, 3, 4, 6, 8, 12);
+    float level = 1.0, err = 0.0;
+    for (int k = 0; k < 7; k++) {
+        int l = LEVELS[k], step = m / l;
+        if (float(l) >= max_level || step < 2)
+            break;
+        if (m % l != 0)
+            continue;
+        level = float(l);
+        err = 0.0;
+        for (int i = 0; i < m; i += step) {
+            float w0 = mix(ca.w, cb.w, float(i) / float(m)), w1 = mix(ca.w, cb.w, float(i + step) / float(m));
+            for (int j = 1; j < step; j++) {
+                float t = float(j) / float(step);
+                float s = t * w1 / mix(w0, w1, t); /* screen-space parameter of 3D t */
+                if ((seen & (1u << (i + j))) != 0u)
+                    err = max(err, abs(d[i + j] - mix(d[i], d[i + step], s)));
+            }
+        }
+        if (err <= u.warp.y)
+            return level;
+    }
+    // No level fits: past the sampling the error falls about linearly with
+    // the segment length (the targets bend sharply: operator kinks).
+    return clamp(ceil(level * err / u.warp.y), level + 1.0, max_level);
 }
 
 bool outside(vec4 c0, vec4 c1, vec4 c2)
