@@ -16,9 +16,8 @@
 #include "core/status.h"
 
 typedef struct gpu_desc {
-    bool validate;          /* Khronos validation layer (also env VERGENCE_VALIDATE=1) */
-    bool sync_validation;   /* synchronization validation (default on with validation;
-                               env VERGENCE_SYNC_VALIDATION=0 turns it off) */
+    bool validate;          /* Khronos validation layer (also env VERGENCE_VALIDATE=1), with
+                               synchronization validation (env VERGENCE_SYNC_VALIDATION=0: without) */
     int device_index;       /* -1 or unset-with-auto_device: automatic choice */
     bool auto_device;       /* ignore device_index (zero-initialised desc = auto) */
     const char *const *instance_extensions; /* e.g. from glfwGetRequiredInstanceExtensions */
@@ -55,6 +54,8 @@ typedef struct gpu {
     uint32_t device_index;
     PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set;
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name;
+    VkDeviceSize memory_bytes;  /* device memory allocated through gpu_*_create now */
+    VkDeviceSize memory_peak;   /* ... and at most so far */
 } gpu;
 
 vg_status gpu_create(const gpu_desc *desc, gpu **out);
@@ -101,6 +102,7 @@ typedef struct gpu_buffer {
     VkBuffer buffer;
     VkDeviceMemory memory;
     VkDeviceSize size;
+    VkDeviceSize memory_size;   /* bytes of its allocation */
     void *mapped;
 } gpu_buffer;
 
@@ -116,6 +118,7 @@ typedef struct gpu_image {
     VkImage image;
     VkImageView view;
     VkDeviceMemory memory;
+    VkDeviceSize memory_size;   /* bytes of its allocation */
     VkFormat format;
     uint32_t width, height, layers;
 } gpu_image;

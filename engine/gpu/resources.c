@@ -17,7 +17,7 @@ static int find_memory_type(const gpu *g, uint32_t bits, VkMemoryPropertyFlags w
 }
 
 static vg_status allocate(gpu *g, VkMemoryRequirements req, bool host_visible, const char *name,
-                          VkDeviceMemory *out)
+                          VkDeviceMemory *out, VkDeviceSize *size)
 {
     VkMemoryPropertyFlags want = host_visible
         ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
@@ -36,6 +36,10 @@ static vg_status allocate(gpu *g, VkMemoryRequirements req, bool host_visible, c
     };
     VK_TRY(vkAllocateMemory(g->device, &info, NULL, out));
     GPU_NAME(g, VK_OBJECT_TYPE_DEVICE_MEMORY, *out, "%s memory", name);
+    *size = req.size;
+    g->memory_bytes += req.size;
+    if (g->memory_bytes > g->memory_peak)
+        g->memory_peak = g->memory_bytes;
     return VG_OK;
 }
 
@@ -57,7 +61,7 @@ vg_status gpu_buffer_create(gpu *g, const gpu_buffer_desc *desc, gpu_buffer *out
     GPU_NAME(g, VK_OBJECT_TYPE_BUFFER, out->buffer, "%s", name);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(g->device, out->buffer, &req);
-    vg_status st = allocate(g, req, desc->host_visible, name, &out->memory);
+    vg_status st = allocate(g, req, desc->host_visible, name, &out->memory, &out->memory_size);
     if (st != VG_OK) {
         gpu_buffer_destroy(g, out);
         return st;
@@ -75,8 +79,10 @@ void gpu_buffer_destroy(gpu *g, gpu_buffer *b)
         return;
     if (b->buffer)
         vkDestroyBuffer(g->device, b->buffer, NULL);
-    if (b->memory)
+    if (b->memory) {
         vkFreeMemory(g->device, b->memory, NULL);
+        g->memory_bytes -= b->memory_size;
+    }
     *b = (gpu_buffer){0};
 }
 
@@ -134,7 +140,7 @@ vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out)
     GPU_NAME(g, VK_OBJECT_TYPE_IMAGE, out->image, "%s", name);
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(g->device, out->image, &req);
-    vg_status st = allocate(g, req, false, name, &out->memory);
+    vg_status st = allocate(g, req, false, name, &out->memory, &out->memory_size);
     if (st != VG_OK) {
         gpu_image_destroy(g, out);
         return st;
@@ -164,8 +170,10 @@ void gpu_image_destroy(gpu *g, gpu_image *img)
         vkDestroyImageView(g->device, img->view, NULL);
     if (img->image)
         vkDestroyImage(g->device, img->image, NULL);
-    if (img->memory)
+    if (img->memory) {
         vkFreeMemory(g->device, img->memory, NULL);
+        g->memory_bytes -= img->memory_size;
+    }
     *img = (gpu_image){0};
 }
 
