@@ -15,34 +15,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/clock.h"
+#include "core/bandwidth.h"
 #include "core/parallel.h"
 #include "disparity/disp_metrics.h"
-#include "disparity/disp_operator.h"
 #include "disparity/mid_solver.h"
-#include "stereo/stereo_display.h"
+#include "disparity/mid_synth.h"
 
-#define NX 192
-#define NY 108
-#define NT 32
-#define BALLS 6
-
-/* ------------------------------------------------------------------------- */
-/* Memory bandwidth                                                          */
-/* ------------------------------------------------------------------------- */
-
-typedef struct triad_ctx {
-    float *a;
-    const float *b, *c;
-} triad_ctx;
-
-static void triad_block(void *p, int block, int begin, int end)
-{
-    (void)block;
-    triad_ctx *t = p;
-    for (int i = begin; i < end; i++)
-        t->a[i] = t->b[i] + 3.0f * t->c[i];
-}
+#define NX MID_SYNTH_NX
+#define NY MID_SYNTH_NY
+#define NT MID_SYNTH_NT
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -54,87 +35,6 @@ static double median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* GB/s of a[i] = b[i] + s c[i] over arrays far larger than the caches. */
-static double stream_triad(vg_pool *pool, int runs)
-{
-    const int n = 1 << 24; /* 64 MB per array */
-    float *a = malloc((size_t)n * 4), *b = malloc((size_t)n * 4), *c = malloc((size_t)n * 4);
-    if (!a || !b || !c)
-        return NAN;
-    for (int i = 0; i < n; i++) {
-        a[i] = 0;
-        b[i] = (float)i;
-        c[i] = 1.0f;
-    }
-    triad_ctx t = {a, b, c};
-    double ms[16];
-    vg_parallel_for(pool, n, 1 << 16, triad_block, &t); /* warm-up */
-    for (int r = 0; r < runs; r++) {
-        double t0 = vg_now_ms();
-        vg_parallel_for(pool, n, 1 << 16, triad_block, &t);
-        ms[r] = vg_now_ms() - t0;
-    }
-    double m = median(ms, runs);
-    free(a);
-    free(b);
-    free(c);
-    return 3.0 * n * 4 / (m * 1e6);
-}
-
-/* ------------------------------------------------------------------------- */
-/* The window                                                                */
-/* ------------------------------------------------------------------------- */
-
-/* Static layers at several depths and balls crossing them in depth while
- * moving sideways; h from the lang operator per keyframe. */
-static mid_window *bench_window(void)
-{
-    stereo_display d;
-    stereo_display_init(&d, &(stereo_display_desc){0});
-    mid_window *w;
-    if (mid_window_create(&(mid_window_desc){.width = NX, .height = NY, .keyframes = NT,
-                                             .range_lo = (float)(d.screen_vergence - 60),
-                                             .range_hi = (float)(d.screen_vergence + 60)},
-                          &w) != VG_OK)
-        return NULL;
-    for (int k = 0; k < NT; k++)
-        for (int p = 0; p < w->ns; p++) {
-            int x = p % NX, y = p / NX, i = k * w->ns + p;
-            double z = y < NY / 4 ? 3.0 : (y >= NY - NY / 4 ? 1.5 : (x >= NX - 20 ? 0.9 : 10.0));
-            double a = stereo_vergence_from_distance(&d, z), fx = 0, bx = 0;
-            for (int b = 0; b < BALLS; b++) {
-                double u = (double)k / (NT - 1), speed = 0.6 + 0.15 * b;
-                double cx = 10.0 + 25.0 * b + 40.0 * speed * u, cy = 20.0 + 12.0 * b;
-                double dx = x - cx, dy = y - cy;
-                if (dx * dx + dy * dy > 36.0)
-                    continue;
-                /* Alternating constant speed and constant acceleration in depth. */
-                a = b % 2 ? 35.0 + 195.0 * u : 35.0 + 195.0 * u * u;
-                fx = k + 1 < NT ? 40.0 * speed / (NT - 1) : 0;
-                bx = k > 0 ? -40.0 * speed / (NT - 1) : 0;
-            }
-            w->g[i] = (float)a;
-            w->depth[i] = (float)stereo_distance_from_vergence(&d, a);
-            w->flow_fwd[2 * i] = (float)fx;
-            w->flow_bwd[2 * i] = (float)bx;
-        }
-    disp_operator *op;
-    if (disp_operator_create(&(disp_operator_desc){.kind = DISP_OPERATOR_LANG, .screen_vergence = d.screen_vergence,
-                                                    .in_min = 20, .in_max = 260},
-                             &op) != VG_OK) {
-        mid_window_destroy(w);
-        return NULL;
-    }
-    for (int k = 0; k < NT; k++)
-        disp_operator_apply(op, w->g + (size_t)k * w->ns, NULL, w->ns, w->h + (size_t)k * w->ns, NULL);
-    disp_operator_destroy(op);
-    if (mid_window_build(w, NULL) != VG_OK) {
-        mid_window_destroy(w);
-        return NULL;
-    }
-    return w;
 }
 
 /* ------------------------------------------------------------------------- */
@@ -154,7 +54,7 @@ int main(int argc, char **argv)
     vg_pool *pools[2] = {NULL, NULL};
     vg_pool_create(&(vg_pool_desc){.threads = 1}, &pools[0]);
     vg_pool_create(&(vg_pool_desc){.threads = cores}, &pools[1]);
-    mid_window *w = bench_window();
+    mid_window *w = mid_synth_window();
     float *f = malloc((size_t)NX * NY * NT * sizeof(float));
     if (!w || !f || !pools[0] || !pools[1]) {
         fprintf(stderr, "bench_solver: setup failed\n");
@@ -165,7 +65,7 @@ int main(int argc, char **argv)
     int thread_counts[2] = {1, cores};
     double triad[2];
     for (int p = 0; p < 2; p++) {
-        triad[p] = stream_triad(pools[p], runs);
+        triad[p] = vg_stream_triad_gbs(pools[p], runs);
         printf("memory bandwidth (STREAM triad, %d thread%s): %.2f GB/s\n", thread_counts[p],
                thread_counts[p] > 1 ? "s" : "", triad[p]);
     }
