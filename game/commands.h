@@ -9,3 +9,4 @@ extern const vg_cmd vg_cmd_optimize;
 extern const vg_cmd vg_cmd_play, vg_cmd_study;
 extern const vg_cmd vg_cmd_bake_curve;
 extern const vg_cmd vg_cmd_demo;
+extern const vg_cmd vg_cmd_bench;

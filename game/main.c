@@ -15,6 +15,7 @@ static const vg_cmd *const g_commands[] = {
     &vg_cmd_play, &vg_cmd_study,
     &vg_cmd_bake_curve,
     &vg_cmd_demo,
+    &vg_cmd_bench,
 };
 #define COMMAND_COUNT (int)(sizeof g_commands / sizeof g_commands[0])
 

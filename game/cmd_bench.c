@@ -1,0 +1,575 @@
+/* vergence bench — the engine's figures in one table (issue 8): per-pass GPU
+ * ms of the optimised stereo frame at two sizes, the ratio of that frame to
+ * plain two-camera stereo measured in the same run, warp ms per eye against
+ * the tessellation setting, the solver's achieved bandwidth against a STREAM
+ * triad, and peak memory. Medians over frames; nothing here is a test (the
+ * figures go to docs/PERFORMANCE.md).
+ *
+ * On lavapipe the per-pass split is approximate: compute passes run
+ * asynchronously and their time shows up in a later pass (often the next
+ * draw), and part of the frame falls between the passes' timestamps; the
+ * table shows that part as "between passes". The frame totals (wall clock
+ * around a frame that waits for completion) are exact, and the ratio to the
+ * two-camera frame is taken from them. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+#include "commands.h"
+#include "core/bandwidth.h"
+#include "core/clock.h"
+#include "core/io.h"
+#include "core/log.h"
+#include "core/parallel.h"
+#include "disparity/mid_solver.h"
+#include "disparity/mid_synth.h"
+#include "gpu_cli.h"
+#include "render/frame.h"
+#include "scene/scene.h"
+
+static struct {
+    const char *scene, *sizes, *tess, *markdown;
+    int frames, tess_frames;
+    bool no_solver, all_passes;
+    gpu_cli gpu;
+} o;
+
+static const vg_opt k_opts[] = {
+    {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF scene to render (default: content/balloon.gltf)", NULL, 0, 0},
+    {"--frames", VG_OPT_INT, &o.frames, "N", "frames per setting, medians (default 10: one keyframe interval)",
+     NULL, 1, 1000},
+    {"--sizes", VG_OPT_STRING, &o.sizes, "WxH,WxH", "the two frame sizes (default 960x540,1920x1080)", NULL, 0, 0},
+    {"--tess", VG_OPT_STRING, &o.tess, "P,P,...",
+     "tess-px settings timed at the first size beside error-driven (default 1,2,4,8; 'none' skips)", NULL, 0, 0},
+    {"--tess-frames", VG_OPT_INT, &o.tess_frames, "N",
+     "frames per tess-px setting (default 1: 1-px tessellation takes minutes a frame on a CPU)", NULL, 1, 1000},
+    {"--all-passes", VG_OPT_FLAG, &o.all_passes, NULL, "also list every pass of the optimised frame", NULL, 0, 0},
+    {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL, "skip the CPU solver and memory bandwidth figures", NULL, 0, 0},
+    {"--markdown", VG_OPT_STRING, &o.markdown, "FILE", "also write the tables as Markdown (docs/PERFORMANCE.md)",
+     NULL, 0, 0},
+    GPU_CLI_OPTIONS(o.gpu),
+};
+
+/* ------------------------------------------------------------------------- */
+/* Measurements                                                              */
+/* ------------------------------------------------------------------------- */
+
+/* The columns of the per-pass table: frame graph passes by name prefix. */
+enum { G_GBUFFER, G_OPERATOR, G_WINDOW, G_SOLVE, G_UPSAMPLE, G_CURVE, G_WARP, G_COMPOSE, G_OTHER, G_COUNT };
+static const char *const k_group_names[G_COUNT] = {"gbuffer", "operator", "window", "solve",  "upsample",
+                                                   "curve",   "warp",     "compose", "other"};
+
+static int group_of(const char *pass)
+{
+    static const struct {
+        const char *prefix;
+        int group;
+    } k[] = {
+        {"shadow", G_GBUFFER},        {"gbuffer", G_GBUFFER},  {"disparity.", G_OPERATOR},
+        {"mid.keyframes", G_WINDOW},  {"mid.window", G_WINDOW}, {"mid.solve", G_SOLVE},
+        {"mid.upsample", G_UPSAMPLE}, {"warp.curve", G_CURVE},  {"warp.", G_WARP},
+        {"cameras.", G_WARP},         {"compose", G_COMPOSE},
+    };
+    for (size_t i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (!strncmp(pass, k[i].prefix, strlen(k[i].prefix)))
+            return k[i].group;
+    return G_OTHER;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(const double *v, int n)
+{
+    if (n <= 0)
+        return NAN;
+    double *t = malloc((size_t)n * sizeof *t);
+    if (!t)
+        return NAN;
+    memcpy(t, v, (size_t)n * sizeof *t);
+    qsort(t, (size_t)n, sizeof *t, cmp_double);
+    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    free(t);
+    return m;
+}
+
+/* Per frame: GPU ms of each group, of all passes, of the eyes, wall ms. */
+#define MAX_PASSES 64
+
+typedef struct samples {
+    int n;
+    double *group[G_COUNT], *gpu, *eyes, *wall, *solve;
+    int passes;                       /* every pass of the graph, for --all-passes */
+    char pass_name[MAX_PASSES][48];
+    double *pass_ms[MAX_PASSES];
+} samples;
+
+typedef struct figures {
+    double group[G_COUNT], gpu, eyes, wall;
+    int passes;
+    char pass_name[MAX_PASSES][48];
+    double pass[MAX_PASSES];
+    double solve_mean;          /* mid.solve, mean over the frames (amortised over a keyframe interval) */
+    double device_mb;           /* device memory the frame holds */
+} figures;
+
+static vg_status samples_init(samples *s, int n)
+{
+    *s = (samples){.n = 0};
+    double **all[] = {&s->gpu, &s->eyes, &s->wall, &s->solve};
+    for (int i = 0; i < 4; i++)
+        if (!(*all[i] = calloc((size_t)n, sizeof(double))))
+            return VG_ERR_NOMEM;
+    for (int g = 0; g < G_COUNT; g++)
+        if (!(s->group[g] = calloc((size_t)n, sizeof(double))))
+            return VG_ERR_NOMEM;
+    for (int p = 0; p < MAX_PASSES; p++)
+        if (!(s->pass_ms[p] = calloc((size_t)n, sizeof(double))))
+            return VG_ERR_NOMEM;
+    return VG_OK;
+}
+
+static void samples_free(samples *s)
+{
+    free(s->gpu);
+    free(s->eyes);
+    free(s->wall);
+    free(s->solve);
+    for (int g = 0; g < G_COUNT; g++)
+        free(s->group[g]);
+    for (int p = 0; p < MAX_PASSES; p++)
+        free(s->pass_ms[p]);
+}
+
+static vg_status render_one(frame *f, long index, samples *s)
+{
+    double t0 = vg_now_ms();
+    vg_status st = frame_render(f, index);
+    if (st != VG_OK)
+        return st;
+    double wall = vg_now_ms() - t0;
+    const char *names[MAX_PASSES];
+    double ms[MAX_PASSES];
+    uint32_t n = frame_pass_timings(f, names, ms, MAX_PASSES);
+    int i = s->n++;
+    s->passes = (int)n;
+    for (uint32_t p = 0; p < n; p++) {
+        snprintf(s->pass_name[p], sizeof s->pass_name[p], "%s", names[p]);
+        s->pass_ms[p][i] = ms[p];
+    }
+    s->wall[i] = wall;
+    for (uint32_t p = 0; p < n; p++) {
+        int g = group_of(names[p]);
+        s->group[g][i] += ms[p];
+        s->gpu[i] += ms[p];
+        if (!strncmp(names[p], "warp.left", 9) || !strncmp(names[p], "warp.right", 10) ||
+            !strncmp(names[p], "cameras.", 8))
+            s->eyes[i] += ms[p];
+        if (!strcmp(names[p], "mid.solve"))
+            s->solve[i] += ms[p];
+    }
+    return VG_OK;
+}
+
+static figures summarise(const samples *s, double device_mb)
+{
+    figures r = {.gpu = median(s->gpu, s->n), .eyes = median(s->eyes, s->n), .wall = median(s->wall, s->n),
+                 .device_mb = device_mb};
+    for (int g = 0; g < G_COUNT; g++)
+        r.group[g] = median(s->group[g], s->n);
+    r.passes = s->passes;
+    for (int p = 0; p < s->passes; p++) {
+        memcpy(r.pass_name[p], s->pass_name[p], sizeof r.pass_name[p]);
+        r.pass[p] = median(s->pass_ms[p], s->n);
+    }
+    for (int i = 0; i < s->n; i++)
+        r.solve_mean += s->solve[i] / s->n;
+    return r;
+}
+
+/* Frames of several descriptions rendered in turn, frame by frame, so all
+ * see the same load on a shared machine. The first frame of each is not
+ * counted (it runs the whole first solve at once). */
+static vg_status run_interleaved(gpu *g, const scene *sc, const frame_desc *descs, int count, int frames,
+                                 figures *out)
+{
+    frame *f[4] = {0};
+    samples s[4];
+    double mb[4] = {0};
+    vg_status st = VG_OK;
+    for (int k = 0; k < count; k++)
+        if (samples_init(&s[k], frames) != VG_OK)
+            st = VG_ERR_NOMEM;
+    for (int k = 0; k < count && st == VG_OK; k++) {
+        VkDeviceSize before = g->memory_bytes;
+        st = frame_create(g, sc, &descs[k], &f[k]);
+        if (st == VG_OK)
+            st = frame_render(f[k], 89); /* warm-up; the graph's transients exist from here */
+        mb[k] = (double)(g->memory_bytes - before) / (1024.0 * 1024.0);
+    }
+    for (int i = 0; i < frames && st == VG_OK; i++) {
+        for (int k = 0; k < count && st == VG_OK; k++)
+            st = render_one(f[k], 90 + i, &s[k]);
+        vg_progress("bench", i + 1, frames);
+    }
+    for (int k = 0; k < count; k++) {
+        if (st == VG_OK)
+            out[k] = summarise(&s[k], mb[k]);
+        samples_free(&s[k]);
+        frame_destroy(f[k]);
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Output: plain text, and the same tables as Markdown                        */
+/* ------------------------------------------------------------------------- */
+
+typedef struct report {
+    FILE *md; /* NULL: text only */
+} report;
+
+static void heading(report *r, const char *title)
+{
+    printf("\n%s\n", title);
+    if (r->md)
+        fprintf(r->md, "\n### %s\n\n", title);
+}
+
+/* One table row: a label and up to 4 cells already formatted. */
+static void row(report *r, bool header, const char *label, int n, char cells[][32])
+{
+    printf("  %-40s", label);
+    for (int i = 0; i < n; i++)
+        printf(" %14s", cells[i]);
+    printf("\n");
+    if (!r->md)
+        return;
+    fprintf(r->md, "| %s |", label);
+    for (int i = 0; i < n; i++)
+        fprintf(r->md, " %s |", cells[i]);
+    fprintf(r->md, "\n");
+    if (header) {
+        fprintf(r->md, "|---|");
+        for (int i = 0; i < n; i++)
+            fprintf(r->md, "---:|");
+        fprintf(r->md, "\n");
+    }
+}
+
+static void row_values(report *r, const char *label, int n, const double *v, const char *fmt)
+{
+    char cells[4][32];
+    for (int i = 0; i < n; i++)
+        snprintf(cells[i], sizeof cells[i], fmt, v[i]);
+    row(r, false, label, n, cells);
+}
+
+static void note(report *r, const char *text)
+{
+    printf("  %s\n", text);
+    if (r->md)
+        fprintf(r->md, "\n%s\n", text);
+}
+
+/* ------------------------------------------------------------------------- */
+/* The command                                                               */
+/* ------------------------------------------------------------------------- */
+
+static bool parse_sizes(const char *text, uint32_t sizes[2][2])
+{
+    unsigned w0, h0, w1, h1;
+    char tail;
+    if (sscanf(text, "%ux%u,%ux%u%c", &w0, &h0, &w1, &h1, &tail) != 4)
+        return false;
+    if (w0 < 16 || h0 < 16 || w1 < 16 || h1 < 16 || w0 > 8192 || h0 > 8192 || w1 > 8192 || h1 > 8192)
+        return false;
+    sizes[0][0] = w0, sizes[0][1] = h0, sizes[1][0] = w1, sizes[1][1] = h1;
+    return true;
+}
+
+/* "1,2,4,8" -> px[]; "none" -> 0 settings. Returns the count or -1. */
+static int parse_tess(const char *text, double *px, int cap)
+{
+    if (!strcmp(text, "none"))
+        return 0;
+    int n = 0;
+    const char *p = text;
+    while (*p) {
+        char *end;
+        double v = strtod(p, &end);
+        if (end == p || !(v >= 0.25 && v <= 64) || n == cap)
+            return -1;
+        px[n++] = v;
+        p = end;
+        if (*p == ',')
+            p++;
+        else if (*p)
+            return -1;
+    }
+    return n;
+}
+
+static vg_status bench_frames(gpu *g, const scene *sc, uint32_t sizes[2][2], report *r)
+{
+    frame_desc base = {.stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED, .diffuse = true};
+    figures fig[2][2]; /* [size][optimised, cameras] */
+    for (int k = 0; k < 2; k++) {
+        frame_desc d[2] = {base, base};
+        for (int j = 0; j < 2; j++) {
+            d[j].width = sizes[k][0];
+            d[j].height = sizes[k][1];
+        }
+        d[1].stereo = FRAME_STEREO_CAMERAS;
+        d[1].mode = FRAME_MODE_ORIGINAL;
+        vg_info("bench: %ux%u, optimised warp and two cameras in turn, %d frames", sizes[k][0],
+               sizes[k][1], o.frames);
+        vg_status st = run_interleaved(g, sc, d, 2, o.frames, fig[k]);
+        if (st != VG_OK)
+            return st;
+    }
+    char label[160], cells[4][32];
+    heading(r, "Per-pass GPU ms, optimised stereo frame (warp, error-driven tessellation 0.025 px)");
+    for (int k = 0; k < 2; k++)
+        snprintf(cells[k], sizeof cells[k], "%ux%u", sizes[k][0], sizes[k][1]);
+    row(r, true, "pass (median ms)", 2, cells);
+    for (int gi = 0; gi < G_COUNT; gi++) {
+        double v[2] = {fig[0][0].group[gi], fig[1][0].group[gi]};
+        if (gi == G_OTHER && v[0] == 0 && v[1] == 0)
+            continue;
+        row_values(r, k_group_names[gi], 2, v, "%.1f");
+    }
+    double v[2];
+    v[0] = fig[0][0].gpu, v[1] = fig[1][0].gpu;
+    row_values(r, "all passes (GPU timestamps)", 2, v, "%.1f");
+    v[0] = fig[0][0].wall - fig[0][0].gpu, v[1] = fig[1][0].wall - fig[1][0].gpu;
+    row_values(r, "between passes (wall - timestamps)", 2, v, "%.1f");
+    v[0] = fig[0][0].wall, v[1] = fig[1][0].wall;
+    row_values(r, "frame, wall clock", 2, v, "%.1f");
+    v[0] = fig[0][1].gpu, v[1] = fig[1][1].gpu;
+    row_values(r, "two cameras: all passes (GPU timestamps)", 2, v, "%.1f");
+    v[0] = fig[0][1].wall, v[1] = fig[1][1].wall;
+    row_values(r, "two cameras: frame, wall clock", 2, v, "%.1f");
+    v[0] = fig[0][0].wall / fig[0][1].wall, v[1] = fig[1][0].wall / fig[1][1].wall;
+    row_values(r, "ratio optimised / two cameras (wall)", 2, v, "%.2fx");
+    v[0] = fig[0][0].eyes / 2, v[1] = fig[1][0].eyes / 2;
+    row_values(r, "warp ms per eye", 2, v, "%.1f");
+    v[0] = fig[0][0].solve_mean * 10, v[1] = fig[1][0].solve_mean * 10;
+    row_values(r, "mid.solve per window (mean x 10 frames)", 2, v, "%.1f");
+    v[0] = fig[0][0].device_mb, v[1] = fig[1][0].device_mb;
+    row_values(r, "device memory of the frame (MB)", 2, v, "%.1f");
+    v[0] = fig[0][1].device_mb, v[1] = fig[1][1].device_mb;
+    row_values(r, "two cameras: device memory (MB)", 2, v, "%.1f");
+    if (o.all_passes && fig[0][0].passes == fig[1][0].passes) {
+        heading(r, "Every pass of the optimised frame (median GPU ms)");
+        for (int k = 0; k < 2; k++)
+            snprintf(cells[k], sizeof cells[k], "%ux%u", sizes[k][0], sizes[k][1]);
+        row(r, true, "pass", 2, cells);
+        for (int p = 0; p < fig[0][0].passes; p++) {
+            v[0] = fig[0][0].pass[p], v[1] = fig[1][0].pass[p];
+            row_values(r, fig[0][0].pass_name[p], 2, v, "%.1f");
+        }
+    }
+    snprintf(label, sizeof label,
+             "Issue 5 target: optimised / two cameras <= 1.5x at %ux%u (measured %.2fx, wall clock).", sizes[0][0],
+             sizes[0][1], fig[0][0].wall / fig[0][1].wall);
+    note(r, label);
+    return VG_OK;
+}
+
+static vg_status bench_tessellation(gpu *g, const scene *sc, uint32_t w, uint32_t h, report *r)
+{
+    double px[8];
+    int n = parse_tess(o.tess ? o.tess : "1,2,4,8", px, 8);
+    char cells[4][32], label[64];
+    heading(r, "Warp ms per eye against tessellation (optimised f)");
+    snprintf(cells[0], sizeof cells[0], "%ux%u ms/eye", w, h);
+    snprintf(cells[1], sizeof cells[1], "frame ms (wall)");
+    snprintf(cells[2], sizeof cells[2], "frames");
+    row(r, true, "tessellation", 3, cells);
+    for (int i = 0; i <= n; i++) {
+        frame_desc d = {.width = w, .height = h, .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED,
+                        .diffuse = true};
+        int frames = o.frames;
+        if (i < n) {
+            d.tess_px = px[i];
+            frames = o.tess_frames;
+            snprintf(label, sizeof label, "tess-px %g", px[i]);
+        } else {
+            snprintf(label, sizeof label, "error-driven 0.025 px (default)");
+        }
+        vg_info("bench: %s at %ux%u, %d frame(s)", label, w, h, frames);
+        figures f;
+        frame *fr;
+        samples s;
+        vg_status st = samples_init(&s, frames);
+        if (st == VG_OK)
+            st = frame_create(g, sc, &d, &fr);
+        if (st != VG_OK) {
+            samples_free(&s);
+            return st;
+        }
+        for (int k = 0; k < frames && st == VG_OK; k++)
+            st = render_one(fr, 90 + k, &s);
+        if (st == VG_OK)
+            f = summarise(&s, 0);
+        samples_free(&s);
+        frame_destroy(fr);
+        if (st != VG_OK)
+            return st;
+        snprintf(cells[0], sizeof cells[0], "%.1f", f.eyes / 2);
+        snprintf(cells[1], sizeof cells[1], "%.1f", f.wall);
+        snprintf(cells[2], sizeof cells[2], "%d", frames);
+        row(r, false, label, 3, cells);
+    }
+    return VG_OK;
+}
+
+static vg_status bench_solver(report *r)
+{
+    int threads = vg_cpu_count();
+    vg_pool *pool = NULL;
+    vg_status st = vg_pool_create(&(vg_pool_desc){.threads = threads}, &pool);
+    if (st != VG_OK)
+        return st;
+    vg_info("bench: memory bandwidth and the CPU solver (%d threads)", threads);
+    double triad = vg_stream_triad_gbs(pool, 5);
+    mid_window *w = mid_synth_window();
+    float *f = malloc((size_t)MID_SYNTH_NX * MID_SYNTH_NY * MID_SYNTH_NT * sizeof(float));
+    if (!w || !f) {
+        free(f);
+        mid_window_destroy(w);
+        vg_pool_destroy(pool);
+        return VG_ERR_NOMEM;
+    }
+    double ms[5];
+    mid_solve_stats stats = {0};
+    for (int i = 0; i < 5 && st == VG_OK; i++) {
+        st = mid_solve(w, &(mid_solve_desc){.pool = pool}, f, &stats);
+        ms[i] = stats.ms;
+    }
+    free(f);
+    mid_window_destroy(w);
+    vg_pool_destroy(pool);
+    if (st != VG_OK)
+        return st;
+    double m = median(ms, 5), gbs = stats.bytes / (m * 1e6);
+    char cells[4][32], label[96];
+    heading(r, "Solver bandwidth");
+    snprintf(cells[0], sizeof cells[0], "ms");
+    snprintf(cells[1], sizeof cells[1], "GB/s");
+    snprintf(cells[2], sizeof cells[2], "of triad");
+    row(r, true, "measure", 3, cells);
+    snprintf(label, sizeof label, "memory bandwidth, STREAM triad (%d threads)", threads);
+    cells[0][0] = 0;
+    snprintf(cells[1], sizeof cells[1], "%.2f", triad);
+    snprintf(cells[2], sizeof cells[2], "100%%");
+    row(r, false, label, 3, cells);
+    snprintf(label, sizeof label, "CPU solver, Gauss-Newton 4x8 (%dx%dx%d window)", MID_SYNTH_NX, MID_SYNTH_NY,
+             MID_SYNTH_NT);
+    snprintf(cells[0], sizeof cells[0], "%.1f", m);
+    snprintf(cells[1], sizeof cells[1], "%.2f", gbs);
+    snprintf(cells[2], sizeof cells[2], "%.0f%%", 100 * gbs / triad);
+    row(r, false, label, 3, cells);
+    note(r, "GB/s: the compulsory traffic of the solver's passes (every array element read or written once "
+            "per pass) over its wall time; the GPU solve (mid.solve above) runs the same passes.");
+    return VG_OK;
+}
+
+static int run(int argc, char **argv)
+{
+    memset(&o, 0, sizeof o);
+    o.scene = "content/balloon.gltf";
+    o.sizes = "960x540,1920x1080";
+    o.frames = 10;
+    o.tess_frames = 1;
+    o.gpu.device = -1;
+    bool help = false;
+    if (vg_cli_parse(&vg_cmd_bench, argc, argv, &help) != VG_OK)
+        return 2;
+    if (help)
+        return 0;
+    uint32_t sizes[2][2];
+    if (!parse_sizes(o.sizes, sizes)) {
+        vg_error("vergence bench: --sizes: '%s' is not two sizes WxH,WxH (16..8192)", o.sizes);
+        return 2;
+    }
+    double px[8];
+    if (o.tess && parse_tess(o.tess, px, 8) < 0) {
+        vg_error("vergence bench: --tess: '%s' is not 'none' or a list of up to 8 pixel sizes (0.25..64)", o.tess);
+        return 2;
+    }
+    scene *sc;
+    vg_status st = scene_load(o.scene, &sc);
+    if (st != VG_OK)
+        return vg_status_exit_code(st);
+    gpu *g;
+    st = gpu_cli_open(&o.gpu, false, &g);
+    if (st != VG_OK) {
+        scene_destroy(sc);
+        return vg_status_exit_code(st);
+    }
+    report r = {0};
+    char tmp[4096];
+    if (o.markdown) {
+        if (snprintf(tmp, sizeof tmp, "%s.tmp", o.markdown) >= (int)sizeof tmp || !(r.md = fopen(tmp, "w"))) {
+            vg_error("%s: cannot write", o.markdown);
+            gpu_destroy(g);
+            scene_destroy(sc);
+            return 1;
+        }
+    }
+    printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
+           g->props.deviceName, vg_cpu_count(), o.frames);
+    if (r.md)
+        fprintf(r.md, "Scene `%s` on %s, %d CPU cores; medians of %d frames per setting.\n", o.scene,
+                g->props.deviceName, vg_cpu_count(), o.frames);
+    st = bench_frames(g, sc, sizes, &r);
+    if (st == VG_OK)
+        st = bench_tessellation(g, sc, sizes[0][0], sizes[0][1], &r);
+    if (st == VG_OK && !o.no_solver)
+        st = bench_solver(&r);
+    if (st == VG_OK) {
+        struct rusage ru;
+        getrusage(RUSAGE_SELF, &ru);
+        char cells[4][32];
+        heading(&r, "Peak memory");
+        snprintf(cells[0], sizeof cells[0], "MB");
+        row(&r, true, "measure", 1, cells);
+        snprintf(cells[0], sizeof cells[0], "%.1f", (double)g->memory_peak / (1024.0 * 1024.0));
+        row(&r, false, "device memory allocated (peak)", 1, cells);
+        snprintf(cells[0], sizeof cells[0], "%.1f", (double)ru.ru_maxrss / 1024.0);
+        row(&r, false, "process resident set (peak; lavapipe's memory is host memory)", 1, cells);
+    }
+    if (r.md) {
+        bool ok = fclose(r.md) == 0 && st == VG_OK;
+        if (ok && rename(tmp, o.markdown) != 0) {
+            vg_error("%s: cannot write", o.markdown);
+            ok = false;
+        }
+        if (!ok)
+            remove(tmp);
+        else
+            vg_info("bench: tables written to %s", o.markdown);
+    }
+    scene_destroy(sc);
+    return gpu_cli_close(g, st);
+}
+
+const vg_cmd vg_cmd_bench = {
+    .name = "bench",
+    .summary = "benchmark the frame: per-pass ms, stereo cost ratio, tessellation, solver bandwidth, memory",
+    .usage = "vergence bench [options]",
+    .details = "Renders the optimised stereo frame and plain two-camera stereo in turn at two sizes and prints\n"
+               "one table: per-pass GPU ms, their ratio, warp ms against the tessellation setting, the CPU\n"
+               "solver's bandwidth against a STREAM triad, and peak memory. Takes several minutes on a CPU\n"
+               "(1-px tessellation alone takes minutes a frame); figures belong in docs/PERFORMANCE.md.",
+    .opts = k_opts,
+    .opt_count = sizeof k_opts / sizeof k_opts[0],
+    .run = run,
+};
