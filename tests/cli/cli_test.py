@@ -10,10 +10,13 @@ any validation message makes vergence exit non-zero and fails the case.
 import filecmp
 import json
 import os
+import re
+import shutil
 import struct
 import subprocess
 import sys
 import tempfile
+import time
 
 ASSETS = os.path.join("..", "shared", "assets", "gltf")
 
@@ -195,6 +198,156 @@ def case_dump_graph():
     if "digraph" not in open(dot).read():
         sys.exit("FAIL: no Graphviz graph written")
     print(p.stdout)
+
+
+# ---------------------------------------------------------------------------
+# Validation sweep
+# ---------------------------------------------------------------------------
+
+# Every subcommand and every mode, each run tiny, with the Khronos validation
+# layer and synchronization validation on. A run passes when it exits 0 and
+# its output holds no validation message: the engine logs each WARNING/ERROR
+# message as "error: validation: ...", ends with "validation reported N
+# message(s)", and capture writes the count into capture.json.
+
+SWEEP_ENV = {"VERGENCE_VALIDATE": "1", "VERGENCE_SYNC_VALIDATION": "1"}
+# A layer setting outside vergence that makes the layer report (best
+# practices): the sweep's own canary, proving a message is seen and fails.
+CANARY_ENV = {"VK_LAYER_ENABLES": "VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT"}
+MESSAGE = re.compile(r"^vergence: error: validation: ", re.M)
+REPORTED = re.compile(r"validation reported (\d+) message")
+
+
+def validation_count(p, out_dir=None):
+    """Validation messages in a run's output: logged lines, the final tally, capture.json."""
+    counts = [len(MESSAGE.findall(p.stderr))]
+    counts += [int(n) for n in REPORTED.findall(p.stderr)]
+    if out_dir and os.path.isfile(os.path.join(out_dir, "capture.json")):
+        with open(os.path.join(out_dir, "capture.json")) as f:
+            counts.append(json.load(f)["validation_messages"])
+    return max(counts)
+
+
+class Sweep:
+    def __init__(self):
+        self.runs, self.failures = [], []
+        self.t0 = time.time()
+
+    def run(self, what, args, out_dir=None, env=None, prefix=(), check=None):
+        e = dict(os.environ, **SWEEP_ENV, **(env or {}))
+        e.setdefault("XDG_RUNTIME_DIR", "/tmp")
+        t = time.time()
+        p = subprocess.run(list(prefix) + [VERGENCE] + args, capture_output=True, text=True, timeout=600, env=e)
+        n = validation_count(p, out_dir)
+        dt = time.time() - t
+        print(f"{what:44s} exit {p.returncode}, {n} validation message(s), {dt:5.1f} s")
+        problem = None
+        if p.returncode != 0 or n != 0:
+            problem = f"{what}: vergence {' '.join(args)}: exit {p.returncode}, {n} validation message(s)"
+        elif check:
+            problem = check(p)
+        if problem:
+            self.failures.append(f"{problem}\n{p.stderr[-3000:]}")
+        self.runs.append(what)
+        return p
+
+
+def case_validation_sweep():
+    tmp = tempfile.mkdtemp(prefix="vergence_sweep_")
+    sw = Sweep()
+    V = ["--validate"]
+
+    # The canary: a layer setting from outside makes the layer talk; the
+    # sweep must see the messages and the non-zero exit, or it proves nothing.
+    p = subprocess.run([VERGENCE, "info", "--validate"], capture_output=True, text=True, timeout=300,
+                       env=dict(os.environ, **SWEEP_ENV, **CANARY_ENV))
+    n = validation_count(p)
+    print(f"{'canary (best practices on)':44s} exit {p.returncode}, {n} validation message(s)")
+    if n == 0 or p.returncode == 0:
+        sys.exit(f"FAIL: the canary's validation messages went unseen (exit {p.returncode}, {n} counted):\n"
+                 f"{p.stderr}")
+
+    sw.run("info", ["info"] + V, check=lambda p: None
+           if re.search(r"validation +on \(with synchronization validation\)", p.stdout)
+           else "info does not report validation with synchronization validation on")
+
+    # capture: every mode with every stereo renderer; the 10 output layouts
+    # and the 4 operators spread over the runs; the scenes in turn.
+    modes = ("original", "manipulated", "optimized")
+    stereo = [(r, m) for r in ("warp", "cameras", "imagewarp") for m in modes] + [("off", "original")]
+    outputs = ("sbs", "sbs-half", "tb", "rows", "columns", "checker", "anaglyph", "anaglyph-plain", "left", "right")
+    operators = ("none", "linear", "lang", "lang-smoothed")
+    scenes = ("content/cubes.gltf", "content/balloon.gltf", "content/bird.gltf", "content/arena.gltf")
+    extras = {0: ["--tess-px", "4"],                          # uniform tessellation (warp, original)
+              1: ["--tess-error", "0.1", "--write-aux"],      # error-driven, explicit tolerance
+              2: ["--write-aux", "--swap-eyes", "--diffuse"], # the default: error-driven
+              3: ["--write-aux"]}
+    optimized = None
+    for i, ((render, mode), output) in enumerate(zip(stereo, outputs)):
+        op = operators[i % len(operators)]
+        out = os.path.join(tmp, f"capture_{i}")
+        what = f"capture {render} {mode} {op} {output}"
+        extra = extras.get(i, [])
+        if extra:
+            what += " " + " ".join(x for x in extra if x.startswith("--"))
+        sw.run(what, ["capture", "--scene", scenes[i % len(scenes)], "--frames", "2", "--size", "160x90",
+                      "--stereo-render", render, "--mode", mode, "--operator", op,
+                      "--output", output, "--out", out] + extra + V, out_dir=out)
+        if render == "warp" and mode == "optimized":
+            optimized = (scenes[i % len(scenes)], out)
+    dot = os.path.join(tmp, "frame.dot")
+    out = os.path.join(tmp, "capture_graph")
+    sw.run("capture --dump-graph", ["capture", "--scene", "content/cubes.gltf", "--size", "160x90", "--out", out,
+                                    "--dump-graph", dot] + V, out_dir=out,
+           check=lambda p: None if os.path.isfile(dot) else "no graph dump written")
+    out = os.path.join(tmp, "capture_textured")
+    sw.run("capture skinned, textured sample", ["capture", "--scene", os.path.join(ASSETS, "CesiumMan", "glTF",
+                                                "CesiumMan.gltf"), "--size", "160x90", "--out", out] + V, out_dir=out)
+
+    # bake-curve from the optimized capture, then a capture that uses the curve.
+    curve = os.path.join(tmp, "curve.bin")
+    sw.run("bake-curve", ["bake-curve", "--scene", optimized[0], "--capture", optimized[1], "--out", curve])
+    out = os.path.join(tmp, "capture_curve")
+    sw.run("capture --curve --no-reference", ["capture", "--scene", optimized[0], "--frames", "2",
+                                              "--size", "160x90", "--curve", curve, "--no-reference", "--out", out]
+           + V, out_dir=out)
+
+    # optimize (CPU): the FlyingThings3D disparity pair from ../shared/assets.
+    stereo_assets = os.path.join("..", "shared", "assets", "stereo")
+    sw.run("optimize", ["optimize", "--g", os.path.join(stereo_assets, "flyingthings3d_pair_from_RAFT-3D",
+                                                          "disp%d.pfm"), "--frames", "1:2", "--g-units", "px",
+                        "--operator", "linear", "--out", os.path.join(tmp, "optimize")])
+
+    # The studies with the simulated observer (headless).
+    sw.run("study hit --observer model", ["study", "hit", "--observer", "model", "--participant", "sweep",
+                                          "--trials", "6", "--out", os.path.join(tmp, "hit.csv")] + V)
+    sw.run("study preference --observer model", ["study", "preference", "--observer", "model", "--participant",
+                                                 "sweep", "--trials", "3", "--out", os.path.join(tmp, "pref.csv")]
+           + V)
+
+    # demo: one scene, a few frames, every mode.
+    sw.run("demo", ["demo", "--out", os.path.join(tmp, "demo"), "--scenes", "cubes", "--size", "160x90",
+                    "--seconds", "0.2", "--stills", "1", "--no-video"] + V)
+
+    # play needs a window: under a virtual display, a replay that switches
+    # the three modes and the HUD, then quits.
+    xvfb = shutil.which("xvfb-run")
+    if xvfb:
+        script = os.path.join(tmp, "play.replay")
+        with open(script, "w") as f:
+            f.write("3 key H\n5 key M\n8 key 3\n12 key 2\n15 key 1\n20 key Q\n")
+        sw.run("play --replay (xvfb)", ["play", "--size", "160x90", "--seed", "4", "--replay", script] + V,
+               prefix=[xvfb, "-a", "-s", "-screen 0 1024x768x24"],
+               check=lambda p: None if "mode optimized (f)" in p.stderr and "replay finished" in p.stderr
+               else "the replay did not reach the optimized mode and its end")
+    else:
+        print("play: skipped (no xvfb-run for a virtual display)")
+
+    print(f"{len(sw.runs)} runs in {time.time() - sw.t0:.1f} s")
+    if sw.failures:
+        sys.exit(f"FAIL ({len(sw.failures)} of {len(sw.runs)} runs; files kept in {tmp}):\n"
+                 + "\n".join(sw.failures))
+    shutil.rmtree(tmp)
 
 
 if __name__ == "__main__":
