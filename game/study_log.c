@@ -179,6 +179,21 @@ const char *study_log_cell(const study_log *log, int row, int column)
 /* Open                                                                      */
 /* ------------------------------------------------------------------------- */
 
+/* Checks text (log->text, size bytes and a NUL after them) and reads its rows
+ * back; *who gets the participant of the rows (NULL when there are none). */
+static vg_status read_back(study_log *log, const study_log_desc *d, size_t size, const char **who)
+{
+    vg_status st = parse(log, d, log->text, size, who);
+    if (st != VG_OK)
+        return st;
+    if (*who && strcmp(*who, d->participant)) {
+        vg_error("%s belongs to participant '%s', not '%s': choose another --out", d->path, *who,
+                 d->participant);
+        return VG_ERR_ARG;
+    }
+    return VG_OK;
+}
+
 static vg_status open_existing(study_log *log, const study_log_desc *d)
 {
     size_t size;
@@ -186,14 +201,9 @@ static vg_status open_existing(study_log *log, const study_log_desc *d)
     if (st != VG_OK)
         return st;
     const char *who;
-    st = parse(log, d, log->text, size, &who);
+    st = read_back(log, d, size, &who);
     if (st != VG_OK)
         return st;
-    if (who && strcmp(who, d->participant)) {
-        vg_error("%s belongs to participant '%s', not '%s': choose another --out", d->path, who,
-                 d->participant);
-        return VG_ERR_ARG;
-    }
     if (!d->resume) {
         vg_error("%s already exists (%d trial(s) of participant '%s'): add --resume to continue it, "
                  "or choose another --out (nothing is overwritten)", d->path, log->rows,
@@ -208,14 +218,38 @@ static vg_status open_existing(study_log *log, const study_log_desc *d)
     return VG_OK;
 }
 
-vg_status study_log_open(const study_log_desc *d, study_log *out)
+static vg_status log_begin(const study_log_desc *d, study_log *out)
 {
     *out = (study_log){.fd = -1, .columns = d->column_count};
     snprintf(out->path, sizeof out->path, "%s", d->path);
     if (d->column_count > STUDY_LOG_MAX_COLUMNS || !study_participant_valid(d->participant))
         return VG_ERR_ARG;
+    return VG_OK;
+}
+
+vg_status study_log_read(const study_log_desc *d, const void *data, size_t size, study_log *out)
+{
+    vg_status st = log_begin(d, out);
+    if (st != VG_OK)
+        return st;
+    if (!(out->text = malloc(size + 1)))
+        return VG_ERR_NOMEM;
+    if (size)
+        memcpy(out->text, data, size);
+    out->text[size] = '\0';
+    const char *who;
+    st = read_back(out, d, size, &who);
+    if (st != VG_OK)
+        study_log_close(out);
+    return st;
+}
+
+vg_status study_log_open(const study_log_desc *d, study_log *out)
+{
+    vg_status st = log_begin(d, out);
+    if (st != VG_OK)
+        return st;
     struct stat sb;
-    vg_status st;
     if (stat(d->path, &sb) == 0) {
         if (!S_ISREG(sb.st_mode)) {
             vg_error("%s is not a regular file", d->path);

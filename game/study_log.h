@@ -10,6 +10,7 @@
  * (and the line), and the file is left as it was. */
 #pragma once
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "core/status.h"
 
@@ -39,6 +40,13 @@ typedef struct study_log {
 bool study_participant_valid(const char *id);
 
 vg_status study_log_open(const study_log_desc *desc, study_log *out);
+/* Reads size bytes of CSV (any bytes) as study_log_open reads an existing
+ * file back: the same checks and errors (naming desc->path; desc->resume is
+ * not looked at), rows and cells filled in, but no file is opened (fd is -1:
+ * nothing can be appended). study_log_open uses the same code; the fuzz
+ * target (tests/fuzz/fuzz_study_csv.c) calls this. On an error *out is
+ * already closed. */
+vg_status study_log_read(const study_log_desc *desc, const void *data, size_t size, study_log *out);
 /* Field `column` of row `row` of the rows read back (NULL when out of range). */
 const char *study_log_cell(const study_log *log, int row, int column);
 /* Appends one row (fields joined by commas, no quoting needed: the fields
