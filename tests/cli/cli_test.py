@@ -79,13 +79,16 @@ def case_bad_inputs():
     blocker = os.path.join(tmp, "a_file")
     write(blocker, "x")
     expect_error(["capture", "--scene", "content/cubes.gltf", "--out", os.path.join(blocker, "out")], "a_file")
+    expect_error(["bench", "--sizes", "960x540"], "--sizes")
+    expect_error(["bench", "--tess", "1,x"], "--tess")
+    expect_error(["bench", "--scene", os.path.join(tmp, "missing.gltf")], "missing.gltf")
     expect_error(["no-such-command"], "no-such-command")
     expect_error(["info", "--gpu", "9"], "--gpu")
 
 
 def case_help():
     p = run(["--help"])
-    for cmd in ("info", "capture"):
+    for cmd in ("info", "capture", "optimize", "play", "study", "bake-curve", "demo", "bench"):
         if cmd not in p.stdout:
             sys.exit(f"FAIL: 'vergence --help' does not list {cmd}")
         h = run([cmd, "--help"])
@@ -328,6 +331,12 @@ def case_validation_sweep():
     # demo: one scene, a few frames, every mode.
     sw.run("demo", ["demo", "--out", os.path.join(tmp, "demo"), "--scenes", "cubes", "--size", "160x90",
                     "--seconds", "0.2", "--stills", "1", "--no-video"] + V)
+
+    # bench: the smallest sizes, one frame, no 1-px tessellation or CPU solver.
+    sw.run("bench", ["bench", "--scene", "content/cubes.gltf", "--sizes", "96x54,128x72", "--frames", "1",
+                     "--tess", "8", "--no-solver", "--markdown", os.path.join(tmp, "bench.md")] + V,
+           check=lambda p: None if "ratio optimised / two cameras" in p.stdout
+           and os.path.isfile(os.path.join(tmp, "bench.md")) else "bench printed no ratio or wrote no table")
 
     # play needs a window: under a virtual display, a replay that switches
     # the three modes and the HUD, then quits.
