@@ -3,6 +3,7 @@
 // warp.classify: each scene triangle is culled, flat (no edge needs
 // subdivision: a plain vertex shader draws it) or tessellated; the same
 // decision as the tessellation control shader (tess_levels.glsl).
+#define VG_FRAME_STORAGE
 #include "common.glsl"
 #include "stereo.glsl"
 #include "cascade.glsl"

@@ -318,7 +318,7 @@ static vg_status create_submission(frame *f)
         char name[32];
         snprintf(name, sizeof name, "frame ubo slot %d", i);
         vg_status st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = name, .size = sizeof(vg_frame_ubo),
-                                                               .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                                               .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                                                .host_visible = true}, &f->fc.ubo[i]);
         if (st != VG_OK)
             return st;

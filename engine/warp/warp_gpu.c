@@ -163,7 +163,7 @@ static void push_classify(warp_gpu *w, const rg_context *ctx)
         VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS};
     VkWriteDescriptorSet wr[3 + NB] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo},
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &ubo},
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_DEPTH, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &depth},
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_TARGET, .descriptorCount = 1,
@@ -420,7 +420,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         /* Both passes push the same descriptors; each declares what it touches. */
         rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = "warp.classify", .type = RG_PASS_COMPUTE,
                                                      .execute = classify_execute, .user = w});
-        rg_use(g, cls, res->ubo, RG_UNIFORM);
+        rg_use(g, cls, res->ubo, RG_STORAGE_READ);
         rg_use(g, cls, res->depth, RG_SAMPLED);
         rg_use(g, cls, target, RG_SAMPLED);
         rg_use(g, cls, res->curve, RG_STORAGE_READ);
@@ -587,7 +587,6 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     VkDescriptorType ctypes[VG_BINDING_COUNTS + 1];
     for (int i = 0; i <= VG_BINDING_COUNTS; i++)
         ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    ctypes[VG_BINDING_FRAME] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     if (st == VG_OK)

@@ -7,6 +7,9 @@ usage: capture_test.py VERGENCE CASE
           `metrics` object of capture.json, shaped as `vergence optimize`'s
           metrics.json (h and f: mid_distortion_jnd, range_violation, static_rms)
   graph   the full frame's graph dump names every disparity pass
+  variants  on lavapipe, frames after the first compile no new shader variant
+          (Mesa's shader cache, empty at the start, counts them); exit 77
+          (skipped) on another driver
 
 Validation is on (VERGENCE_VALIDATE=1 from CTest): any message fails the run.
 The 240-frame figures are tests/gpu/test_frame_gpu.c (no files: faster).
@@ -77,6 +80,35 @@ def case_graph():
     print("the graph dump names every disparity pass")
 
 
+def case_variants():
+    """lavapipe specialises a shader on the uniform values that decide its
+    branches and compiles it again for every new set (docs/architecture.md,
+    "Shader variants on lavapipe"): a uniform that changes every frame costs
+    an LLVM compile every frame on a fresh machine. bird's camera moves, so
+    every frame has a new view; the second capture goes past the first's two
+    frames and over a keyframe boundary and must compile nothing."""
+    cache = tempfile.mkdtemp(prefix="vergence_mesa_cache_")
+    os.environ["MESA_SHADER_CACHE_DIR"] = cache
+    os.environ.pop("MESA_SHADER_CACHE_DISABLE", None)
+
+    def entries():
+        return sum(len(files) for _, _, files in os.walk(cache))
+
+    _, j, _ = capture("bird", 2, "96x54")
+    device = j["device"]["name"]
+    if "llvmpipe" not in device:
+        print(f"{device} is not lavapipe: nothing to count")
+        sys.exit(77)
+    first = entries()
+    if first == 0:
+        sys.exit(f"FAIL: Mesa's shader cache in {cache} stayed empty: the variants cannot be counted")
+    capture("bird", 14, "96x54")
+    added = entries() - first
+    print(f"shader cache: {first} entries after 2 frames, {added} more after 14 frames")
+    if added:
+        sys.exit(f"FAIL: frames 2-13 compiled {added} new shader variant(s)")
+
+
 if __name__ == "__main__":
     VERGENCE = sys.argv[1]
-    {"files": case_files, "graph": case_graph}[sys.argv[2]]()
+    {"files": case_files, "graph": case_graph, "variants": case_variants}[sys.argv[2]]()
