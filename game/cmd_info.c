@@ -47,7 +47,8 @@ static int run(int argc, char **argv)
            g->is_cpu ? " - a CPU rasteriser: interactive modes pick cheaper settings" : "");
     printf("features in use:\n");
     printf("  required   Vulkan 1.3, dynamicRendering, synchronization2, maintenance4, scalarBlockLayout,\n"
-           "             hostQueryReset, shaderStorageImageWriteWithoutFormat, VK_KHR_push_descriptor\n");
+           "             hostQueryReset, shaderStorageImageWriteWithoutFormat, drawIndirectFirstInstance,\n"
+           "             VK_KHR_push_descriptor\n");
     printf("  tessellation            %s (max level %u)\n", g->features.tessellation ? "yes" : "no",
            l->maxTessellationGenerationLevel);
     printf("  multiview               %s (with tessellation: %s)\n", g->features.multiview ? "yes" : "no",

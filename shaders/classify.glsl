@@ -12,4 +12,7 @@ layout(set = 0, binding = VG_BINDING_ARGS, scalar) writeonly buffer ArgsBlock { 
 layout(set = 0, binding = VG_BINDING_CHUNKS, scalar) readonly buffer ChunkBlock { vg_warp_chunk chunks[]; };
 layout(set = 0, binding = VG_BINDING_KINDS, scalar) buffer KindBlock { uint kinds[]; };
 layout(set = 0, binding = VG_BINDING_COUNTS, scalar) buffer CountBlock { uvec2 counts[]; };
+layout(set = 0, binding = VG_BINDING_TESS_LEVELS, scalar) writeonly buffer TessLevelBlock { uint tess_levels[]; };
 layout(push_constant, scalar) uniform ClassifyBlock { vg_classify_push pc; };
+
+const uint KIND_CULLED = 0u, KIND_FLAT = 1u, KIND_TESSELLATED = 2u;

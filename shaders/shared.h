@@ -62,6 +62,7 @@ VG_STRUCT(vg_frame_ubo) {
 #define VG_BINDING_DEPTH 2    /* sampler2D: centre linear depth (nearest) */
 #define VG_BINDING_TARGET 3   /* sampler2D: target vergence, arcmin (nearest) */
 #define VG_BINDING_CURVE 4    /* storage buffer: vg_curve */
+/* VG_BINDING_TESS_LEVELS (16): storage buffer, the warp's edge levels */
 
 /* vg_draw_push.flags */
 #define VG_DRAW_RIGHT_EYE 1u  /* warp/cameras: render the right eye */
@@ -121,8 +122,15 @@ VG_STRUCT(vg_classify_push) {
 #define VG_BINDING_TESS 11
 #define VG_BINDING_ARGS 12
 #define VG_BINDING_CHUNKS 13      /* vg_warp_chunk */
-#define VG_BINDING_KINDS 14       /* per triangle: 0 culled, 1 flat, 2 tessellated */
+#define VG_BINDING_KINDS 14       /* per triangle: bits 0-7 kind (0 culled, 1 flat, 2 tessellated),
+                                     bits 8-15, 16-23, 24-31 the levels of edges 1-2, 2-0, 0-1 */
 #define VG_BINDING_COUNTS 15      /* per chunk: flat and tessellated triangles */
+/* warp.compact writes, the tessellation control shader reads: the packed
+ * kinds word of every tessellated triangle in draw order. Each tessellated
+ * draw's firstInstance is the draw-order index of its first patch, so a
+ * patch finds its levels at gl_InstanceIndex + gl_PrimitiveID. Binding 16 of
+ * the scene pipelines' set 0 too. */
+#define VG_BINDING_TESS_LEVELS 16
 
 /* compose modes (frame_compose minus one) and push constants. */
 #define VG_COMPOSE_SBS 0

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // warp.classify: each scene triangle is culled, flat (no edge needs
 // subdivision: a plain vertex shader draws it) or tessellated; the same
-// decision as the tessellation control shader (tess_levels.glsl).
+// decision as the tessellation control shader (tess_levels.glsl), which
+// takes the levels decided here (warp.compact puts them in draw order).
 #define VG_FRAME_STORAGE
 #include "common.glsl"
 #include "stereo.glsl"
@@ -22,7 +23,7 @@ void main()
 {
     vg_warp_chunk ch = chunks[gl_WorkGroupID.x];
     vg_warp_instance inst = instances[ch.instance];
-    uint t = gl_LocalInvocationID.x, kind = 0u;
+    uint t = gl_LocalInvocationID.x, kind = KIND_CULLED, packed = 0u;
     uint tri = ch.first_triangle + t;
     if (t < ch.triangle_count) {
         uint first = inst.first_index + 3u * tri;
@@ -30,13 +31,16 @@ void main()
         vec3 p0 = position(inst.first_vertex + idx.x), p1 = position(inst.first_vertex + idx.y),
              p2 = position(inst.first_vertex + idx.z);
         if (!outside(u.view_proj * vec4(p0, 1.0), u.view_proj * vec4(p1, 1.0), u.view_proj * vec4(p2, 1.0))) {
-            float level = max(edge_level(p1, p2), max(edge_level(p2, p0), edge_level(p0, p1)));
-            kind = level > 1.0 ? 2u : 1u;
+            // The tessellation control shader takes these levels as they are
+            // (edge_level is at most the maximum level, 64: 8 bits each).
+            float e0 = edge_level(p1, p2), e1 = edge_level(p2, p0), e2 = edge_level(p0, p1);
+            kind = max(e0, max(e1, e2)) > 1.0 ? KIND_TESSELLATED : KIND_FLAT;
+            packed = kind | uint(e0) << 8 | uint(e1) << 16 | uint(e2) << 24;
         }
-        kinds[inst.first_index / 3u + tri] = kind;
+        kinds[inst.first_index / 3u + tri] = packed;
     }
-    s_flat[t] = kind == 1u ? 1u : 0u;
-    s_tess[t] = kind == 2u ? 1u : 0u;
+    s_flat[t] = kind == KIND_FLAT ? 1u : 0u;
+    s_tess[t] = kind == KIND_TESSELLATED ? 1u : 0u;
     barrier();
     for (uint s = 128u; s > 0u; s >>= 1) {
         if (t < s) {

@@ -253,6 +253,7 @@ static const char *missing_feature(VkPhysicalDevice p, bool need_swapchain)
     if (!f12.hostQueryReset) return "hostQueryReset";
     if (!f12.scalarBlockLayout) return "scalarBlockLayout";
     if (!f.features.shaderStorageImageWriteWithoutFormat) return "shaderStorageImageWriteWithoutFormat";
+    if (!f.features.drawIndirectFirstInstance) return "drawIndirectFirstInstance";
     if (!device_has_extension(p, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) return VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
     if (need_swapchain && !device_has_extension(p, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) return VK_KHR_SWAPCHAIN_EXTENSION_NAME;
     if (find_queue_family(p) < 0) return "a graphics+compute queue";
@@ -368,6 +369,7 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
             .fillModeNonSolid = g->features.fill_mode_non_solid,
             .multiDrawIndirect = g->features.multi_draw_indirect,
             .shaderStorageImageWriteWithoutFormat = VK_TRUE,
+            .drawIndirectFirstInstance = VK_TRUE, /* the warp's patch index (warp.compact) */
         },
     };
     const char *exts[2] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, VK_KHR_SWAPCHAIN_EXTENSION_NAME};

@@ -1,6 +1,8 @@
 /* vergence — graphics and compute pipelines. */
 #include "pipeline.h"
 
+#include "core/log.h"
+
 vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *d, VkPipeline *out)
 {
     VkPipelineShaderStageCreateInfo stages[4];
@@ -138,13 +140,18 @@ vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorTyp
                                  VkShaderStageFlags stages, uint32_t push_size,
                                  VkDescriptorSetLayout *set_layout, VkPipelineLayout *layout)
 {
-    VkDescriptorSetLayoutBinding bindings[16];
-    for (uint32_t i = 0; i < count && i < 16; i++)
+    enum { MAX_BINDINGS = 32 }; /* VkPhysicalDevicePushDescriptorPropertiesKHR guarantees 32 */
+    if (count > MAX_BINDINGS) {
+        vg_error("%s: %u push-descriptor bindings, at most %d", name, count, MAX_BINDINGS);
+        return VG_ERR_ARG;
+    }
+    VkDescriptorSetLayoutBinding bindings[MAX_BINDINGS];
+    for (uint32_t i = 0; i < count; i++)
         bindings[i] = (VkDescriptorSetLayoutBinding){i, types[i], 1, stages, NULL};
     VkDescriptorSetLayoutCreateInfo set = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
         .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
-        .bindingCount = count < 16 ? count : 16,
+        .bindingCount = count,
         .pBindings = bindings,
     };
     VK_TRY(vkCreateDescriptorSetLayout(g->device, &set, NULL, set_layout));

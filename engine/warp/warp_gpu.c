@@ -70,7 +70,7 @@ struct warp_gpu {
     /* this frame's graph resources */
     frame_resources *res;
     rg_res target, tiles_count, tiles_sum, tiles_offset;
-    rg_res flat_indices, tess_indices, args, kinds, counts;
+    rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts;
 };
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
@@ -145,7 +145,7 @@ static void push_classify(warp_gpu *w, const rg_context *ctx)
     VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
     VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
     VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
-    enum { NB = 10 };
+    enum { NB = 11 };
     VkDescriptorBufferInfo bufs[NB] = {
         {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, r->vertices), 0, VK_WHOLE_SIZE},
@@ -157,10 +157,12 @@ static void push_classify(warp_gpu *w, const rg_context *ctx)
         {w->chunks.buffer, 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->kinds), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->counts), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->tess_levels), 0, VK_WHOLE_SIZE},
     };
     static const uint32_t buffer_bindings[NB] = {
         VG_BINDING_CURVE, VG_BINDING_VERTICES, VG_BINDING_INDICES, VG_BINDING_INSTANCES, VG_BINDING_FLAT,
-        VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS};
+        VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS,
+        VG_BINDING_TESS_LEVELS};
     VkWriteDescriptorSet wr[3 + NB] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &ubo},
@@ -246,9 +248,11 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
     VkDescriptorImageInfo color = {fc->nearest_clamp, rg_ctx_view(ctx, r->color), rg_ctx_layout(ctx, r->color)};
     VkDescriptorImageInfo ids = {fc->nearest_clamp, rg_ctx_view(ctx, r->ids), rg_ctx_layout(ctx, r->ids)};
     VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
+    VkDescriptorBufferInfo levels = {kind == EYE_WARP ? rg_ctx_buffer(ctx, w->tess_levels) : VK_NULL_HANDLE, 0,
+                                     VK_WHOLE_SIZE};
 #define W(b, t, field) {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = (b), \
                         .descriptorCount = 1, .descriptorType = (t), field}
-    VkWriteDescriptorSet wr[7] = {
+    VkWriteDescriptorSet wr[8] = {
         W(VG_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo),
         W(VG_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow),
         W(VG_BINDING_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &depth),
@@ -256,11 +260,12 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
         W(VG_BINDING_CURVE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &curve),
         W(5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &color),
         W(6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &ids),
+        W(VG_BINDING_TESS_LEVELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &levels),
     };
 #undef W
     /* The image-warping baseline reads the G-buffer colour and ids, the
-     * others the shadow map and the curve. */
-    VkWriteDescriptorSet used[7];
+     * others the shadow map and the curve, the warp its edge levels. */
+    VkWriteDescriptorSet used[8];
     uint32_t n = 0;
     bool maps = kind != EYE_CAMERAS || fc->desc.measure;
     used[n++] = wr[0];
@@ -272,6 +277,8 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
         used[n++] = wr[1];
         if (maps)
             used[n++] = wr[4];
+        if (kind == EYE_WARP)
+            used[n++] = wr[7];
     } else {
         used[n++] = wr[5];
         used[n++] = wr[6];
@@ -353,6 +360,7 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
         if (e->kind == EYE_WARP) {
             rg_use(g, p, w->flat_indices, RG_INDEX);
             rg_use(g, p, w->tess_indices, RG_INDEX);
+            rg_use(g, p, w->tess_levels, RG_STORAGE_READ);
             rg_use(g, p, w->args, RG_INDIRECT);
         } else {
             rg_use(g, p, res->indices, RG_INDEX);
@@ -416,6 +424,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         w->tess_indices = rg_buffer(g, &(rg_buffer_desc){"warp.tess_indices", index_bytes});
         w->args = rg_buffer(g, &(rg_buffer_desc){"warp.draw_args", arg_bytes});
         w->kinds = rg_buffer(g, &(rg_buffer_desc){"warp.kinds", index_bytes / 3 + 4});
+        w->tess_levels = rg_buffer(g, &(rg_buffer_desc){"warp.tess_levels", index_bytes / 3 + 4});
         w->counts = rg_buffer(g, &(rg_buffer_desc){"warp.counts", (uint64_t)(w->chunk_count + 1) * 8});
         /* Both passes push the same descriptors; each declares what it touches. */
         rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = "warp.classify", .type = RG_PASS_COMPUTE,
@@ -439,6 +448,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         rg_use(g, cpt, w->counts, RG_STORAGE_READ);
         rg_use(g, cpt, w->flat_indices, RG_STORAGE_WRITE);
         rg_use(g, cpt, w->tess_indices, RG_STORAGE_WRITE);
+        rg_use(g, cpt, w->tess_levels, RG_STORAGE_WRITE);
         rg_use(g, cpt, w->args, RG_STORAGE_WRITE);
     }
 
@@ -584,13 +594,13 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_range, "warp.curve.range", &w->curve_range);
     /* warp.classify: the scene bindings of set 0 plus its own buffers. */
-    VkDescriptorType ctypes[VG_BINDING_COUNTS + 1];
-    for (int i = 0; i <= VG_BINDING_COUNTS; i++)
+    VkDescriptorType ctypes[VG_BINDING_TESS_LEVELS + 1];
+    for (int i = 0; i <= VG_BINDING_TESS_LEVELS; i++)
         ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     if (st == VG_OK)
-        st = gpu_push_layout_create(g, "warp.classify", ctypes, VG_BINDING_COUNTS + 1, VK_SHADER_STAGE_COMPUTE_BIT,
+        st = gpu_push_layout_create(g, "warp.classify", ctypes, VG_BINDING_TESS_LEVELS + 1, VK_SHADER_STAGE_COMPUTE_BIT,
                                     sizeof(vg_classify_push), &w->classify_set, &w->classify_layout);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_classify, "warp.classify", &w->classify);
