@@ -1,5 +1,5 @@
-// vergence — the tessellation decision of warp.stereo, shared by the
-// tessellation control shader and warp.classify (so both decide alike):
+// vergence — the tessellation decision of warp.stereo, made once per frame
+// by warp.classify (the tessellation control shader reads its levels):
 // edge levels from the projected length (paper 4.6: down to tess_px pixels)
 // or from the disparity error (subdivide an edge only where the target
 // departs from linear interpolation along it), and frustum culling.
