@@ -29,7 +29,7 @@
 
 typedef struct capture_opts {
     const char *scene, *out, *dump_graph;
-    int frames, camera, stride;
+    int frames, camera, stride, solver_iterations;
     double time, fps;
     int size[2];
     int stereo, mode, compose, op;
@@ -58,6 +58,7 @@ static const vg_opt k_opts[] = {
     {"--size", VG_OPT_SIZE, o.size, "WxH", "image size (default 960x540)", NULL, 0, 0},
     {"--camera", VG_OPT_INT, &o.camera, "N", "camera node of the scene to use (default 0)", NULL, 0, 1000},
     {"--keyframe-stride", VG_OPT_INT, &o.stride, "S", "frames between keyframes (default 10, paper 4.4)", NULL, 1, 1000},
+    {"--solver-iterations", VG_OPT_INT, &o.solver_iterations, "N", "outer solver iterations each time the keyframe window moves (default: the frame's)", NULL, 1, 64},
     {"--stereo-render", VG_OPT_CHOICE, &o.stereo, "HOW", "how the stereo pair is made (default warp)", frame_stereo_names, 0, 0},
     {"--mode", VG_OPT_CHOICE, &o.mode, "MODE", "disparity shown: g, h or f (default optimized)", frame_mode_names + 1, 0, 0},
     {"--output", VG_OPT_CHOICE, &o.compose, "LAYOUT", "how frame_NNNN_stereo.png packs the eyes (default sbs)", frame_compose_names + 1, 0, 0},
@@ -482,6 +483,7 @@ static vg_status capture(gpu *g, const scene *s)
         .measure = true,
         .curve = o.curve ? &baked : NULL,
         .op = (disp_operator_kind)(o.op + 1), .target_range = o.target_range,
+        .solver_iterations = o.solver_iterations,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);

@@ -164,6 +164,10 @@ void rg_bind_buffer(rg_graph *g, rg_res res, VkBuffer buffer);
 /* Records every ordered pass with its barriers into cmd; `slot` (below
  * RG_MAX_SLOTS) picks the timestamp queries of this frame in flight. */
 void rg_execute(rg_graph *g, VkCommandBuffer cmd, uint32_t slot);
+/* Records only the o-th ordered pass with the barriers before it (and the
+ * final barriers after the last): a profiler submits each pass on its own
+ * and times it by the wall clock (no timestamps). */
+void rg_execute_pass(rg_graph *g, VkCommandBuffer cmd, uint32_t o);
 /* After that slot's command buffer completed: GPU ms of each ordered pass
  * (NaN when the device has no timestamps). Returns the number of passes. */
 uint32_t rg_timings(rg_graph *g, uint32_t slot, double *ms, uint32_t cap);

@@ -183,29 +183,44 @@ static VkExtent2D begin_rendering(rg_graph *g, VkCommandBuffer cmd, uint32_t pas
     return extent;
 }
 
+/* The o-th ordered pass with the barriers before it (timestamps around it
+ * when `queries` is given). */
+static void execute_one(rg_graph *g, VkCommandBuffer cmd, VkQueryPool queries, uint32_t o)
+{
+    uint32_t p = g->order[o];
+    const rg_pass_info *pass = &g->pass[p];
+    record_barriers(g, cmd, o);
+    if (queries)
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, 2 * o);
+    rg_context ctx = {.graph = g, .pass = p, .cmd = cmd};
+    bool rendering = pass->type == RG_PASS_GRAPHICS;
+    if (rendering)
+        ctx.extent = begin_rendering(g, cmd, p);
+    if (pass->execute)
+        pass->execute(&ctx, pass->user);
+    if (rendering)
+        vkCmdEndRendering(cmd);
+    if (queries)
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, 2 * o + 1);
+}
+
 void rg_execute(rg_graph *g, VkCommandBuffer cmd, uint32_t slot)
 {
     VkQueryPool queries = g->queries[slot % RG_MAX_SLOTS];
     if (queries)
         vkCmdResetQueryPool(cmd, queries, 0, 2 * g->order_count);
-    for (uint32_t o = 0; o < g->order_count; o++) {
-        uint32_t p = g->order[o];
-        const rg_pass_info *pass = &g->pass[p];
-        record_barriers(g, cmd, o);
-        if (queries)
-            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, 2 * o);
-        rg_context ctx = {.graph = g, .pass = p, .cmd = cmd};
-        bool rendering = pass->type == RG_PASS_GRAPHICS;
-        if (rendering)
-            ctx.extent = begin_rendering(g, cmd, p);
-        if (pass->execute)
-            pass->execute(&ctx, pass->user);
-        if (rendering)
-            vkCmdEndRendering(cmd);
-        if (queries)
-            vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, 2 * o + 1);
-    }
+    for (uint32_t o = 0; o < g->order_count; o++)
+        execute_one(g, cmd, queries, o);
     record_barriers(g, cmd, g->order_count);
+}
+
+void rg_execute_pass(rg_graph *g, VkCommandBuffer cmd, uint32_t o)
+{
+    if (o >= g->order_count)
+        return;
+    execute_one(g, cmd, VK_NULL_HANDLE, o);
+    if (o + 1 == g->order_count)
+        record_barriers(g, cmd, g->order_count);
 }
 
 uint32_t rg_timings(rg_graph *g, uint32_t slot, double *ms, uint32_t cap)

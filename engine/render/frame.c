@@ -8,6 +8,7 @@
 #define CGLM_FORCE_DEPTH_ZERO_TO_ONE
 #include <cglm/cglm.h>
 
+#include "core/clock.h"
 #include "core/log.h"
 #include "disparity/disparity_gpu.h"
 #include "frame_ctx.h"
@@ -50,6 +51,7 @@ struct frame {
     frame_outputs outputs;
     double pass_ms[RG_MAX_PASSES];   /* the last completed frame */
     uint32_t pass_count;
+    bool profile;                    /* VERGENCE_PROFILE_PASSES: each pass alone, wall-clock ms */
 };
 
 const char *const frame_compose_names[] = {"sbs", "sbs", "sbs-half", "tb", "rows", "columns", "checker",
@@ -371,6 +373,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     frame *f = calloc(1, sizeof *f);
     if (!f)
         return VG_ERR_NOMEM;
+    const char *profile = getenv("VERGENCE_PROFILE_PASSES");
+    f->profile = profile && *profile && *profile != '0';
     frame_ctx *fc = &f->fc;
     fc->gpu = g;
     fc->scene = s;
@@ -545,8 +549,8 @@ static vg_status frame_begin(frame *f, long index)
     return f->disparity ? disparity_gpu_prepare(f->disparity) : VG_OK;
 }
 
-/* Records the compiled graph for the current slot. */
-static vg_status frame_record(frame *f, VkCommandBuffer *out)
+/* Binds this slot's imported buffers to the graph. */
+static void frame_bind(frame *f)
 {
     frame_ctx *fc = &f->fc;
     int slot = fc->slot;
@@ -558,6 +562,13 @@ static vg_status frame_record(frame *f, VkCommandBuffer *out)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
     if (f->warp)
         warp_gpu_bind(f->warp, f->graph);
+}
+
+/* Records the compiled graph for the current slot. */
+static vg_status frame_record(frame *f, VkCommandBuffer *out)
+{
+    int slot = f->fc.slot;
+    frame_bind(f);
     VkCommandBuffer cmd = f->cmd[slot];
     VK_TRY(vkResetCommandBuffer(cmd, 0));
     VK_TRY(vkBeginCommandBuffer(cmd, &(VkCommandBufferBeginInfo){
@@ -569,6 +580,35 @@ static vg_status frame_record(frame *f, VkCommandBuffer *out)
     return VG_OK;
 }
 
+/* The profiler (VERGENCE_PROFILE_PASSES=1): each ordered pass recorded,
+ * submitted and waited for on its own, timed by the wall clock. lavapipe's
+ * timestamps miss work it defers (docs/PERFORMANCE.md); this does not, at
+ * the price of the overlap between passes. */
+static vg_status render_profiled(frame *f)
+{
+    gpu *g = f->fc.gpu;
+    int slot = f->fc.slot;
+    VkCommandBuffer cmd = f->cmd[slot];
+    frame_bind(f);
+    uint32_t n = rg_order_count(f->graph);
+    for (uint32_t o = 0; o < n && o < RG_MAX_PASSES; o++) {
+        double t0 = vg_now_ms();
+        VK_TRY(vkResetCommandBuffer(cmd, 0));
+        VK_TRY(vkBeginCommandBuffer(cmd, &(VkCommandBufferBeginInfo){
+            .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+            .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT}));
+        rg_execute_pass(f->graph, cmd, o);
+        VK_TRY(vkEndCommandBuffer(cmd));
+        VkSubmitInfo submit = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
+        VK_TRY(vkQueueSubmit(g->queue, 1, &submit, f->fence[slot]));
+        VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
+        VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
+        f->pass_ms[o] = vg_now_ms() - t0;
+    }
+    f->pass_count = n;
+    return VG_OK;
+}
+
 vg_status frame_render(frame *f, long index)
 {
     if (f->present) {
@@ -577,6 +617,8 @@ vg_status frame_render(frame *f, long index)
     }
     VkCommandBuffer cmd;
     vg_status st = frame_begin(f, index);
+    if (st == VG_OK && f->profile)
+        return render_profiled(f);
     if (st == VG_OK)
         st = frame_record(f, &cmd);
     if (st != VG_OK)
