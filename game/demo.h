@@ -36,6 +36,7 @@ typedef struct demo_opts {
     const char *ffmpeg;      /* path of ffmpeg, NULL when not installed */
     disp_operator_kind op;   /* disparity operator, 0 = the frame's default (lang) */
     int keyframe_stride;
+    double tess_error;       /* the warp's tessellation tolerance, px */
 } demo_opts;
 
 /* One object's mean vergence per sample (NAN where it is not visible). */

@@ -90,8 +90,9 @@ float carried(ivec2 q, float z)
     return texelFetch(target_map, q, 0).r + curve_vergence(z) - curve_vergence(texelFetch(depth_map, q, 0).r);
 }
 
-// x: vergence (arcmin), y: stage (VG_STAGE_*).
-vec2 cascade(vec2 px, float z)
+// x: vergence (arcmin), y: stage (VG_STAGE_*). Without `halton` a point the
+// 3x3 neighbourhood does not resolve goes straight to the curve.
+vec2 cascade_stages(vec2 px, float z, bool halton)
 {
     ivec2 size = textureSize(depth_map, 0);
     ivec2 p = clamp(ivec2(floor(px)), ivec2(0), size - 1);
@@ -132,6 +133,8 @@ vec2 cascade(vec2 px, float z)
     // carry its vergence over to this depth along the global curve's slope.
     if (best < u.warp.z * z)
         return vec2(carried(best_q, z), float(VG_STAGE_NEIGHBORHOOD));
+    if (!halton)
+        return vec2(curve_vergence(z), float(VG_STAGE_CURVE));
     for (uint i = 1u; i <= 64u; i++) {
         float r = radical_inverse(i, 2u), a = radical_inverse(i, 3u);
         vec2 s = px + r * r * u.warp.w * vec2(cos(6.2831853 * a), sin(6.2831853 * a));
@@ -146,6 +149,8 @@ vec2 cascade(vec2 px, float z)
         return vec2(carried(best_q, z), float(VG_STAGE_HALTON));
     return vec2(curve_vergence(z), float(VG_STAGE_CURVE));
 }
+
+vec2 cascade(vec2 px, float z) { return cascade_stages(px, z, true); }
 
 vec2 centre_pixel(vec4 clip)
 {
