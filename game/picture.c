@@ -133,7 +133,7 @@ vg_status picture_present(picture *p, const frame_target *t)
         .commandBufferCount = 1, .pCommandBuffers = &p->cmd,
         .signalSemaphoreCount = 1, .pSignalSemaphores = &t->signal,
     };
-    VK_TRY(vkQueueSubmit(p->gpu->queue, 1, &submit, p->fence));
+    VK_TRY(gpu_queue_submit(p->gpu, 1, &submit, p->fence));
     p->submitted = true;
     return VG_OK;
 }

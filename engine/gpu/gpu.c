@@ -48,6 +48,13 @@ void gpu_report_failure(const char *file, int line, const char *call, VkResult r
         vg_error("%s:%d: %s failed: %s", file, line, call, gpu_result_text(r));
 }
 
+VkResult gpu_queue_submit(gpu *g, uint32_t count, const VkSubmitInfo *submits, VkFence fence)
+{
+    if (g->lost_at > 0 && ++g->submits >= g->lost_at)
+        return VK_ERROR_DEVICE_LOST;
+    return vkQueueSubmit(g->queue, count, submits, fence);
+}
+
 void gpu_set_name(const gpu *g, VkObjectType type, uint64_t handle, const char *fmt, ...)
 {
     if (!g->set_object_name || !handle)
@@ -340,6 +347,18 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
         if (strstr(off, "indirect"))
             g->features.multi_draw_indirect = g->features.draw_indirect_count = false;
         vg_warn("VERGENCE_DISABLE=%s: pretending the device lacks these features", off);
+    }
+    /* Tests make the device fail: VERGENCE_FAULT=device-lost:N. */
+    const char *fault = getenv("VERGENCE_FAULT");
+    if (fault && *fault) {
+        char *end;
+        long n = strncmp(fault, "device-lost:", 12) == 0 ? strtol(fault + 12, &end, 10) : 0;
+        if (n <= 0 || *end) {
+            vg_error("VERGENCE_FAULT=%s: expected device-lost:N (N >= 1)", fault);
+            return VG_ERR_ARG;
+        }
+        g->lost_at = n;
+        vg_warn("VERGENCE_FAULT=%s: queue submission %ld and later will fail as a lost device", fault, n);
     }
 
     VkPhysicalDeviceVulkan13Features f13 = {

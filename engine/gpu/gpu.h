@@ -56,10 +56,17 @@ typedef struct gpu {
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name;
     VkDeviceSize memory_bytes;  /* device memory allocated through gpu_*_create now */
     VkDeviceSize memory_peak;   /* ... and at most so far */
+    long submits;               /* queue submissions so far */
+    long lost_at;               /* VERGENCE_FAULT=device-lost:N (tests): submission N and later fail as
+                                   VK_ERROR_DEVICE_LOST without reaching the queue; 0 = never */
 } gpu;
 
 vg_status gpu_create(const gpu_desc *desc, gpu **out);
 void gpu_destroy(gpu *g);
+
+/* vkQueueSubmit on the context's queue; every submission goes through here
+ * so tests can make the device fail (lost_at). */
+VkResult gpu_queue_submit(gpu *g, uint32_t count, const VkSubmitInfo *submits, VkFence fence);
 
 /* Validation WARNING/ERROR messages so far in this process, including those
  * raised while a context was destroyed (leaked objects). */

@@ -211,7 +211,7 @@ vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd)
         .commandBufferCount = 1,
         .pCommandBuffers = &cmd,
     };
-    VkResult r = vkQueueSubmit(g->queue, 1, &submit, fence);
+    VkResult r = gpu_queue_submit(g, 1, &submit, fence);
     if (r == VK_SUCCESS)
         r = vkWaitForFences(g->device, 1, &fence, VK_TRUE, UINT64_MAX);
     vkDestroyFence(g->device, fence, NULL);

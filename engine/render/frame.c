@@ -600,7 +600,7 @@ static vg_status render_profiled(frame *f)
         rg_execute_pass(f->graph, cmd, o);
         VK_TRY(vkEndCommandBuffer(cmd));
         VkSubmitInfo submit = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
-        VK_TRY(vkQueueSubmit(g->queue, 1, &submit, f->fence[slot]));
+        VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
         f->pass_ms[o] = vg_now_ms() - t0;
@@ -630,7 +630,7 @@ vg_status frame_render(frame *f, long index)
         .commandBufferCount = 1,
         .pCommandBuffers = &cmd,
     };
-    VK_TRY(vkQueueSubmit(g->queue, 1, &submit, f->fence[slot]));
+    VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
     f->submitted[slot] = true;
     /* Headless: wait, so outputs and timings belong to this frame. */
     VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
@@ -668,7 +668,7 @@ vg_status frame_present(frame *f, long index, const frame_target *target, const 
         .signalSemaphoreCount = target->signal ? 1 : 0,
         .pSignalSemaphores = &target->signal,
     };
-    VK_TRY(vkQueueSubmit(fc->gpu->queue, 1, &submit, f->fence[fc->slot]));
+    VK_TRY(gpu_queue_submit(fc->gpu, 1, &submit, f->fence[fc->slot]));
     f->submitted[fc->slot] = true;
     return VG_OK;
 }

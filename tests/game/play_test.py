@@ -3,16 +3,19 @@
 
 usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
 
-  play_live          starts, renders, reacts to H and to a mouse click sent by
-                     xdotool, survives a resize, records the input, quits on Q
+  play_live          starts, renders, reacts to H, to the mode keys (M, 3, 1)
+                     and to a mouse click sent by xdotool, survives a
+                     resize, records the input, quits on Q
   play_replay        a replay file drives the same at a fixed time step, with
                      the same result every time
   golden             a paused frame of a replayed game matches
                      tests/golden/game_play.png (VG_UPDATE_GOLDEN=1 rewrites it)
   preference_window  the side-by-side preference study answers a replayed key
-                     press, or (while the build cannot render h and f) fails
-                     with one clear error and leaves no CSV
+                     press
   study_window       the same for the hit study with a replayed click
+  device_lost        the device is lost (VERGENCE_FAULT) after a trial of the
+                     windowed hit study: one clear error, the finished trial
+                     stays in the CSV, --resume continues after it
 """
 import os
 import re
@@ -127,6 +130,14 @@ def case_play_live():
     g.wait_for("technical HUD off")
     off = g.poll(lambda img: hud(img) < 3, "the technical HUD to go")
     print(f"HUD area against the first frame: {hud(on):.1f} levels with H on, {hud(off):.1f} off")
+    # The toggle: M cycles original -> manipulated, 3 and 1 pick; the log
+    # names each change, and the picture shows another disparity.
+    g.key("m")
+    g.wait_for(r"play: mode manipulated \(h\)")
+    g.key("3")
+    g.wait_for(r"play: mode optimized \(f\)")
+    g.key("1")
+    g.wait_for(r"play: mode original \(g\)")
     for _ in range(60):  # the ball must have flown and vanished first
         g.xdo("mousemove", "--window", g.wid, "160", "130", "click", "1")
         if "click at" in g.text():
@@ -142,8 +153,9 @@ def case_play_live():
     g.finish()
     recorded = open(rec).read()
     print(recorded)
-    if not re.search(r"^\d+ key H$", recorded, re.M) or not re.search(r"^\d+ click [\d.]+ [\d.]+$", recorded, re.M):
-        fail("the recording lacks the key press or the click")
+    for pattern in (r"^\d+ key H$", r"^\d+ key M$", r"^\d+ key 3$", r"^\d+ click [\d.]+ [\d.]+$"):
+        if not re.search(pattern, recorded, re.M):
+            fail(f"the recording lacks '{pattern}'")
 
 
 def case_play_replay():
@@ -156,8 +168,10 @@ def case_play_replay():
     for must in ("technical HUD on", "click at", "technical HUD off", "restart", r"1 throw\(s\)"):
         if not re.search(must, log):
             fail(f"no '{must}' in the log of the replayed game")
-    if not re.search(r"mode manipulated \(h\)|manipulated \(h\) not available", log):
-        fail("M did not switch to manipulated nor say why not")
+    # M, 3, 1: manipulated, optimized, back to original, in that order.
+    modes = re.findall(r"play: mode (\w+) \(", log)
+    if modes != ["manipulated", "optimized", "original"]:
+        fail(f"the mode keys switched to {modes}, want manipulated, optimized, original")
     # A fixed time step makes the game a function of the file: throw 1 of
     # seed 4 and the click at (0.5, 0.75) give this miss on every run.
     click = re.search(r"click at .*", log).group(0)
@@ -202,28 +216,8 @@ def case_golden():
         fail(f"the frame differs from {GOLDEN}; this run's frame is {out}")
 
 
-def renders_h_and_f(tmp):
-    """Whether this build's frame makes h and f (the disparity passes of issue 4)."""
-    for mode in ("manipulated", "optimized"):
-        p = subprocess.run([VERGENCE, "capture", "--scene", "content/cubes.gltf", "--mode", mode, "--size", "64x36",
-                            "--out", os.path.join(tmp, "probe")], capture_output=True, text=True)
-        if p.returncode:
-            return False
-    return True
-
-
 def windowed_study(args, out, check):
-    """A windowed study: it runs (h and f render) or fails with one clear error and no CSV."""
-    tmp = os.path.dirname(out)
-    if not renders_h_and_f(tmp):
-        p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=300)
-        print(f"this build cannot render h and f yet: exit {p.returncode}: {p.stderr.strip()}")
-        errors = [l for l in p.stderr.splitlines() if "error:" in l]
-        if not 0 < p.returncode < 128 or len(errors) != 1 or not re.search("not available|cannot render", errors[0]):
-            fail("the study did not fail with one clear error")
-        if os.path.exists(out):
-            fail("a study that could not start left a CSV")
-        return
+    """A windowed study answers its replayed input into the CSV."""
     g = Game(args)
     g.finish(600)
     rows = open(out).read().splitlines()
@@ -247,6 +241,34 @@ def case_study_window():
                     "--replay", script, "--out", out], out, lambda row: row.startswith("w2,hit,0,") and ",human," in row)
 
 
+def case_device_lost():
+    """The device is lost once the first trial is logged (queue submission
+    150: the trial ends at frame 90 of the replay, one submission a frame
+    after a few uploads): one clear error, exit 6, the trial stays; --resume
+    plays the next one."""
+    out = os.path.join(tempfile.mkdtemp(prefix="vergence_lost_"), "hit.csv")
+    script = replay_file("90 click 0.5 0.7\n")
+    args = ["study", "hit", "--participant", "lost", "--trials", "2", "--visible", "0.2", "--size", "256x144",
+            "--replay", script, "--out", out]
+    p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=300,
+                       env=dict(os.environ, VERGENCE_FAULT="device-lost:150"))
+    print(p.stderr)
+    errors = [l for l in p.stderr.splitlines() if "error:" in l]
+    if p.returncode != 6 or len(errors) != 1 or "device was lost" not in errors[0]:
+        fail(f"exit {p.returncode} with {len(errors)} error line(s); want 6 and one line naming the lost device")
+    rows = open(out).read().splitlines()
+    if len(rows) != 2 or not rows[1].startswith("lost,hit,0,") or rows[1].count(",") != rows[0].count(","):
+        fail(f"the CSV after the lost device is not the header and trial 0:\n{rows}")
+    # The last trial done, the study waits for Q.
+    resume = args[:args.index("--replay") + 1] + [replay_file("90 click 0.5 0.7\n96 key Q\n"), "--out", out, "--resume"]
+    g = Game(resume)
+    g.finish(600)
+    rows = open(out).read().splitlines()
+    print("\n".join(rows))
+    if len(rows) != 3 or not rows[2].startswith("lost,hit,1,"):
+        fail("--resume did not continue with trial 1")
+
+
 if __name__ == "__main__":
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -254,5 +276,6 @@ if __name__ == "__main__":
     os.chdir(ROOT)
     os.environ.setdefault("XDG_RUNTIME_DIR", "/tmp")
     {"play_live": case_play_live, "play_replay": case_play_replay, "golden": case_golden,
-     "preference_window": case_preference_window, "study_window": case_study_window}[sys.argv[2]]()
+     "preference_window": case_preference_window, "study_window": case_study_window,
+     "device_lost": case_device_lost}[sys.argv[2]]()
     print("ok")
