@@ -266,7 +266,9 @@ static void window_begin(disparity_gpu *d, long k, bool restart)
         .range_lo = (float)d->lo, .range_hi = (float)d->hi, .range_hull = fd->op == DISP_OPERATOR_NONE,
         .gather = true, .keyframe_seconds = (float)(fd->keyframe_stride / fd->fps),
         .store_first = ring_slot(d, d->win_first), .store_cap = (uint32_t)d->ring,
-        .solver = fd->solver, .iterations = fd->solver_iterations,
+        .solver = fd->solver,
+        .iterations = fd->solver_iterations ? fd->solver_iterations
+                      : !restart && fd->solver == MID_SOLVER_GAUSS_NEWTON ? (int)MID_GN_WARM_ITERATIONS : 0,
         .warm = !restart, .shift = (int)(d->win_first - prev_first), .prev_keyframes = restart ? 0 : prev_nt,
         .publish = true,
         /* Keyframes k and k + 1 were already used as the ends of a keyframe

@@ -96,7 +96,8 @@ typedef struct frame_desc {
     int coarse_stride;           /* solver grid stride in pixels, 0 = 5 (paper 4.4); larger frames
                                     widen it so the grid stays 192 x 108 (paper 4.5: constant time) */
     mid_solver_kind solver;      /* 0 = Gauss-Newton (the CPU reference's default) */
-    int solver_iterations;       /* outer iterations per window, 0 = the solver's default */
+    int solver_iterations;       /* outer iterations per window, 0 = the solver's default for the first
+                                    window and MID_GN_WARM_ITERATIONS for each warm-started move */
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at
