@@ -46,6 +46,7 @@ layout(set = 0, binding = MID_B_DOT) buffer DotBlock { float dot_terms[]; };
 #define G(i) field[(i)]
 #define H(i) field[pc.cap + (i)]
 #define DEPTH(i) field[2u * pc.cap + (i)]
+#define ID(i) field[3u * pc.cap + (i)]
 #define EDGE_X(i) edge[(i)]
 #define EDGE_Y(i) edge[pc.cap + (i)]
 #define PH(i) target[(i)]

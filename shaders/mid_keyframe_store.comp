@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // mid.keyframes.store: each keyframe rendered this frame enters the ring of
 // the keyframe store: g, h (its own mapping), depth and the flows to the
-// neighbouring keyframes, all at coarse resolution (coarse pixels).
+// neighbouring keyframes, all at coarse resolution (coarse pixels), and the
+// instance id (flow links stay on their instance, mid_window.c).
 #include "common.glsl"
 #include "stereo.glsl"
 #include "disparity_operator.glsl"
@@ -12,6 +13,7 @@ layout(set = 0, binding = 1, r32f) uniform readonly image2D depth_atlas;
 layout(set = 0, binding = 2, rgba32f) uniform readonly image2D motion_atlas;
 layout(set = 0, binding = 3) readonly buffer StateBlock { float state[]; };
 layout(set = 0, binding = 4) writeonly buffer StoreBlock { float store[]; };
+layout(set = 0, binding = 5, r32ui) uniform readonly uimage2D ids_atlas;
 #include "disparity_state.glsl"
 
 void main()
@@ -31,4 +33,5 @@ void main()
     store[base + MID_STORE_FLOW_F * ns + 2u * q + 1u] = m.w;
     store[base + MID_STORE_FLOW_B * ns + 2u * q] = m.x;
     store[base + MID_STORE_FLOW_B * ns + 2u * q + 1u] = m.y;
+    store[base + MID_STORE_ID * ns + q] = float(imageLoad(ids_atlas, p).r);
 }

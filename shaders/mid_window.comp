@@ -55,9 +55,10 @@ mid_link link_make(uint i, int x, int y, int k, uint dir)
     l.base = uint(kk) * pc.ns + uint(y0) * pc.nx + uint(x0);
     float raw[4] = float[4]((1.0 - l.fx) * (1.0 - l.fy), l.fx * (1.0 - l.fy), (1.0 - l.fx) * l.fy, l.fx * l.fy);
     uint idx[4] = uint[4](l.base, l.base + 1u, l.base + pc.nx, l.base + pc.nx + 1u);
-    float kept = 0.0, z0 = DEPTH(i);
+    float kept = 0.0, z0 = DEPTH(i), id = ID(i);
     for (uint t = 0u; t < 4u; t++)
-        if (raw[t] > 0.0 && (same_surface(z0, DEPTH(idx[t])) || round_trip(there, back_off + idx[t]))) {
+        if (raw[t] > 0.0 && ID(idx[t]) == id &&
+            (same_surface(z0, DEPTH(idx[t])) || round_trip(there, back_off + idx[t]))) {
             l.mask |= 1u << t;
             kept += raw[t];
         }
@@ -104,6 +105,7 @@ void main()
             G(i) = store[base + MID_STORE_G * pc.ns + p];
             H(i) = store[base + MID_STORE_H * pc.ns + p];
             DEPTH(i) = store[base + MID_STORE_DEPTH * pc.ns + p];
+            ID(i) = store[base + MID_STORE_ID * pc.ns + p];
             flow[i] = vec2(store[base + MID_STORE_FLOW_F * pc.ns + 2u * p], store[base + MID_STORE_FLOW_F * pc.ns + 2u * p + 1u]);
             flow[pc.cap + i] = vec2(store[base + MID_STORE_FLOW_B * pc.ns + 2u * p], store[base + MID_STORE_FLOW_B * pc.ns + 2u * p + 1u]);
             if (p == 0u) {

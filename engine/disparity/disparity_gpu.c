@@ -124,8 +124,9 @@ static op_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescript
     img[0] = image_of(ctx, d->atlas.depth);
     img[1] = image_of(ctx, d->atlas.color);
     img[2] = image_of(ctx, d->atlas.motion);
+    img[3] = image_of(ctx, d->atlas.ids);
     return (op_gpu_tiles){.ubo = d->fc->ubo[d->fc->slot].buffer, .depth = &img[0], .color = &img[1],
-                          .motion = &img[2], .tiles = (uint32_t)d->tiles, .tile_w = d->nx, .tile_h = d->ny,
+                          .motion = &img[2], .ids = &img[3], .tiles = (uint32_t)d->tiles, .tile_w = d->nx, .tile_h = d->ny,
                           .store = rg_ctx_buffer(ctx, d->r_store), .store_first = ring_slot(d, d->tiles_first),
                           .store_cap = (uint32_t)d->ring};
 }
@@ -133,7 +134,7 @@ static op_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescript
 static void tiles_fit_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo img[3];
+    VkDescriptorImageInfo img[4];
     op_gpu_tiles t = tiles_of(d, ctx, img);
     if (d->tiles > 0)
         op_gpu_record_tiles_fit(d->op, rg_ctx_cmd(ctx), &t);
@@ -142,7 +143,7 @@ static void tiles_fit_execute(const rg_context *ctx, void *user)
 static void tiles_store_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo img[3];
+    VkDescriptorImageInfo img[4];
     op_gpu_tiles t = tiles_of(d, ctx, img);
     if (d->tiles > 0)
         op_gpu_record_tiles_store(d->op, rg_ctx_cmd(ctx), &t);
@@ -223,6 +224,7 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->ubo, RG_UNIFORM);
     rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
     rg_use(g, p, d->atlas.motion, RG_STORAGE_READ);
+    rg_use(g, p, d->atlas.ids, RG_STORAGE_READ);
     rg_use(g, p, d->state, RG_STORAGE_READ);
     rg_use(g, p, d->r_store, RG_STORAGE_READ_WRITE);
     p = compute_pass(g, "mid.window", window_execute, d);

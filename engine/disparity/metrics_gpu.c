@@ -14,7 +14,7 @@ struct gpu_metrics {
     gpu_metrics_desc d;
     disp_grid grid;
     int ns, nt, cap;
-    float *g, *h, *f, *z, *ffw, *fbw;  /* keyframe samples (cap keyframes) */
+    float *g, *h, *f, *z, *id, *ffw, *fbw;  /* keyframe samples (cap keyframes) */
     long last_index;
     double g_lo, g_hi;                 /* the range the frames were measured in */
     double h_out, f_out, pixels;
@@ -40,6 +40,7 @@ vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
     m->h = malloc(nk * sizeof(float));
     m->f = malloc(nk * sizeof(float));
     m->z = malloc(nk * sizeof(float));
+    m->id = malloc(nk * sizeof(float));
     m->ffw = calloc(2 * nk, sizeof(float));
     m->fbw = calloc(2 * nk, sizeof(float));
     m->f1 = malloc(np * sizeof(float));
@@ -51,7 +52,7 @@ vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
     m->last_index = -1;
     m->g_lo = desc->range_lo;
     m->g_hi = desc->range_hi;
-    if (!m->g || !m->h || !m->f || !m->z || !m->ffw || !m->fbw || !m->f1 || !m->f2 || !m->h1 || !m->h2 || !m->id1 ||
+    if (!m->g || !m->h || !m->f || !m->z || !m->id || !m->ffw || !m->fbw || !m->f1 || !m->f2 || !m->h1 || !m->h2 || !m->id1 ||
         !m->id2) {
         gpu_metrics_destroy(m);
         return VG_ERR_NOMEM;
@@ -64,7 +65,7 @@ void gpu_metrics_destroy(gpu_metrics *m)
 {
     if (!m)
         return;
-    free(m->g); free(m->h); free(m->f); free(m->z); free(m->ffw); free(m->fbw);
+    free(m->g); free(m->h); free(m->f); free(m->z); free(m->id); free(m->ffw); free(m->fbw);
     free(m->f1); free(m->f2); free(m->h1); free(m->h2); free(m->id1); free(m->id2);
     free(m);
 }
@@ -142,6 +143,10 @@ void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h,
     disp_grid_sample(&m->grid, h, 1, m->h + o);
     disp_grid_sample(&m->grid, f, 1, m->f + o);
     disp_grid_sample(&m->grid, depth, 1, m->z + o);
+    /* The instance at each sample: links stay on their instance (mid_window.c). */
+    for (int q = 0; q < m->ns; q++)
+        m->id[o + q] = (float)ids[(size_t)disp_grid_py(&m->grid, q / m->grid.nx) * m->d.width +
+                                  disp_grid_px(&m->grid, q % m->grid.nx)];
     float inv = 1.0f / (float)m->grid.stride;
     for (int q = 0; q < m->ns; q++) {
         const float *mv = motion + 4 * ((size_t)disp_grid_py(&m->grid, q / m->grid.nx) * m->d.width +
@@ -182,6 +187,7 @@ vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
     memcpy(w->g, m->g, n * sizeof(float));
     memcpy(w->h, m->h, n * sizeof(float));
     memcpy(w->depth, m->z, n * sizeof(float));
+    memcpy(w->id, m->id, n * sizeof(float));
     memcpy(w->flow_fwd, m->ffw, 2 * n * sizeof(float));
     memcpy(w->flow_bwd, m->fbw, 2 * n * sizeof(float));
     st = mid_window_build(w, NULL);

@@ -98,6 +98,9 @@ typedef unsigned int uint;
  * pixels, range sigma in arcmin of the guide h. */
 #define MID_SIGMA_SPATIAL 0.5f
 #define MID_SIGMA_RANGE 4.0f
+/* Spatial upsampling: the tent-weighted 2 x 2 samples decide when their
+ * weights (bilinear x range) sum to at least this; else the 4 x 4 Gaussian. */
+#define MID_TENT_MIN_WEIGHT 1e-4f
 
 /* Operators h = M(g, saliency) (disp_operator.c); kinds as disp_operator_kind. */
 #define DISP_OP_NONE 1u
@@ -399,7 +402,8 @@ struct mid_solve_state {
 #define MID_STORE_DEPTH 2u
 #define MID_STORE_FLOW_F 3u  /* 2 floats per sample */
 #define MID_STORE_FLOW_B 5u  /* 2 floats per sample */
-#define MID_STORE_FLOATS 7u
+#define MID_STORE_ID 7u      /* instance id (0: sky), as a float (exact below 2^24) */
+#define MID_STORE_FLOATS 8u
 /* Published solution: a header, then per ring slot ns ratios f / h. */
 struct mid_published {
     float range_lo, range_hi; /* the range f was solved in (the clamp of upsampling) */

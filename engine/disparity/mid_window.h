@@ -35,6 +35,8 @@ typedef struct mid_window {
     /* Inputs: n floats each, index k * ns + y * nx + x. */
     float *g, *h;       /* vergence, arcmin: original and manipulated */
     float *depth;       /* metres (any positive unit: only ratios are used) */
+    float *id;          /* instance id of the surface (0: sky), exact below 2^24; all 0 (the
+                           default) when unknown, as for sequences from files */
     float *flow_fwd;    /* 2n: (dx, dy) in coarse pixels to keyframe k+1 */
     float *flow_bwd;    /* 2n: (dx, dy) in coarse pixels to keyframe k-1 */
     float *dt;          /* nt - 1: seconds from keyframe k to k+1 */

@@ -90,10 +90,10 @@ vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out)
 
     static const VkDescriptorType IMG = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, BUF = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                   UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    static const VkDescriptorType types[P_COUNT][5] = {
+    static const VkDescriptorType types[P_COUNT][6] = {
         [P_FIT] = {IMG, IMG, BUF}, [P_MAP] = {IMG, BUF, IMG},
-        [P_TILES_FIT] = {UBO, IMG, IMG, BUF}, [P_TILES_STORE] = {UBO, IMG, IMG, BUF, BUF}};
-    static const uint32_t counts[P_COUNT] = {3, 3, 4, 5};
+        [P_TILES_FIT] = {UBO, IMG, IMG, BUF}, [P_TILES_STORE] = {UBO, IMG, IMG, BUF, BUF, IMG}};
+    static const uint32_t counts[P_COUNT] = {3, 3, 4, 6};
     static const char *const names[P_COUNT] = {"disparity.operator.fit", "disparity.operator",
                                                "mid.keyframes.fit", "mid.keyframes.store"};
     const struct { const uint32_t *code; size_t size; } spv[P_COUNT] = {
@@ -161,8 +161,8 @@ typedef struct binding {
 
 static void push(op_gpu *o, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_op_push *pc)
 {
-    VkWriteDescriptorSet w[5];
-    VkDescriptorBufferInfo bufs[5];
+    VkWriteDescriptorSet w[6];
+    VkDescriptorBufferInfo bufs[6];
     for (uint32_t i = 0; i < n; i++) {
         bufs[i] = (VkDescriptorBufferInfo){b[i].buffer, 0, VK_WHOLE_SIZE};
         w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
@@ -234,7 +234,7 @@ void op_gpu_record_tiles_fit(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles 
 void op_gpu_record_tiles_store(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t)
 {
     disp_op_push pc = tiles_push(o, t);
-    binding b[5] = {UBO(t->ubo), IMG(t->depth), IMG(t->motion), BUF(o->state.buffer), BUF(t->store)};
-    push(o, cmd, P_TILES_STORE, b, 5, &pc);
+    binding b[6] = {UBO(t->ubo), IMG(t->depth), IMG(t->motion), BUF(o->state.buffer), BUF(t->store), IMG(t->ids)};
+    push(o, cmd, P_TILES_STORE, b, 6, &pc);
     vkCmdDispatch(cmd, (t->tile_w + 7) / 8, (t->tile_h * t->tiles + 7) / 8, 1);
 }

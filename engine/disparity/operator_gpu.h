@@ -48,7 +48,7 @@ void op_gpu_record_map(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageIn
  * order; the store gets them in ring slots store_first, store_first + 1, ... */
 typedef struct op_gpu_tiles {
     VkBuffer ubo;                               /* vg_frame_ubo: rig and display for g */
-    const VkDescriptorImageInfo *depth, *color, *motion;
+    const VkDescriptorImageInfo *depth, *color, *motion, *ids;
     uint32_t tiles, tile_w, tile_h;
     VkBuffer store;
     uint32_t store_first, store_cap;

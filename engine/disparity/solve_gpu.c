@@ -263,7 +263,7 @@ static void arena_layout(mid_gpu *m)
     VkDeviceSize sz[MID_B_COUNT] = {
         [MID_B_STATE] = sizeof(mid_solve_state),
         [MID_B_PARTIAL] = blocks * MID_PARTIAL_FLOATS * f,
-        [MID_B_FIELD] = 3 * n * f,
+        [MID_B_FIELD] = 4 * n * f, /* g, h, depth, instance id */
         [MID_B_FLOW] = 4 * n * f,
         [MID_B_LINK] = 2 * n * sizeof(mid_link),
         [MID_B_ADJ_OFF] = 2 * (n + 1) * f,

@@ -321,8 +321,10 @@ static vg_status create_submission(frame *f)
         GPU_NAME(g, VK_OBJECT_TYPE_FENCE, f->fence[i], "frame fence slot %d", i);
         char name[32];
         snprintf(name, sizeof name, "frame ubo slot %d", i);
+        /* Storage too: warp.classify reads it as a storage buffer (common.glsl). */
         vg_status st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = name, .size = sizeof(vg_frame_ubo),
-                                                               .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                               .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                                                .host_visible = true}, &f->fc.ubo[i]);
         if (st != VG_OK)
             return st;

@@ -593,7 +593,9 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
                                     &w->curve_set, &w->curve_layout);
     if (st == VG_OK)
         st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_range, "warp.curve.range", &w->curve_range);
-    /* warp.classify: the scene bindings of set 0 plus its own buffers. */
+    /* warp.classify: the scene bindings of set 0 plus its own buffers; the
+     * frame constants as a storage buffer (shaders/common.glsl,
+     * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
     VkDescriptorType ctypes[VG_BINDING_TESS_LEVELS + 1];
     for (int i = 0; i <= VG_BINDING_TESS_LEVELS; i++)
         ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

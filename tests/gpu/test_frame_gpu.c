@@ -100,8 +100,10 @@ static int mid_cubes(void)
     return 0;
 }
 
-/* The balloon: f reduces the distortion and stays in range (its figures
- * are reported; docs/method.md "GPU passes" explains why not to half). */
+/* The balloon: f reduces the distortion and stays in range. Issue 4 asks
+ * for half of h's; the paper's weights cannot give it here: the converged
+ * optimum over these keyframes leaves 0.55 (docs/method.md, "Measured"),
+ * and the pipeline reaches 0.552. The bound guards that figure. */
 static int mid_balloon(void)
 {
     run_result r;
@@ -110,7 +112,7 @@ static int mid_balloon(void)
     report("balloon", &r.m);
     CHECK(r.validation == 0, "%d validation messages", r.validation);
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
-    CHECK(r.m.f.mid_distortion_jnd < 0.75 * r.m.h.mid_distortion_jnd, "f barely reduces the MID distortion");
+    CHECK(r.m.f.mid_distortion_jnd <= 0.6 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than 0.6 of h's");
     return 0;
 }
 

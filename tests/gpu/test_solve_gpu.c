@@ -37,6 +37,7 @@ static int open_window(gpu_window *c, synth_motion motion)
     memcpy(field, w->g, (size_t)w->n * sizeof(float));
     memcpy(field + cap, w->h, (size_t)w->n * sizeof(float));
     memcpy(field + 2 * (size_t)cap, w->depth, (size_t)w->n * sizeof(float));
+    memcpy(field + 3 * (size_t)cap, w->id, (size_t)w->n * sizeof(float));
     memcpy(flow, w->flow_fwd, 2 * (size_t)w->n * sizeof(float));
     memcpy(flow + 2 * (size_t)cap, w->flow_bwd, 2 * (size_t)w->n * sizeof(float));
     memcpy(invdt, w->inv_dt_f, (size_t)w->nt * sizeof(float));

@@ -113,6 +113,8 @@ static int depth_embree(const char *path, long index)
 static int test_depth_balloon(void) { return depth_embree("content/balloon.gltf", 90); }
 static int test_depth_cubes(void) { return depth_embree("content/cubes.gltf", 90); }
 static int test_depth_arena(void) { return depth_embree("content/arena.gltf", 90); }
+/* Skinned wings, a morphing tail, a moving camera (docs/content.md). */
+static int test_depth_bird(void) { return depth_embree("content/bird.gltf", 90); }
 
 /* ------------------------------------------------------------------------- */
 /* motion_cubes                                                              */
@@ -407,6 +409,7 @@ int main(int argc, char **argv)
         {"depth_embree.balloon", test_depth_balloon},
         {"depth_embree.cubes", test_depth_cubes},
         {"depth_embree.arena", test_depth_arena},
+        {"depth_embree.bird", test_depth_bird},
         {"motion_cubes", test_motion_cubes},
         {"deterministic", test_deterministic},
     };
