@@ -60,7 +60,7 @@ typedef unsigned int uint;
 /* The frame's window moves by one keyframe interval and starts from the last
  * solution (paper 4.5): outer iterations per move after the first window.
  * 240 frames at 320x180 (gpu.frame.mid_*), f/h of the MID distortion with
- * 4 / 3 / 2: cubes 0.364 / 0.356 / 0.500, balloon 0.658 / 0.687 / 0.570. */
+ * 3 / 2: cubes 0.499 / 0.500, balloon 0.552 / 0.630. */
 #define MID_GN_WARM_ITERATIONS 3
 /* A flow link is valid when the bilinear taps that pass the depth test
  * carry at least this much of the bilinear weight (occlusion, Sec. 4.4). */
