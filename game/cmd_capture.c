@@ -335,6 +335,14 @@ static void json_science(vg_json *j, const frame_desc *fd, const gpu_metrics_res
     vg_json_object_begin(j, "metrics");
     json_field_metrics(j, "h", &r->h, r->h_range_violation, &r->h_d2);
     json_field_metrics(j, "f", &r->f, r->f_range_violation, &r->f_d2);
+    /* The correction f - h (what the pipeline adds): a kink of the
+     * upsampling in time shows at the keyframes themselves. */
+    vg_json_object_begin(j, "correction_second_difference");
+    vg_json_num(j, "at_keyframe_boundaries", r->c_d2.boundary);
+    vg_json_num(j, "between_keyframes", r->c_d2.between);
+    vg_json_num(j, "at_keyframes", r->c_d2.at_key);
+    vg_json_num(j, "next_to_keyframes", r->c_d2.next_to_key);
+    vg_json_object_end(j);
     vg_json_num(j, "mid_reduction",
                 r->h.mid_distortion_jnd > 0 ? 1.0 - r->f.mid_distortion_jnd / r->h.mid_distortion_jnd : 0.0);
     vg_json_str(j, "operator", disp_operator_kind_name(fd->op));

@@ -2,10 +2,10 @@
 #extension GL_GOOGLE_include_directive : require
 // mid.upsample.time: the ratio at the coarse samples of this frame, from the
 // two nearest keyframes along the motion (the G-buffer's exact motion to the
-// previous and next keyframe), each keyframe's ratio sampled bilinearly over
-// the taps that pass the depth test, weighted by temporal distance; a
-// keyframe that fails (occluded, out of frame) drops out
-// (disp_upsample_temporal()).
+// previous and next keyframe), each keyframe's ratio and slope sampled
+// bilinearly over the taps that pass the depth test, interpolated by cubic
+// Hermite in time (C1 at keyframes); a keyframe that fails (occluded, out of
+// frame) drops out (disp_upsample_temporal()).
 #include "mid_upsample.glsl"
 layout(local_size_x = 64) in;
 layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
@@ -27,23 +27,25 @@ vec2 advect(ivec2 x, vec2 m)
 }
 
 float key_ratio(uint slot, int q) { return pub_ratio[slot * up.nx * up.ny + uint(q)]; }
+float key_slope(uint slot, int q) { return pub_ratio[(up.store_cap + slot) * up.nx * up.ny + uint(q)]; }
 float key_depth(uint slot, int q)
 {
     return store[slot * MID_STORE_FLOATS * up.nx * up.ny + MID_STORE_DEPTH * up.nx * up.ny + uint(q)];
 }
 
-// The keyframe's ratio at a full-resolution position: bilinear over the
-// coarse samples, keeping only taps on the same surface (sample_keyframe()).
-vec2 sample_keyframe(vec2 pos, float z, uint slot, bool test_depth)
+// The keyframe's ratio, weight and slope at a full-resolution position:
+// bilinear over the coarse samples, keeping only taps on the same surface
+// (sample_keyframe()).
+vec3 sample_keyframe(vec2 pos, float z, uint slot, bool test_depth)
 {
     if (pos.x == LOST)
-        return vec2(1.0, 0.0);
+        return vec3(1.0, 0.0, 0.0);
     float s2 = float(up.stride / 2u);
     float cx = min(max((pos.x - s2) / float(up.stride), 0.0), float(up.nx - 1u));
     float cy = min(max((pos.y - s2) / float(up.stride), 0.0), float(up.ny - 1u));
     int x0 = int(cx), y0 = int(cy);
     float fx = cx - float(x0), fy = cy - float(y0);
-    float acc = 0.0, wsum = 0.0;
+    float acc = 0.0, wsum = 0.0, sacc = 0.0;
     for (int t = 0; t < 4; t++) {
         int x = x0 + (t & 1), y = y0 + (t >> 1);
         float w = ((t & 1) != 0 ? fx : 1.0 - fx) * ((t >> 1) != 0 ? fy : 1.0 - fy);
@@ -54,9 +56,10 @@ vec2 sample_keyframe(vec2 pos, float z, uint slot, bool test_depth)
         if (test_depth && !(z > 0.0 && d > 0.0 && abs(log(d / z)) <= up.log_tol))
             continue;
         acc += w * key_ratio(slot, q);
+        sacc += w * key_slope(slot, q);
         wsum += w;
     }
-    return vec2(wsum > 0.0 ? acc / wsum : 1.0, wsum);
+    return wsum > 0.0 ? vec3(acc / wsum, wsum, sacc / wsum) : vec3(1.0, 0.0, 0.0);
 }
 
 void main()
@@ -70,16 +73,20 @@ void main()
     // At a keyframe only k0 counts, at the sample itself.
     vec2 pos0 = up.at_key != 0u ? vec2(x) : advect(x, m.xy);
     vec2 pos1 = up.at_key != 0u ? vec2(LOST) : advect(x, m.zw);
-    vec2 a = sample_keyframe(pos0, z, up.slot0, true);
-    vec2 b = vec2(1.0, 0.0);
+    vec3 a = sample_keyframe(pos0, z, up.slot0, true);
+    vec3 b = vec3(1.0, 0.0, 0.0);
     bool has1 = up.has1 != 0u && up.at_key == 0u;
     if (has1 && up.tau > 0.0)
         b = sample_keyframe(pos1, z, up.slot1, true);
-    // Fig. 4: interpolate along the flow by temporal distance.
-    float wa = (1.0 - up.tau) * (a.y >= MID_LINK_MIN_WEIGHT ? 1.0 : 0.0);
-    float wb = up.tau * (b.y >= MID_LINK_MIN_WEIGHT ? 1.0 : 0.0);
-    if (wa + wb > 0.0) {
-        ratio_t[q] = (wa * a.x + wb * b.x) / (wa + wb);
+    // Fig. 4: interpolate along the flow in time; one keyframe alone when
+    // the other fails.
+    bool ok0 = a.y >= MID_LINK_MIN_WEIGHT && up.tau < 1.0, ok1 = b.y >= MID_LINK_MIN_WEIGHT && up.tau > 0.0;
+    if (ok0 && ok1) {
+        ratio_t[q] = mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span);
+        return;
+    }
+    if (ok0 || ok1) {
+        ratio_t[q] = ok0 ? a.x : b.x;
         return;
     }
     // Both lost (disocclusion, or out of frame for both): the temporally

@@ -300,17 +300,19 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     int nc = w->ns, row = d->row >= 0 && d->row < s->h ? d->row : s->h / 2;
     float *g = malloc(np * sizeof(float)), *h = malloc(np * sizeof(float)), *z = malloc(np * sizeof(float));
     float *f = malloc(np * sizeof(float)), *ratio = malloc((size_t)w->n * sizeof(float));
+    float *slope = malloc((size_t)w->n * sizeof(float));
     float *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     float *prev = malloc((size_t)s->stride * nf2 * sizeof(float)), *next = malloc((size_t)s->stride * nf2 * sizeof(float));
     vg_status st = VG_OK;
-    if (!g || !h || !z || !f || !ratio || !zc || !rt || !pos0 || !pos1 || !prev || !next) {
+    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !pos0 || !pos1 || !prev || !next) {
         st = VG_ERR_NOMEM;
         goto done;
     }
     /* Fig. 4: the correction is the ratio f / h (vergence is never 0). */
     for (int i = 0; i < w->n; i++)
         ratio[i] = f_sol[i] / w->h[i];
+    mid_window_ratio_slopes(w, ratio, slope);
     disp_upsample_desc ud = {.grid = s->grid, .occlusion_tolerance = d->occlusion_tolerance,
                              .range_lo = (float)s->lo, .range_hi = (float)s->hi};
     disp_operator_reset(s->op);
@@ -323,8 +325,11 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             if (st == VG_OK)
                 st = read_flow(s, t, true, next + (size_t)(t - t0) * nf2);
         }
-        const float *r0 = ratio + (size_t)k * nc, *z0 = w->depth + (size_t)k * nc;
-        const float *r1 = k + 1 < s->nt ? r0 + nc : NULL, *z1 = k + 1 < s->nt ? z0 + nc : NULL;
+        size_t ko = (size_t)k * nc;
+        disp_keyframe_view k0 = {pos0, ratio + ko, slope + ko, w->depth + ko};
+        disp_keyframe_view k1 = {pos1, ratio + ko + nc, slope + ko + nc, w->depth + ko + nc};
+        bool has1 = k + 1 < s->nt;
+        float span = has1 && w->inv_dt_f[k] > 0 ? 1.0f / w->inv_dt_f[k] : 0.0f;
         for (int t = t0; t < t_end && st == VG_OK; t++) {
             vg_progress("optimize: writing", t - d->first, s->frames);
             st = read_g(s, t, g);
@@ -343,7 +348,7 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             for (int m = t; m < t1 && t > t0; m++) /* at a keyframe only k0 counts */
                 disp_flow_advect(next + (size_t)(m - t0) * nf2, s->w, s->h, pos1, nc);
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
-            disp_upsample_temporal(&ud, tau, zc, pos0, r0, z0, r1 ? pos1 : NULL, r1, z1, rt, s->pool);
+            disp_upsample_temporal(&ud, tau, span, zc, &k0, has1 ? &k1 : NULL, rt, s->pool);
             disp_upsample_spatial(&ud, h, rt, f, s->pool);
             char path[PATH_CAP], name[64];
             snprintf(name, sizeof name, "f_%04d.pfm", t);
@@ -364,7 +369,7 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     if (st == VG_OK)
         vg_progress("optimize: writing", s->frames, s->frames);
 done:
-    free(g); free(h); free(z); free(f); free(ratio); free(zc); free(rt);
+    free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt);
     free(pos0); free(pos1); free(prev); free(next);
     return st;
 }

@@ -76,17 +76,16 @@ void disp_flow_advect(const float *flow, int w, int h, float *pos, int count)
 /* ------------------------------------------------------------------------- */
 
 typedef struct keyframe_sample {
-    float ratio;
+    float ratio, slope;
     float weight; /* bilinear weight that passed the depth test */
 } keyframe_sample;
 
-/* The keyframe's ratio at a full-resolution position: bilinear over the
- * coarse samples, keeping only taps on the same surface (depth test). */
+/* The keyframe's ratio and slope at a full-resolution position: bilinear
+ * over the coarse samples, keeping only taps on the same surface (depth test). */
 static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, float z,
-                                       const float *ratio, const float *depth, float log_tol,
-                                       bool test_depth)
+                                       const disp_keyframe_view *k, float log_tol, bool test_depth)
 {
-    keyframe_sample s = {1.0f, 0.0f};
+    keyframe_sample s = {1.0f, 0.0f, 0.0f};
     if (isnan(px) || isnan(py))
         return s;
     float s2 = (float)(g->stride / 2);
@@ -94,28 +93,32 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
     float cy = fminf(fmaxf((py - s2) / (float)g->stride, 0.0f), (float)(g->ny - 1));
     int x0 = (int)cx, y0 = (int)cy;
     float fx = cx - (float)x0, fy = cy - (float)y0;
-    float acc = 0.0f, wsum = 0.0f;
+    float acc = 0.0f, sacc = 0.0f, wsum = 0.0f;
     for (int t = 0; t < 4; t++) {
         int x = x0 + (t & 1), y = y0 + (t >> 1);
         float w = ((t & 1) ? fx : 1 - fx) * ((t >> 1) ? fy : 1 - fy);
         if (w <= 0.0f || x >= g->nx || y >= g->ny)
             continue;
         int q = y * g->nx + x;
-        if (test_depth && !(z > 0.0f && depth[q] > 0.0f && fabsf(logf(depth[q] / z)) <= log_tol))
+        if (test_depth && !(z > 0.0f && k->depth[q] > 0.0f && fabsf(logf(k->depth[q] / z)) <= log_tol))
             continue;
-        acc += w * ratio[q];
+        acc += w * k->ratio[q];
+        sacc += w * (k->slope ? k->slope[q] : 0.0f);
         wsum += w;
     }
-    if (wsum > 0.0f)
+    if (wsum > 0.0f) {
         s.ratio = acc / wsum;
+        s.slope = sacc / wsum;
+    }
     s.weight = wsum;
     return s;
 }
 
 typedef struct time_ctx {
     const disp_upsample_desc *d;
-    float tau, log_tol;
-    const float *depth_t, *pos0, *ratio0, *depth0, *pos1, *ratio1, *depth1;
+    float tau, span, log_tol;
+    const float *depth_t;
+    const disp_keyframe_view *k0, *k1;
     float *out;
 } time_ctx;
 
@@ -124,46 +127,48 @@ static void temporal_block(void *c, int block, int begin, int end)
     (void)block;
     time_ctx *x = c;
     const disp_grid *g = &x->d->grid;
+    const disp_keyframe_view *k0 = x->k0, *k1 = x->k1;
     for (int q = begin; q < end; q++) {
         float z = x->depth_t[q];
-        keyframe_sample a = sample_keyframe(g, x->pos0[2 * q], x->pos0[2 * q + 1], z, x->ratio0,
-                                            x->depth0, x->log_tol, true);
-        keyframe_sample b = {1.0f, 0.0f};
-        if (x->pos1 && x->tau > 0.0f)
-            b = sample_keyframe(g, x->pos1[2 * q], x->pos1[2 * q + 1], z, x->ratio1, x->depth1,
-                                x->log_tol, true);
-        /* Fig. 4: interpolate along the flow by temporal distance; a keyframe
-         * whose sample is occluded (depth test) or out of frame drops out. */
-        float wa = (1.0f - x->tau) * (a.weight >= MID_LINK_MIN_WEIGHT ? 1.0f : 0.0f);
-        float wb = x->tau * (b.weight >= MID_LINK_MIN_WEIGHT ? 1.0f : 0.0f);
-        if (wa + wb > 0.0f) {
-            x->out[q] = (wa * a.ratio + wb * b.ratio) / (wa + wb);
+        keyframe_sample a = sample_keyframe(g, k0->pos[2 * q], k0->pos[2 * q + 1], z, k0, x->log_tol, true);
+        keyframe_sample b = {1.0f, 0.0f, 0.0f};
+        if (k1 && x->tau > 0.0f)
+            b = sample_keyframe(g, k1->pos[2 * q], k1->pos[2 * q + 1], z, k1, x->log_tol, true);
+        /* Fig. 4: interpolate along the flow in time, by cubic Hermite with
+         * the keyframes' slopes (C1 at keyframes), or linearly without them;
+         * a keyframe whose sample is occluded (depth test) or out of frame
+         * drops out. */
+        bool ok0 = a.weight >= MID_LINK_MIN_WEIGHT && x->tau < 1.0f;
+        bool ok1 = b.weight >= MID_LINK_MIN_WEIGHT && x->tau > 0.0f;
+        if (ok0 && ok1) {
+            x->out[q] = k0->slope && k1->slope ? mid_hermite(a.ratio, a.slope, b.ratio, b.slope, x->tau, x->span)
+                                               : (1.0f - x->tau) * a.ratio + x->tau * b.ratio;
+            continue;
+        }
+        if (ok0 || ok1) {
+            x->out[q] = ok0 ? a.ratio : b.ratio;
             continue;
         }
         /* Both lost (disocclusion, or out of frame for both): the temporally
          * nearer keyframe at the tracked position, else at the sample itself. */
-        bool near0 = x->tau < 0.5f || !x->pos1;
-        const float *pos = near0 ? x->pos0 : x->pos1;
-        float px = pos[2 * q], py = pos[2 * q + 1];
+        bool near0 = x->tau < 0.5f || !k1;
+        const disp_keyframe_view *k = near0 ? k0 : k1;
+        float px = k->pos[2 * q], py = k->pos[2 * q + 1];
         if (isnan(px) || isnan(py)) {
             px = (float)disp_grid_px(g, q % g->nx);
             py = (float)disp_grid_py(g, q / g->nx);
         }
-        keyframe_sample s = sample_keyframe(g, px, py, z, near0 ? x->ratio0 : x->ratio1,
-                                            near0 ? x->depth0 : x->depth1, x->log_tol, false);
-        x->out[q] = s.ratio;
+        x->out[q] = sample_keyframe(g, px, py, z, k, x->log_tol, false).ratio;
     }
 }
 
-void disp_upsample_temporal(const disp_upsample_desc *d, float tau, const float *depth_t,
-                            const float *pos0, const float *ratio0, const float *depth0,
-                            const float *pos1, const float *ratio1, const float *depth1,
-                            float *ratio_t, vg_pool *pool)
+void disp_upsample_temporal(const disp_upsample_desc *d, float tau, float span, const float *depth_t,
+                            const disp_keyframe_view *k0, const disp_keyframe_view *k1, float *ratio_t,
+                            vg_pool *pool)
 {
     float tol = d->occlusion_tolerance > 0 ? d->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
-    time_ctx c = {.d = d, .tau = tau, .log_tol = logf(1.0f + tol), .depth_t = depth_t,
-                  .pos0 = pos0, .ratio0 = ratio0, .depth0 = depth0,
-                  .pos1 = pos1, .ratio1 = ratio1, .depth1 = depth1, .out = ratio_t};
+    time_ctx c = {.d = d, .tau = tau, .span = span, .log_tol = logf(1.0f + tol), .depth_t = depth_t,
+                  .k0 = k0, .k1 = k1, .out = ratio_t};
     vg_parallel_for(pool, d->grid.nx * d->grid.ny, MID_BLOCK, temporal_block, &c);
 }
 

@@ -3,8 +3,9 @@
  * r = f / h (vergence is never 0, DESIGN.md), so f = h * r keeps every fine
  * detail of the full-resolution h.
  *   Time:  r at the coarse samples of frame t from the two nearest keyframes,
- *          along the flow, weighted by temporal distance; a keyframe whose
- *          sample fails the depth test (occlusion) or left the frame drops out.
+ *          along the flow, by cubic Hermite on their ratios and slopes; a
+ *          keyframe whose sample fails the depth test (occlusion) or left
+ *          the frame drops out.
  *   Space: joint bilateral upsampling (Kopf et al. 2007) of r, guided by the
  *          full-resolution h of frame t; then f = clamp(h r, target range).
  * Equations: docs/method.md "Upsampling". */
@@ -47,14 +48,21 @@ typedef struct disp_upsample_desc {
     float range_lo, range_hi;  /* clamp of f; both 0 = none */
 } disp_upsample_desc;
 
-/* Time. tau = (t - t0) / (t1 - t0). depth_t: coarse depth of frame t;
- * pos0 / pos1: where frame t's coarse samples are in keyframes k0 / k1
- * (full-resolution pixels, NaN when lost; pos1 may be NULL when tau = 0);
- * ratio*, depth*: the keyframes' coarse f/h and depth. Writes ratio_t. */
-void disp_upsample_temporal(const disp_upsample_desc *d, float tau, const float *depth_t,
-                            const float *pos0, const float *ratio0, const float *depth0,
-                            const float *pos1, const float *ratio1, const float *depth1,
-                            float *ratio_t, vg_pool *pool);
+/* One keyframe as frame t sees it (coarse arrays of the keyframe). */
+typedef struct disp_keyframe_view {
+    const float *pos;   /* where frame t's coarse samples are in it (full-resolution px, 2 floats; NaN lost) */
+    const float *ratio; /* f / h */
+    const float *slope; /* d(f / h)/dt along the motion, per second (mid_window_ratio_slopes); NULL: linear */
+    const float *depth;
+} disp_keyframe_view;
+
+/* Time. tau = (t - t0) / (t1 - t0), span = t1 - t0 in seconds; depth_t:
+ * coarse depth of frame t; k1 may be NULL (no later keyframe, or tau = 0).
+ * Cubic Hermite between the keyframes when both have slopes (C1 at
+ * keyframes), else linear. Writes ratio_t. */
+void disp_upsample_temporal(const disp_upsample_desc *d, float tau, float span, const float *depth_t,
+                            const disp_keyframe_view *k0, const disp_keyframe_view *k1, float *ratio_t,
+                            vg_pool *pool);
 
 /* Space. f_full = clamp(h_full * JBU(ratio_coarse; guide h_full)). */
 void disp_upsample_spatial(const disp_upsample_desc *d, const float *h_full,

@@ -349,7 +349,8 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
     d->up = (ups_gpu_frame){
         .width = d->fc->desc.width, .height = d->fc->desc.height, .stride = d->stride,
         .tau = (float)phase / (float)d->interval, .at_key = phase == 0, .has1 = true,
-        .slot0 = ring_slot(d, k), .slot1 = ring_slot(d, k + 1),
+        .slot0 = ring_slot(d, k), .slot1 = ring_slot(d, k + 1), .slots = (uint32_t)d->ring,
+        .span = (float)(d->fc->desc.keyframe_stride / d->fc->desc.fps),
     };
     return VG_OK;
 }
@@ -430,7 +431,7 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
                                                      .usage = usage}, &d->store);
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.published",
-                                                     .size = sizeof(mid_published) + (VkDeviceSize)d->ring * d->ns * sizeof(float),
+                                                     .size = sizeof(mid_published) + 2 * (VkDeviceSize)d->ring * d->ns * sizeof(float),
                                                      .usage = usage}, &d->published);
     if (st == VG_OK)
         st = mid_gpu_create(g, &(mid_gpu_desc){.nx = (int)d->nx, .ny = (int)d->ny,

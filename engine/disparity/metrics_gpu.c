@@ -22,7 +22,7 @@ struct gpu_metrics {
     float *f1, *f2, *h1, *h2;
     uint32_t *id1, *id2;
     int held;
-    gpu_second_difference f_d2, h_d2;
+    gpu_second_difference f_d2, h_d2, c_d2;
 };
 
 vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
@@ -78,29 +78,42 @@ static long outside(const float *x, size_t n, double lo, double hi)
     return c;
 }
 
-/* Second difference at frame t - 1 (x1), from t - 2 (x2) and t (x). */
+/* Second difference at frame t - 1 (x1), from t - 2 (x2) and t (x); of
+ * x - y when y is given (y1, y2 the same frames of y). */
 static void second_difference(gpu_metrics *m, gpu_second_difference *acc, const float *x, const float *x1,
-                              const float *x2, const uint32_t *ids, long t_mid)
+                              const float *x2, const float *y, const float *y1, const float *y2,
+                              const uint32_t *ids, long t_mid)
 {
     size_t np = (size_t)m->d.width * m->d.height, n = 0;
     double sum = 0;
     for (size_t i = 0; i < np; i++) {
         if (!ids[i] || ids[i] != m->id1[i] || ids[i] != m->id2[i])
             continue;
-        sum += fabs((double)x[i] - 2.0 * x1[i] + x2[i]);
+        double d2 = (double)x[i] - 2.0 * x1[i] + x2[i];
+        if (y)
+            d2 -= (double)y[i] - 2.0 * y1[i] + y2[i];
+        sum += fabs(d2);
         n++;
     }
     if (!n)
         return;
+    double mean = sum / (double)n;
     int s = m->d.keyframe_stride;
     long ph = ((t_mid % s) + s) % s;
     bool boundary = ph == 0 || ph == s - 1; /* f(t_mid + 1) or f(t_mid) starts an interval */
     if (boundary) {
-        acc->boundary += sum / (double)n;
+        acc->boundary += mean;
         acc->boundary_frames++;
     } else {
-        acc->between += sum / (double)n;
+        acc->between += mean;
         acc->between_frames++;
+    }
+    if (ph == 0) {
+        acc->at_key += mean;
+        acc->key_frames++;
+    } else if (ph == 1 || ph == s - 1) {
+        acc->next_to_key += mean;
+        acc->next_frames++;
     }
 }
 
@@ -119,8 +132,9 @@ void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h,
     m->g_hi = hi > m->g_hi ? hi : m->g_hi;
     m->pixels += (double)np;
     if (m->held >= 2 && index == m->last_index + 1) {
-        second_difference(m, &m->f_d2, f, m->f1, m->f2, ids, index - 1);
-        second_difference(m, &m->h_d2, h, m->h1, m->h2, ids, index - 1);
+        second_difference(m, &m->f_d2, f, m->f1, m->f2, NULL, NULL, NULL, ids, index - 1);
+        second_difference(m, &m->h_d2, h, m->h1, m->h2, NULL, NULL, NULL, ids, index - 1);
+        second_difference(m, &m->c_d2, f, m->f1, m->f2, h, m->h1, m->h2, ids, index - 1);
     }
     if (index != m->last_index + 1)
         m->held = 0;
@@ -167,10 +181,13 @@ vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
     out->f_range_violation = m->pixels > 0 ? m->f_out / m->pixels : 0;
     out->f_d2 = m->f_d2;
     out->h_d2 = m->h_d2;
-    gpu_second_difference *d2[2] = {&out->f_d2, &out->h_d2};
-    for (int i = 0; i < 2; i++) {
+    out->c_d2 = m->c_d2;
+    gpu_second_difference *d2[3] = {&out->f_d2, &out->h_d2, &out->c_d2};
+    for (int i = 0; i < 3; i++) {
         d2[i]->boundary = d2[i]->boundary_frames ? d2[i]->boundary / d2[i]->boundary_frames : 0;
         d2[i]->between = d2[i]->between_frames ? d2[i]->between / d2[i]->between_frames : 0;
+        d2[i]->at_key = d2[i]->key_frames ? d2[i]->at_key / d2[i]->key_frames : 0;
+        d2[i]->next_to_key = d2[i]->next_frames ? d2[i]->next_to_key / d2[i]->next_frames : 0;
     }
     out->range_lo = m->g_lo;
     out->range_hi = m->g_hi;

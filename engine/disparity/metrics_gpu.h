@@ -25,16 +25,18 @@ typedef struct gpu_metrics_desc {
 
 /* Mean |f(t+1) - 2 f(t) + f(t-1)| over pixels that show the same instance in
  * all three frames, at frames next to a keyframe boundary (t or t + 1 a
- * keyframe) and at the others. */
+ * keyframe) and at the others; and, to see a kink of the interpolation in
+ * time, at keyframes (t a keyframe) and at the frames either side of them. */
 typedef struct gpu_second_difference {
-    double boundary, between;
-    int boundary_frames, between_frames;
+    double boundary, between, at_key, next_to_key;
+    int boundary_frames, between_frames, key_frames, next_frames;
 } gpu_second_difference;
 
 typedef struct gpu_metrics_result {
     disp_metrics h, f;
     double h_range_violation, f_range_violation; /* over every pixel of every frame */
     gpu_second_difference f_d2, h_d2;
+    gpu_second_difference c_d2; /* of the correction f - h: what the pipeline adds to h */
     int keyframes;
     double range_lo, range_hi;
 } gpu_metrics_result;

@@ -244,6 +244,33 @@ MID_FN mid_pixel mid_pixel_eval(float f, float fa, float fb, float inv_dt_f, flo
 }
 
 /* ------------------------------------------------------------------------- */
+/* Temporal upsampling (Sec. 4.4, docs/method.md Sec. 8)                     */
+/* ------------------------------------------------------------------------- */
+
+/* Slope in time (per second) of the ratio r = f / h at a keyframe sample,
+ * along the motion: the mean of the one-sided slopes to the keyframes its
+ * links reach (rf = (A_f r)_i, rb = (A_b r)_i), one of them alone, or 0. */
+MID_FN float mid_ratio_slope(float r, float rf, float rb, uint has_f, uint has_b, float inv_dt_f, float inv_dt_b)
+{
+    float sf = (rf - r) * inv_dt_f, sb = (r - rb) * inv_dt_b;
+    if (has_f != 0u && has_b != 0u)
+        return 0.5f * (sf + sb);
+    return has_f != 0u ? sf : has_b != 0u ? sb : 0.0f;
+}
+
+/* The ratio between keyframes k0 (r0, slope s0) and k1 (r1, s1) at
+ * tau = (t - t0) / (t1 - t0), span = t1 - t0 seconds: cubic Hermite, so the
+ * correction is C1 in time. Linear interpolation kinks at every keyframe
+ * (an acceleration impulse of the whole interval's curvature in one frame);
+ * with s0 = s1 = (r1 - r0) / span this is that linear interpolation. */
+MID_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, float span)
+{
+    float t2 = tau * tau, t3 = t2 * tau;
+    return (2.0f * t3 - 3.0f * t2 + 1.0f) * r0 + (t3 - 2.0f * t2 + tau) * span * s0 +
+           (3.0f * t2 - 2.0f * t3) * r1 + (t3 - t2) * span * s1;
+}
+
+/* ------------------------------------------------------------------------- */
 /* Global depth -> disparity curve (Sec. 4.6)                                */
 /* ------------------------------------------------------------------------- */
 
@@ -439,7 +466,9 @@ struct disp_upsample_push {
     uint full_w, full_h, stride, nx;
     uint ny, slot0, slot1, has1;  /* ring slots of the keyframes before (k0) and after (k1) */
     float tau, log_tol, inv_2ss, inv_2sr;
-    uint at_key, store_cap, unused0, unused1; /* at_key: frame t is keyframe k0 (tau = 0) */
+    uint at_key, store_cap;       /* at_key: frame t is keyframe k0 (tau = 0); store_cap: ring slots */
+    float span;                   /* seconds from k0 to k1 */
+    uint unused0;
 };
 
 #if defined(__STDC__) || defined(__cplusplus)

@@ -361,3 +361,14 @@ void mid_window_warm_start(const mid_window *w, const float *prev, int shift, fl
         memcpy(out + (size_t)k * w->ns, from, (size_t)w->ns * sizeof(float));
     }
 }
+
+void mid_window_ratio_slopes(const mid_window *w, const float *ratio, float *slope)
+{
+    for (int i = 0; i < w->n; i++) {
+        int k = i / w->ns;
+        float r = ratio[i];
+        float rf = w->fwd[i].mask ? mid_link_gather(w->fwd, w->nx, i, ratio) : r;
+        float rb = w->bwd[i].mask ? mid_link_gather(w->bwd, w->nx, i, ratio) : r;
+        slope[i] = mid_ratio_slope(r, rf, rb, w->fwd[i].mask, w->bwd[i].mask, w->inv_dt_f[k], w->inv_dt_b[k]);
+    }
+}

@@ -19,6 +19,8 @@ typedef struct ups_gpu_frame {
     bool at_key;                     /* t is keyframe k0 itself */
     bool has1;                       /* keyframe k1 is available */
     uint32_t slot0, slot1;           /* ring slots of k0, k1 (store and published ratios) */
+    uint32_t slots;                  /* ring slots of the published ratios (their slopes follow) */
+    float span;                      /* seconds from k0 to k1 */
     float occlusion_tolerance;       /* relative depth, 0 = MID_OCCLUSION_TOLERANCE */
     float sigma_spatial, sigma_range;/* 0 = MID_SIGMA_SPATIAL, MID_SIGMA_RANGE */
 } ups_gpu_frame;
@@ -28,7 +30,8 @@ void ups_gpu_destroy(ups_gpu *u);
 
 /* Coarse ratio of the frame (nx * ny floats in ratio) from depth, motion
  * (RGBA32F: px to the previous keyframe xy, to the next zw), the keyframe
- * store and the published ratios. */
+ * store and the published ratios and slopes (mid_published, then
+ * slots x nx x ny ratios, then as many slopes per second). */
 void ups_gpu_record_time(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, VkBuffer store, VkBuffer published, VkBuffer ratio);
 /* Full-resolution f from h and the coarse ratio, clamped to the published range. */

@@ -7,6 +7,7 @@
 
 #include "../test.h"
 #include "disparity/disp_upsample.h"
+#include "disparity/mid_shared.h"
 
 #define FW 160
 #define FH 90
@@ -124,7 +125,8 @@ static int temporal_flow_and_occlusion(void)
         pos1[2 * q + 1] = py;
         pos0[2 * q] = px + (st ? (float)(x0 - xt) : 0.0f);
     }
-    disp_upsample_temporal(&d, 0.5f, depth_t, pos0, ratio0, depth0, pos1, ratio1, depth1, out, NULL);
+    disp_keyframe_view k0 = {pos0, ratio0, NULL, depth0}, k1 = {pos1, ratio1, NULL, depth1};
+    disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, depth_t, &k0, &k1, out, NULL);
     double err_square = 0, err_uncovered = 0, err_static = 0;
     int n_square = 0, n_uncovered = 0;
     for (int q = 0; q < nc; q++) {
@@ -148,12 +150,69 @@ static int temporal_flow_and_occlusion(void)
     CHECK(err_static < 1e-6, "%.3g", err_static);
     /* At a keyframe (tau 0) the keyframe's own correction comes back exactly. */
     disp_grid_positions(&d.grid, pos0);
-    disp_upsample_temporal(&d, 0.0f, depth0, pos0, ratio0, depth0, NULL, NULL, NULL, out, NULL);
+    disp_upsample_temporal(&d, 0.0f, 0.0f, depth0, &k0, NULL, out, NULL);
     for (int q = 0; q < nc; q++)
         CHECK(out[q] == ratio0[q], "tau 0, sample %d: %.7f vs %.7f", q, out[q], ratio0[q]);
 #undef IN_SQUARE
     free(ratio0); free(ratio1); free(depth0); free(depth1); free(depth_t);
     free(pos0); free(pos1); free(out);
+    return 0;
+}
+
+/* Hermite in time: three keyframes of a static scene whose correction is
+ * quadratic in time, slopes from mid_ratio_slope (central at the middle
+ * keyframe, the exact derivative at the ends). The frames' second
+ * differences equal the quadratic's everywhere, keyframes included; linear
+ * interpolation (no slopes) puts a whole interval's curvature into the
+ * keyframe's frame: the kink this removes. */
+static int temporal_hermite(void)
+{
+    disp_upsample_desc d = desc_default();
+    int nc = d.grid.nx * d.grid.ny, frames = 10;
+    const float span = 1.0f / 6.0f, b = 0.05f, c = 0.3f;
+    float *r = malloc(3 * (size_t)nc * sizeof(float)), *sl = malloc(3 * (size_t)nc * sizeof(float));
+    float *depth = malloc(nc * sizeof(float)), *pos = malloc(2 * (size_t)nc * sizeof(float));
+    float *out = malloc((2 * (size_t)frames + 1) * nc * sizeof(float));
+    CHECK(r && sl && depth && pos && out, "memory");
+    disp_grid_positions(&d.grid, pos);
+    for (int q = 0; q < nc; q++) {
+        depth[q] = 5.0f;
+        float a = 1.0f + 0.01f * (float)(q % 7);
+        for (int k = 0; k < 3; k++) {
+            float t = (float)k * span;
+            r[k * nc + q] = a + b * t + c * t * t;
+        }
+        for (int k = 0; k < 3; k += 2)
+            sl[k * nc + q] = b + 2.0f * c * (float)k * span;
+        sl[nc + q] = mid_ratio_slope(r[nc + q], r[2 * nc + q], r[q], 1u, 1u, 1.0f / span, 1.0f / span);
+    }
+    double worst = 0, lin_knot = 0, lin_between = 0;
+    double exact = 2.0 * c * (double)(span / frames) * (span / frames);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int t = 0; t <= 2 * frames; t++) {
+            int k = t < frames ? 0 : 1;
+            float tau = (float)(t - k * frames) / (float)frames;
+            disp_keyframe_view k0 = {pos, r + (size_t)k * nc, pass ? NULL : sl + (size_t)k * nc, depth};
+            disp_keyframe_view k1 = {pos, r + (size_t)(k + 1) * nc, pass ? NULL : sl + (size_t)(k + 1) * nc, depth};
+            disp_upsample_temporal(&d, tau, span, depth, &k0, tau > 0 ? &k1 : NULL, out + (size_t)t * nc, NULL);
+        }
+        for (int t = 1; t < 2 * frames; t++)
+            for (int q = 0; q < nc; q++) {
+                double d2 = (double)out[(size_t)(t + 1) * nc + q] - 2.0 * out[(size_t)t * nc + q] +
+                            out[(size_t)(t - 1) * nc + q];
+                if (!pass)
+                    worst = fmax(worst, fabs(d2 - exact));
+                else if (t == frames)
+                    lin_knot = fmax(lin_knot, fabs(d2));
+                else
+                    lin_between = fmax(lin_between, fabs(d2));
+            }
+    }
+    printf("second difference of the ratio per frame: quadratic %.3g; Hermite off by at most %.3g; "
+           "linear %.3g at the keyframe, %.3g between\n", exact, worst, lin_knot, lin_between);
+    CHECK(worst < 0.02 * exact, "Hermite interpolation must follow the quadratic (off by %.3g)", worst);
+    CHECK(lin_knot > 5.0 * exact && lin_between < 0.02 * exact, "linear interpolation must kink at the keyframe");
+    free(r); free(sl); free(depth); free(pos); free(out);
     return 0;
 }
 
@@ -190,6 +249,7 @@ int main(int argc, char **argv)
         {"bilateral_edge", bilateral_edge},
         {"temporal_flow_and_occlusion", temporal_flow_and_occlusion},
         {"flow_composition", flow_composition},
+        {"temporal_hermite", temporal_hermite},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }

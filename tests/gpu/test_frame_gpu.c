@@ -80,7 +80,15 @@ static void report(const char *name, const gpu_metrics_result *m)
            m->f.moving_measured, m->keyframes, m->h_range_violation, m->f_range_violation, m->f.static_rms);
     printf("%s: mean |second difference| at keyframe boundaries / between: f %.4f / %.4f arcmin, h %.4f / %.4f arcmin\n",
            name, m->f_d2.boundary, m->f_d2.between, m->h_d2.boundary, m->h_d2.between);
+    printf("%s: of the correction f - h: at keyframe boundaries / between %.4f / %.4f arcmin; at keyframes %.4f, "
+           "at the frames either side %.4f arcmin\n",
+           name, m->c_d2.boundary, m->c_d2.between, m->c_d2.at_key, m->c_d2.next_to_key);
 }
+
+/* No kink at keyframes: the correction's second difference at a keyframe is
+ * about that of the frames either side of it (C1 upsampling in time; linear
+ * interpolation put 10-20 times theirs there, docs/method.md). */
+#define KINK_FACTOR 1.5
 
 /* Two real cameras make the pair: the cheapest, and the disparity passes
  * do not depend on how the pair is made. */
@@ -102,13 +110,17 @@ static int mid_cubes(void)
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
     CHECK(r.m.f.mid_distortion_jnd <= 0.5 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than half of h's");
     CHECK(r.m.f_d2.boundary <= r.m.f_d2.between, "f changes more at keyframe boundaries than between them (a pop)");
+    CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
     return 0;
 }
 
 /* The balloon: f reduces the distortion and stays in range. Issue 4 asks
  * for half of h's; the paper's weights cannot give it here: the converged
  * optimum over these keyframes leaves 0.55 (docs/method.md, "Measured"),
- * and the pipeline reaches 0.552. The bound guards that figure. */
+ * and the pipeline reaches 0.552. The bound guards that figure. h itself
+ * changes more at keyframe boundaries than between them here (the `lang`
+ * mapping's jumps late in the flight), so f's own boundary figure is
+ * reported, and the correction f - h is what must not kink. */
 static int mid_balloon(void)
 {
     run_result r;
@@ -118,6 +130,7 @@ static int mid_balloon(void)
     CHECK(r.validation == 0, "%d validation messages", r.validation);
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
     CHECK(r.m.f.mid_distortion_jnd <= 0.6 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than 0.6 of h's");
+    CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
     return 0;
 }
 

@@ -213,8 +213,14 @@ static int upsample_agrees(float tau, bool at_key)
     float *h = malloc(np * sizeof(float)), *f = malloc(np * sizeof(float)), *flow = malloc(2 * (size_t)np * sizeof(float));
     float *z0 = malloc(nc * sizeof(float)), *z1 = malloc(nc * sizeof(float)), *r0 = malloc(nc * sizeof(float));
     float *r1 = malloc(nc * sizeof(float)), *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
+    float *s0 = malloc(nc * sizeof(float)), *s1 = malloc(nc * sizeof(float));
+    const float span = 1.0f / 6.0f;
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     up_inputs(depth, motion, h, &grid, z0, z1, r0, r1);
+    for (int q = 0; q < nc; q++) { /* slopes per second: up to 0.05 of the ratio over the interval */
+        s0[q] = (float)(0.3 * sin(0.15 * (q % grid.nx) - 0.2 * (q / grid.nx)));
+        s1[q] = (float)(-0.25 * cos(0.1 * (q % grid.nx) + 0.3 * (q / grid.nx)));
+    }
     /* CPU: positions tracked by one step of the flow to each keyframe. */
     disp_upsample_desc ud = {.grid = grid, .range_lo = 200, .range_hi = 345};
     disp_grid_sample(&grid, depth, 1, zc);
@@ -227,26 +233,27 @@ static int upsample_agrees(float tau, bool at_key)
         }
         disp_flow_advect(flow, UP_W, UP_H, c ? pos1 : pos0, nc);
     }
-    disp_upsample_temporal(&ud, tau, zc, pos0, r0, z0, at_key ? NULL : pos1, r1, z1, rt, NULL);
+    disp_keyframe_view k0 = {pos0, r0, s0, z0}, k1 = {pos1, r1, s1, z1};
+    disp_upsample_temporal(&ud, tau, span, zc, &k0, at_key ? NULL : &k1, rt, NULL);
     disp_upsample_spatial(&ud, h, rt, f, NULL);
 
     harness hs;
     CHECK(harness_open(&hs) == 0, "harness");
     up_test t = {.fr = {.width = UP_W, .height = UP_H, .stride = UP_STRIDE, .tau = tau, .at_key = at_key,
-                        .has1 = true, .slot0 = 1, .slot1 = 0}};
+                        .has1 = true, .slot0 = 1, .slot1 = 0, .slots = 2, .span = span}};
     CHECK(ups_gpu_create(hs.gpu, &t.u) == VG_OK, "GPU upsampling");
     t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.motion = harness_image_add(&hs, "motion", VK_FORMAT_R32G32B32A32_SFLOAT, UP_W, UP_H, true, false);
     t.h = harness_image_add(&hs, "h", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.f = harness_image_add(&hs, "f", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, false, true);
     CHECK(harness_upload(&hs) == 0, "upload");
-    /* The keyframe store and the published ratios, two ring slots each. */
+    /* The keyframe store and the published ratios and slopes, two ring slots each. */
     gpu_buffer store, pub;
     size_t store_floats = 2 * MID_STORE_FLOATS * (size_t)nc;
     CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "store", .size = store_floats * sizeof(float),
                                                         .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
                             &store) == VG_OK, "store");
-    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "published", .size = sizeof(mid_published) + 2 * nc * sizeof(float),
+    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "published", .size = sizeof(mid_published) + 4 * nc * sizeof(float),
                                                         .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
                             &pub) == VG_OK, "published");
     float *sf = store.mapped, *pr = (float *)((mid_published *)pub.mapped + 1);
@@ -254,6 +261,8 @@ static int upsample_agrees(float tau, bool at_key)
     memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z1, nc * sizeof(float));
     memcpy(pr + nc, r0, nc * sizeof(float));
     memcpy(pr, r1, nc * sizeof(float));
+    memcpy(pr + 3 * (size_t)nc, s0, nc * sizeof(float));
+    memcpy(pr + 2 * (size_t)nc, s1, nc * sizeof(float));
     *(mid_published *)pub.mapped = (mid_published){.range_lo = ud.range_lo, .range_hi = ud.range_hi};
     rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
     t.store = rg_import_buffer(hs.graph, &(rg_buffer_desc){"mid.store", store.size}, &rw);
@@ -299,7 +308,7 @@ static int upsample_agrees(float tau, bool at_key)
     gpu_buffer_destroy(hs.gpu, &pub);
     CHECK(harness_close(&hs) == 0, "validation messages");
     free(depth); free(motion); free(h); free(f); free(flow); free(z0); free(z1); free(r0); free(r1);
-    free(zc); free(rt); free(pos0); free(pos1);
+    free(zc); free(rt); free(pos0); free(pos1); free(s0); free(s1);
     return 0;
 }
 

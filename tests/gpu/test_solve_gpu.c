@@ -17,6 +17,7 @@ typedef struct gpu_window {
     gpu *gpu;
     mid_gpu *m;
     mid_window *w;
+    gpu_buffer published; /* a ring of nt slots: ratios, then slopes */
 } gpu_window;
 
 /* A built CPU window of the synthetic scene, and the GPU arena holding the
@@ -28,8 +29,14 @@ static int open_window(gpu_window *c, synth_motion motion)
     CHECK(c->w, "synthetic window");
     CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &c->gpu) == VG_OK, "gpu_create");
     const mid_window *w = c->w;
+    CHECK(gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "mid.published",
+                                                       .size = sizeof(mid_published) + 2 * (size_t)w->n * sizeof(float),
+                                                       .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                            &c->published) == VG_OK, "published");
     CHECK(mid_gpu_create(c->gpu, &(mid_gpu_desc){.nx = w->nx, .ny = w->ny, .max_keyframes = w->nt,
-                                                 .host_visible = true}, &c->m) == VG_OK, "mid_gpu_create");
+                                                 .host_visible = true, .published = c->published.buffer,
+                                                 .published_size = c->published.size}, &c->m) == VG_OK,
+          "mid_gpu_create");
     uint32_t cap = mid_gpu_capacity(c->m);
     float *field = mid_gpu_host(c->m, MID_B_FIELD, NULL), *flow = mid_gpu_host(c->m, MID_B_FLOW, NULL);
     float *invdt = mid_gpu_host(c->m, MID_B_INVDT, NULL);
@@ -48,6 +55,7 @@ static int open_window(gpu_window *c, synth_motion motion)
 static int close_window(gpu_window *c)
 {
     mid_gpu_destroy(c->m);
+    gpu_buffer_destroy(c->gpu, &c->published);
     gpu_destroy(c->gpu);
     mid_window_destroy(c->w);
     int messages = gpu_validation_messages();
@@ -59,7 +67,7 @@ static mid_gpu_solve solve_of(const mid_window *w, const mid_solve_desc *d)
 {
     return (mid_gpu_solve){.keyframes = w->nt, .range_lo = w->range_lo, .range_hi = w->range_hi,
                            .solver = d->solver, .precond = d->precond, .iterations = d->iterations,
-                           .cg_steps = d->cg_iterations};
+                           .cg_steps = d->cg_iterations, .publish = true, .store_cap = (uint32_t)w->nt};
 }
 
 static int run_program(gpu_window *c, int first, int last)
@@ -149,6 +157,29 @@ static int solve_agrees(synth_motion motion, mid_solve_desc d, const char *what)
            what, worst, at, fg[at], f[at], sum / w->n, h_change);
     CHECK(worst < AGREEMENT_ARCMIN, "GPU and CPU solutions differ by %.4g arcmin", worst);
     CHECK(h_change > 1.0, "the solve must change f for the comparison to mean something");
+    /* The published ratios f / h and their slopes in time (what mid.upsample
+     * interpolates with), against mid_window_ratio_slopes on the CPU's f; a
+     * slope as the change of f it makes over a keyframe interval. */
+    float *ratio = malloc((size_t)w->n * sizeof(float)), *slope = malloc((size_t)w->n * sizeof(float));
+    CHECK(ratio && slope, "memory");
+    for (int i = 0; i < w->n; i++)
+        ratio[i] = f[i] / w->h[i];
+    mid_window_ratio_slopes(w, ratio, slope);
+    const float *pr = (const float *)((const mid_published *)c.published.mapped + 1);
+    double worst_r = 0, worst_s = 0, slope_max = 0;
+    for (int i = 0; i < w->n; i++) {
+        int k = i / w->ns;
+        double span = 1.0 / (w->inv_dt_f[k] > 0 ? w->inv_dt_f[k] : w->inv_dt_b[k]);
+        worst_r = fmax(worst_r, fabs((double)pr[i] - ratio[i]) * w->h[i]);
+        worst_s = fmax(worst_s, fabs((double)pr[w->n + i] - slope[i]) * span * w->h[i]);
+        slope_max = fmax(slope_max, fabs((double)slope[i]) * span * w->h[i]);
+    }
+    printf("%s: published ratio max |gpu - cpu| %.4g arcmin, slope %.4g arcmin per interval (slopes up to %.3g)\n",
+           what, worst_r, worst_s, slope_max);
+    CHECK(worst_r < AGREEMENT_ARCMIN && worst_s < AGREEMENT_ARCMIN, "published ratios or slopes differ");
+    CHECK(slope_max > 0.1, "the slopes must be non-trivial for the comparison to mean something");
+    free(ratio);
+    free(slope);
     free(f);
     return close_window(&c);
 }
@@ -187,8 +218,7 @@ static int warm_start(void)
     CHECK(mid_solve(w, &(mid_solve_desc){.iterations = 2}, half, NULL) == VG_OK, "CPU first half");
     CHECK(mid_solve(w, &(mid_solve_desc){.iterations = 2, .f_init = half}, f, NULL) == VG_OK, "CPU second half");
     mid_gpu_solve s = solve_of(w, &(mid_solve_desc){.iterations = 2});
-    s.publish = true; /* keeps the solution for the warm start */
-    s.publish_from = w->nt;
+    s.publish_from = w->nt; /* the publish step keeps the solution for the warm start */
     mid_gpu_begin(c.m, &s);
     if (run_program(&c, 0, mid_gpu_item_count(c.m)))
         return 1;
