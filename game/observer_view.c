@@ -224,7 +224,8 @@ static void splat_object(observer_view *v, screen_pt c, double g)
 
 /* f over the track's keyframes (frames 0, S, 2S, ...): paper Sec. 4.3 on a
  * 2 x 2 window whose four samples all follow the object (zero flow: the
- * samples move with it), then f/h between keyframes (Sec. 4.4). */
+ * samples move with it), then f/h between keyframes as the upsampling in
+ * time does (Sec. 4.4: cubic Hermite on the keyframes' ratios and slopes). */
 static vg_status optimize_track(observer_view *v, const double *g, const double *z, int count, double *a)
 {
     int stride = v->d.keyframe_stride, nk = (count - 1) / stride + 1;
@@ -246,22 +247,27 @@ static vg_status optimize_track(observer_view *v, const double *g, const double 
             w->depth[i] = (float)z[f];
         }
     float *f = malloc((size_t)w->n * sizeof(float));
-    double *ratio = malloc((size_t)nk * sizeof(double));
-    st = f && ratio ? mid_window_build(w, NULL) : VG_ERR_NOMEM;
+    float *ratio = malloc((size_t)w->n * sizeof(float)), *slope = malloc((size_t)w->n * sizeof(float));
+    st = f && ratio && slope ? mid_window_build(w, NULL) : VG_ERR_NOMEM;
     if (st == VG_OK)
         st = mid_solve(w, &(mid_solve_desc){0}, f, NULL);
     if (st == VG_OK) {
-        for (int k = 0; k < nk; k++)
-            ratio[k] = f[k * 4] / w->h[k * 4];
+        for (int i = 0; i < w->n; i++)
+            ratio[i] = f[i] / w->h[i];
+        mid_window_ratio_slopes(w, ratio, slope);
+        float span = (float)(stride / v->d.fps);
         for (int i = 0; i < count; i++) {
             int k0 = i / stride;
-            double tau = (double)(i - k0 * stride) / stride;
-            double r = k0 + 1 < nk ? (1.0 - tau) * ratio[k0] + tau * ratio[k0 + 1] : ratio[k0];
+            float tau = (float)(i - k0 * stride) / (float)stride;
+            double r = k0 + 1 < nk ? mid_hermite(ratio[k0 * 4], slope[k0 * 4], ratio[(k0 + 1) * 4],
+                                                 slope[(k0 + 1) * 4], tau, span)
+                                   : ratio[k0 * 4];
             a[i] = fmin(hi, fmax(lo, a[i] * r));
         }
     }
     free(f);
     free(ratio);
+    free(slope);
     mid_window_destroy(w);
     return st;
 }
