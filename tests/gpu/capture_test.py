@@ -14,16 +14,25 @@ usage: capture_test.py VERGENCE CASE
 Validation is on (VERGENCE_VALIDATE=1 from CTest): any message fails the run.
 The 240-frame figures are tests/gpu/test_frame_gpu.c (no files: faster).
 """
+import atexit
 import json
 import os
+import shutil
 import struct
 import subprocess
 import sys
 import tempfile
 
 
+def scratch(prefix):
+    """A temporary directory removed when the test exits."""
+    path = tempfile.mkdtemp(prefix=prefix)
+    atexit.register(shutil.rmtree, path, True)
+    return path
+
+
 def capture(scene, frames, size, extra=()):
-    out = tempfile.mkdtemp(prefix="vergence_gpu_")
+    out = scratch("vergence_gpu_")
     args = [VERGENCE, "capture", "--scene", f"content/{scene}.gltf", "--frames", str(frames), "--size", size,
             "--no-reference", "--out", out] + list(extra)
     p = subprocess.run(args, capture_output=True, text=True, timeout=1200)
@@ -69,7 +78,7 @@ def case_files():
 
 
 def case_graph():
-    tmp = tempfile.mkdtemp(prefix="vergence_gpu_graph_")
+    tmp = scratch("vergence_gpu_graph_")
     dot = os.path.join(tmp, "frame.dot")
     _, _, p = capture("cubes", 1, "64x36", ["--dump-graph", dot])
     for name in ("disparity.original", "disparity.operator.fit", "disparity.operator", "mid.keyframes",
@@ -87,7 +96,7 @@ def case_variants():
     an LLVM compile every frame on a fresh machine. bird's camera moves, so
     every frame has a new view; the second capture goes past the first's two
     frames and over a keyframe boundary and must compile nothing."""
-    cache = tempfile.mkdtemp(prefix="vergence_mesa_cache_")
+    cache = scratch("vergence_mesa_cache_")
     os.environ["MESA_SHADER_CACHE_DIR"] = cache
     os.environ.pop("MESA_SHADER_CACHE_DISABLE", None)
 
