@@ -68,9 +68,18 @@ typedef struct frame_result {
     double frame_wall_ms;
 } frame_result;
 
-/* Both sizes frame by frame in turn, so both see the same load on a shared
- * machine. */
-static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], int frames, frame_result *out)
+static int pass_index(const frame_result *r, const char *name)
+{
+    for (int p = 0; p < r->passes; p++)
+        if (!strcmp(r->names[p], name))
+            return p;
+    return -1;
+}
+
+/* One run: both sizes frame by frame in turn, so both see the same load on a
+ * shared machine. ms[k][p][i]: run frame i of size k, pass p. */
+static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], int frames, double *ms, double *wall,
+                            frame_result *out, int *keyframe_stride)
 {
     frame *f[2] = {0};
     vg_status st = VG_OK;
@@ -80,10 +89,10 @@ static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], 
         st = frame_create(g, s, &(frame_desc){.width = sizes[k][0], .height = sizes[k][1],
                                               .stereo = FRAME_STEREO_CAMERAS, .mode = FRAME_MODE_OPTIMIZED,
                                               .diffuse = true}, &f[k]);
-    double *ms = calloc(2 * (size_t)frames * MAX_PASSES, sizeof *ms), *wall = calloc(2 * (size_t)frames, sizeof *wall);
     /* Warm-up: the first frame solves its whole window, then one interval
      * of amortised solves; measured from the next keyframe on. */
-    int warm = st == VG_OK ? 2 * frame_get_desc(f[0])->keyframe_stride : 0;
+    *keyframe_stride = st == VG_OK ? frame_get_desc(f[0])->keyframe_stride : 1;
+    int warm = 2 * *keyframe_stride;
     for (int i = -warm; i < frames && st == VG_OK; i++)
         for (int k = 0; k < 2 && st == VG_OK; k++) {
             double t0 = vg_now_ms();
@@ -99,18 +108,21 @@ static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], 
                 ms[((size_t)k * MAX_PASSES + p) * frames + i] = row[p];
             }
         }
-    for (int k = 0; k < 2 && st == VG_OK; k++) {
-        for (int p = 0; p < out[k].passes; p++) {
-            out[k].median_ms[p] = median(ms + ((size_t)k * MAX_PASSES + p) * frames, frames);
-            out[k].mean_ms[p] = mean(ms + ((size_t)k * MAX_PASSES + p) * frames, frames);
-        }
-        out[k].frame_wall_ms = median(wall + (size_t)k * frames, frames);
-    }
-    free(ms);
-    free(wall);
     frame_destroy(f[0]);
     frame_destroy(f[1]);
     return st;
+}
+
+/* Medians and means per pass over every measured frame of every run. */
+static void summarise(const double *ms, const double *wall, int n, frame_result *out)
+{
+    for (int k = 0; k < 2; k++) {
+        for (int p = 0; p < out[k].passes; p++) {
+            out[k].median_ms[p] = median(ms + ((size_t)k * MAX_PASSES + p) * n, n);
+            out[k].mean_ms[p] = mean(ms + ((size_t)k * MAX_PASSES + p) * n, n);
+        }
+        out[k].frame_wall_ms = median(wall + (size_t)k * n, n);
+    }
 }
 
 static double pass_ms(const frame_result *r, const char *name, bool use_mean)
@@ -330,35 +342,65 @@ static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int 
 int main(int argc, char **argv)
 {
     const char *scene_path = "content/balloon.gltf";
-    int frames = 30;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--scene"))
+    int frames = 30, runs = 3;
+    for (int i = 1; i < argc; i += 2) {
+        if (i + 1 < argc && !strcmp(argv[i], "--scene"))
             scene_path = argv[i + 1];
-        else if (!strcmp(argv[i], "--frames"))
-            frames = atoi(argv[i + 1]) > 0 ? atoi(argv[i + 1]) : frames;
+        else if (i + 1 < argc && !strcmp(argv[i], "--frames") && atoi(argv[i + 1]) > 0)
+            frames = atoi(argv[i + 1]);
+        else if (i + 1 < argc && !strcmp(argv[i], "--runs") && atoi(argv[i + 1]) > 0)
+            runs = atoi(argv[i + 1]);
+        else {
+            fprintf(stderr, "usage: bench_disparity [--scene FILE] [--frames N] [--runs R]\n");
+            return 2;
+        }
     }
     gpu *g;
     scene *s;
     if (gpu_create(&(gpu_desc){.auto_device = true}, &g) != VG_OK || scene_load(scene_path, &s) != VG_OK)
         return 1;
     static const uint32_t sizes[2][2] = {{960, 540}, {1920, 1080}};
-    frame_result fr[2];
+    frame_result fr[2] = {0};
     alone_result ar[2];
-    vg_info("bench_disparity: 960x540 and 1920x1080 in turn, %d frames of %s", frames, scene_path);
-    if (run_frames(g, s, sizes, frames, fr) != VG_OK)
-        return 1;
-    for (int k = 0; k < 2; k++) {
-        uint32_t w = sizes[k][0], h = sizes[k][1];
-        if (run_alone(g, w, h, disparity_gpu_grid_stride(w, h, 0), frames, &ar[k]) != VG_OK)
+    vg_info("bench_disparity: 960x540 and 1920x1080 in turn, %d runs of %d frames of %s", runs, frames, scene_path);
+    /* All runs' frames, run by run: ms[k][p][r * frames + i]. */
+    int n = runs * frames;
+    double *ms = calloc(2 * (size_t)n * MAX_PASSES, sizeof *ms), *wall = calloc(2 * (size_t)n, sizeof *wall);
+    double *run_ms = calloc(2 * (size_t)frames * MAX_PASSES, sizeof *run_ms), *run_wall = calloc(2 * (size_t)frames, sizeof *run_wall);
+    double *solve_ratio = calloc((size_t)runs, sizeof *solve_ratio);
+    for (int r = 0; r < runs; r++) {
+        int kstride;
+        if (run_frames(g, s, sizes, frames, run_ms, run_wall, fr, &kstride) != VG_OK)
             return 1;
+        for (int k = 0; k < 2; k++) {
+            for (int p = 0; p < MAX_PASSES; p++)
+                memcpy(ms + ((size_t)k * MAX_PASSES + p) * n + (size_t)r * frames,
+                       run_ms + ((size_t)k * MAX_PASSES + p) * frames, (size_t)frames * sizeof *ms);
+            memcpy(wall + (size_t)k * n + (size_t)r * frames, run_wall + (size_t)k * frames, (size_t)frames * sizeof *wall);
+        }
+        /* The solve of whole keyframe intervals (the run starts at a keyframe):
+         * what it costs per frame at each size, side by side in this run. */
+        double sum[2] = {0};
+        for (int k = 0; k < 2; k++) {
+            int p = pass_index(&fr[k], "mid.solve");
+            int whole = frames < kstride ? frames : frames - frames % kstride;
+            for (int i = 0; p >= 0 && i < whole; i++)
+                sum[k] += run_ms[((size_t)k * MAX_PASSES + p) * frames + i];
+        }
+        solve_ratio[r] = sum[0] > 0 ? sum[1] / sum[0] : NAN;
+        vg_info("run %d/%d: mid.solve %.1f vs %.1f ms over the run (x%.3f)", r + 1, runs, sum[0], sum[1], solve_ratio[r]);
     }
-    printf("%s on %s (%s): GPU ms per pass of the frame graph, median (mean) of %d frames\n", scene_path,
-           g->props.deviceName, gpu_device_type_text(g->props.deviceType), frames);
+    summarise(ms, wall, n, fr);
+    printf("%s on %s (%s): GPU ms per pass of the frame graph, median (mean) of %d frames (%d runs of %d)\n", scene_path,
+           g->props.deviceName, gpu_device_type_text(g->props.deviceType), n, runs, frames);
     printf("%-24s %18s %18s\n", "pass", "960x540", "1920x1080");
     for (int p = 0; p < fr[0].passes; p++)
         printf("%-24s %9.2f (%6.2f) %9.2f (%6.2f)\n", fr[0].names[p], fr[0].median_ms[p], fr[0].mean_ms[p],
                pass_ms(&fr[1], fr[0].names[p], false), pass_ms(&fr[1], fr[0].names[p], true));
     printf("%-24s %9.1f          %9.1f\n", "frame (wall ms)", fr[0].frame_wall_ms, fr[1].frame_wall_ms);
+    for (int k = 0; k < 2; k++)
+        if (run_alone(g, sizes[k][0], sizes[k][1], disparity_gpu_grid_stride(sizes[k][0], sizes[k][1], 0), frames, &ar[k]) != VG_OK)
+            return 1;
     printf("\nper-pixel passes on their own, wall ms (median of %d):\n", frames);
     const char *what[4] = {"mid.upsample.time", "mid.upsample.space", "disparity.operator.fit", "disparity.operator"};
     double v0[4] = {ar[0].time_ms, ar[0].space_ms, ar[0].fit_ms, ar[0].map_ms};
@@ -369,8 +411,18 @@ int main(int argc, char **argv)
     double m0 = pass_ms(&fr[0], "mid.solve", false), m1 = pass_ms(&fr[1], "mid.solve", false);
     printf("\nmid.solve per frame (same 192x108 grid): median %.2f vs %.2f ms (%+.1f %%), mean %.2f vs %.2f ms (%+.1f %%)\n",
            m0, m1, 100.0 * (m1 - m0) / m0, s0, s1, 100.0 * (s1 - s0) / s0);
+    printf("mid.solve over whole keyframe intervals, 1920x1080 / 960x540 side by side in each run:");
+    for (int r = 0; r < runs; r++)
+        printf(" x%.3f", solve_ratio[r]);
+    double ratio = median(solve_ratio, runs);
+    printf("; median x%.3f (%+.1f %%)\n", ratio, 100.0 * (ratio - 1.0));
     double up0 = ar[0].time_ms + ar[0].space_ms, up1 = ar[1].time_ms + ar[1].space_ms;
     printf("upsampling (time + space): %.2f vs %.2f ms: x%.2f for x4 pixels\n", up0, up1, up1 / up0);
+    free(ms);
+    free(wall);
+    free(run_ms);
+    free(run_wall);
+    free(solve_ratio);
     scene_destroy(s);
     gpu_destroy(g);
     return 0;
