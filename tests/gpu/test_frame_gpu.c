@@ -115,12 +115,11 @@ static int mid_cubes(void)
 }
 
 /* The balloon: f reduces the distortion and stays in range. Issue 4 asks
- * for half of h's; the paper's weights cannot give it here: the converged
- * optimum over these keyframes leaves 0.55 (docs/method.md, "Measured"),
- * and the pipeline reaches 0.552. The bound guards that figure. h itself
- * changes more at keyframe boundaries than between them here (the `lang`
- * mapping's jumps late in the flight), so f's own boundary figure is
- * reported, and the correction f - h is what must not kink. */
+ * for half of h's; the paper's weights cannot give it here: their optimum
+ * on these keyframes leaves about 0.53 (20 iterations per window move reach
+ * 0.532), and the pipeline's 3 reach 0.552 (docs/method.md, "Measured").
+ * The bound guards that figure, and the correction f - h must not kink at
+ * keyframes. */
 static int mid_balloon(void)
 {
     run_result r;
@@ -130,6 +129,29 @@ static int mid_balloon(void)
     CHECK(r.validation == 0, "%d validation messages", r.validation);
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
     CHECK(r.m.f.mid_distortion_jnd <= 0.6 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than 0.6 of h's");
+    CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
+    return 0;
+}
+
+/* The balloon's boundary figure at 640 x 360. At 320 x 180 the balloon
+ * covers few pixels and h itself (the `lang` mapping's jumps late in the
+ * flight) changes more at boundary frames than between them by chance of
+ * where those pixels fall (h 0.068 / 0.058 arcmin, f 0.070 / 0.063); at
+ * 640 x 360 and at the capture's default 960 x 540 neither does
+ * (docs/method.md, "Measured"). Release builds only: 4x the pixels. */
+static int mid_balloon_640(void)
+{
+    run_result r;
+    frame_desc fd = measured();
+    fd.width = 640;
+    fd.height = 360;
+    if (run("content/balloon.gltf", fd, FRAMES, true, &r))
+        return 1;
+    report("balloon 640x360", &r.m);
+    CHECK(r.validation == 0, "%d validation messages", r.validation);
+    CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
+    CHECK(r.m.f.mid_distortion_jnd <= 0.6 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than 0.6 of h's");
+    CHECK(r.m.f_d2.boundary <= r.m.f_d2.between, "f changes more at keyframe boundaries than between them (a pop)");
     CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
     return 0;
 }
@@ -154,6 +176,7 @@ int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
         {"mid_cubes", mid_cubes},           {"mid_balloon", mid_balloon},
+        {"mid_balloon_640", mid_balloon_640},
         {"modes_original", modes_original}, {"modes_manipulated", modes_manipulated},
         {"modes_optimized", modes_optimized},
     };
