@@ -113,16 +113,25 @@ static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], 
     return st;
 }
 
-/* Medians and means per pass over every measured frame of every run. */
-static void summarise(const double *ms, const double *wall, int n, frame_result *out)
+/* Per pass: the median over runs of each run's median of its frames, and
+ * the mean over every frame. */
+static void summarise(const double *ms, const double *wall, int runs, int frames, frame_result *out)
 {
+    int n = runs * frames;
+    double *per_run = malloc((size_t)runs * sizeof *per_run);
     for (int k = 0; k < 2; k++) {
-        for (int p = 0; p < out[k].passes; p++) {
-            out[k].median_ms[p] = median(ms + ((size_t)k * MAX_PASSES + p) * n, n);
-            out[k].mean_ms[p] = mean(ms + ((size_t)k * MAX_PASSES + p) * n, n);
+        for (int p = 0; p <= out[k].passes; p++) {
+            const double *v = p < out[k].passes ? ms + ((size_t)k * MAX_PASSES + p) * n : wall + (size_t)k * n;
+            for (int r = 0; r < runs; r++)
+                per_run[r] = median(v + (size_t)r * frames, frames);
+            if (p < out[k].passes) {
+                out[k].median_ms[p] = median(per_run, runs);
+                out[k].mean_ms[p] = mean(v, n);
+            } else
+                out[k].frame_wall_ms = median(per_run, runs);
         }
-        out[k].frame_wall_ms = median(wall + (size_t)k * n, n);
     }
+    free(per_run);
 }
 
 static double pass_ms(const frame_result *r, const char *name, bool use_mean)
@@ -390,9 +399,10 @@ int main(int argc, char **argv)
         solve_ratio[r] = sum[0] > 0 ? sum[1] / sum[0] : NAN;
         vg_info("run %d/%d: mid.solve %.1f vs %.1f ms over the run (x%.3f)", r + 1, runs, sum[0], sum[1], solve_ratio[r]);
     }
-    summarise(ms, wall, n, fr);
-    printf("%s on %s (%s): GPU ms per pass of the frame graph, median (mean) of %d frames (%d runs of %d)\n", scene_path,
-           g->props.deviceName, gpu_device_type_text(g->props.deviceType), n, runs, frames);
+    summarise(ms, wall, runs, frames, fr);
+    printf("%s on %s (%s): GPU ms per pass of the frame graph,\n"
+           "median of %d frames (median of %d runs) and mean of all\n", scene_path,
+           g->props.deviceName, gpu_device_type_text(g->props.deviceType), frames, runs);
     printf("%-24s %18s %18s\n", "pass", "960x540", "1920x1080");
     for (int p = 0; p < fr[0].passes; p++)
         printf("%-24s %9.2f (%6.2f) %9.2f (%6.2f)\n", fr[0].names[p], fr[0].median_ms[p], fr[0].mean_ms[p],
