@@ -114,12 +114,16 @@ static int mid_cubes(void)
     return 0;
 }
 
+/* Balloon's f / h: the pipeline reaches 0.552 at 320 x 180 and 640 x 360
+ * (the same bits every run); a regression of a hundredth fails. */
+#define BALLOON_BOUND 0.56
+
 /* The balloon: f reduces the distortion and stays in range. Issue 4 asks
  * for half of h's; the paper's weights cannot give it here: their optimum
  * on these keyframes leaves about 0.53 (20 iterations per window move reach
  * 0.532), and the pipeline's 3 reach 0.552 (docs/method.md, "Measured").
- * The bound guards that figure, and the correction f - h must not kink at
- * keyframes. */
+ * BALLOON_BOUND guards that figure, and the correction f - h must not
+ * kink at keyframes. */
 static int mid_balloon(void)
 {
     run_result r;
@@ -128,7 +132,7 @@ static int mid_balloon(void)
     report("balloon", &r.m);
     CHECK(r.validation == 0, "%d validation messages", r.validation);
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
-    CHECK(r.m.f.mid_distortion_jnd <= 0.6 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than 0.6 of h's");
+    CHECK(r.m.f.mid_distortion_jnd <= BALLOON_BOUND * r.m.h.mid_distortion_jnd, "f's MID distortion is more than %.2f of h's", BALLOON_BOUND);
     CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
     return 0;
 }
@@ -150,7 +154,7 @@ static int mid_balloon_640(void)
     report("balloon 640x360", &r.m);
     CHECK(r.validation == 0, "%d validation messages", r.validation);
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
-    CHECK(r.m.f.mid_distortion_jnd <= 0.6 * r.m.h.mid_distortion_jnd, "f's MID distortion is more than 0.6 of h's");
+    CHECK(r.m.f.mid_distortion_jnd <= BALLOON_BOUND * r.m.h.mid_distortion_jnd, "f's MID distortion is more than %.2f of h's", BALLOON_BOUND);
     CHECK(r.m.f_d2.boundary <= r.m.f_d2.between, "f changes more at keyframe boundaries than between them (a pop)");
     CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
     return 0;
