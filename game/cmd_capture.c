@@ -538,6 +538,12 @@ static vg_status capture(gpu *g, const scene *s)
             st = gpu_metrics_finish(log.science, &log.result);
         if (st == VG_OK)
             st = write_json(o.out, s, g, d, &log);
+        const gpu_metrics_result *m = &log.result;
+        if (st == VG_OK && log.science && m->h.moving_measured > 0 && m->h.mid_distortion_jnd > 0)
+            vg_info("MID distortion h %.2f JND, f %.2f JND (%.3f of h's) over %d moving samples of %d keyframes; "
+                    "f outside the range at %g of the pixels",
+                    m->h.mid_distortion_jnd, m->f.mid_distortion_jnd, m->f.mid_distortion_jnd / m->h.mid_distortion_jnd,
+                    m->f.moving_measured, m->keyframes, m->f_range_violation);
     }
     warp_metrics_free(&log.warp);
     gpu_metrics_destroy(log.science);
