@@ -233,10 +233,11 @@ static vg_status optimize_track(observer_view *v, const double *g, const double 
         return VG_OK; /* no acceleration to restore: f = h */
     double lo, hi;
     disp_operator_range(v->op, &lo, &hi);
+    float span = (float)(stride / v->d.fps); /* seconds between keyframes */
     mid_window *w;
     vg_status st = mid_window_create(&(mid_window_desc){
         .width = 2, .height = 2, .keyframes = nk, .range_lo = (float)lo, .range_hi = (float)hi,
-        .keyframe_seconds = (float)(stride / v->d.fps)}, &w);
+        .keyframe_seconds = span}, &w);
     if (st != VG_OK)
         return st;
     for (int k = 0; k < nk; k++)
@@ -255,7 +256,6 @@ static vg_status optimize_track(observer_view *v, const double *g, const double 
         for (int i = 0; i < w->n; i++)
             ratio[i] = f[i] / w->h[i];
         mid_window_ratio_slopes(w, ratio, slope);
-        float span = (float)(stride / v->d.fps);
         for (int i = 0; i < count; i++) {
             int k0 = i / stride;
             float tau = (float)(i - k0 * stride) / (float)stride;

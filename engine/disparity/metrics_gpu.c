@@ -78,30 +78,9 @@ static long outside(const float *x, size_t n, double lo, double hi)
     return c;
 }
 
-/* Second difference at frame t - 1 (x1), from t - 2 (x2) and t (x); of
- * x - y when y is given (y1, y2 the same frames of y). */
-static void second_difference(gpu_metrics *m, gpu_second_difference *acc, const float *x, const float *x1,
-                              const float *x2, const float *y, const float *y1, const float *y2,
-                              const uint32_t *ids, long t_mid)
+static void d2_add(gpu_second_difference *acc, double mean, long ph, int s)
 {
-    size_t np = (size_t)m->d.width * m->d.height, n = 0;
-    double sum = 0;
-    for (size_t i = 0; i < np; i++) {
-        if (!ids[i] || ids[i] != m->id1[i] || ids[i] != m->id2[i])
-            continue;
-        double d2 = (double)x[i] - 2.0 * x1[i] + x2[i];
-        if (y)
-            d2 -= (double)y[i] - 2.0 * y1[i] + y2[i];
-        sum += fabs(d2);
-        n++;
-    }
-    if (!n)
-        return;
-    double mean = sum / (double)n;
-    int s = m->d.keyframe_stride;
-    long ph = ((t_mid % s) + s) % s;
-    bool boundary = ph == 0 || ph == s - 1; /* f(t_mid + 1) or f(t_mid) starts an interval */
-    if (boundary) {
+    if (ph == 0 || ph == s - 1) { /* f(t_mid + 1) or f(t_mid) starts an interval */
         acc->boundary += mean;
         acc->boundary_frames++;
     } else {
@@ -115,6 +94,32 @@ static void second_difference(gpu_metrics *m, gpu_second_difference *acc, const 
         acc->next_to_key += mean;
         acc->next_frames++;
     }
+}
+
+/* Second differences at frame t_mid = t - 1 of f, h and f - h, from frames
+ * t - 2 (held f2, h2), t - 1 (f1, h1) and t (f, h), in one walk over the
+ * pixels that show the same instance in all three. */
+static void second_differences(gpu_metrics *m, const float *f, const float *h, const uint32_t *ids, long t_mid)
+{
+    size_t np = (size_t)m->d.width * m->d.height, n = 0;
+    double sf = 0, sh = 0, sc = 0;
+    for (size_t i = 0; i < np; i++) {
+        if (!ids[i] || ids[i] != m->id1[i] || ids[i] != m->id2[i])
+            continue;
+        double df = (double)f[i] - 2.0 * m->f1[i] + m->f2[i];
+        double dh = (double)h[i] - 2.0 * m->h1[i] + m->h2[i];
+        sf += fabs(df);
+        sh += fabs(dh);
+        sc += fabs(df - dh);
+        n++;
+    }
+    if (!n)
+        return;
+    int s = m->d.keyframe_stride;
+    long ph = ((t_mid % s) + s) % s;
+    d2_add(&m->f_d2, sf / (double)n, ph, s);
+    d2_add(&m->h_d2, sh / (double)n, ph, s);
+    d2_add(&m->c_d2, sc / (double)n, ph, s);
 }
 
 void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
@@ -132,9 +137,7 @@ void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h,
     m->g_hi = hi > m->g_hi ? hi : m->g_hi;
     m->pixels += (double)np;
     if (m->held >= 2 && index == m->last_index + 1) {
-        second_difference(m, &m->f_d2, f, m->f1, m->f2, NULL, NULL, NULL, ids, index - 1);
-        second_difference(m, &m->h_d2, h, m->h1, m->h2, NULL, NULL, NULL, ids, index - 1);
-        second_difference(m, &m->c_d2, f, m->f1, m->f2, h, m->h1, m->h2, ids, index - 1);
+        second_differences(m, f, h, ids, index - 1);
     }
     if (index != m->last_index + 1)
         m->held = 0;
