@@ -77,9 +77,10 @@ static int pass_index(const frame_result *r, const char *name)
 }
 
 /* One run: both sizes frame by frame in turn, so both see the same load on a
- * shared machine. ms[k][p][i]: run frame i of size k, pass p. */
+ * shared machine. Frame i of size k, pass p goes to ms[(k MAX_PASSES + p) n +
+ * first + i] and its wall time to wall[k n + first + i]. */
 static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], int frames, double *ms, double *wall,
-                            frame_result *out, int *keyframe_stride)
+                            size_t n, size_t first, frame_result *out, int *keyframe_stride)
 {
     frame *f[2] = {0};
     vg_status st = VG_OK;
@@ -99,13 +100,13 @@ static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], 
             st = frame_render(f[k], 60 + warm + i);
             if (i < 0 || st != VG_OK)
                 continue;
-            wall[(size_t)k * frames + i] = vg_now_ms() - t0;
+            wall[(size_t)k * n + first + (size_t)i] = vg_now_ms() - t0;
             double row[MAX_PASSES];
             const char *names[MAX_PASSES];
             out[k].passes = (int)frame_pass_timings(f[k], names, row, MAX_PASSES);
             for (int p = 0; p < out[k].passes; p++) {
                 snprintf(out[k].names[p], sizeof out[k].names[p], "%s", names[p]);
-                ms[((size_t)k * MAX_PASSES + p) * frames + i] = row[p];
+                ms[((size_t)k * MAX_PASSES + p) * n + first + (size_t)i] = row[p];
             }
         }
     frame_destroy(f[0]);
@@ -113,33 +114,34 @@ static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], 
     return st;
 }
 
-/* Per pass: the median over runs of each run's median of its frames, and
- * the mean over every frame. */
+/* The median over runs of each run's median of its frames (v: runs x frames). */
+static double median_of_runs(const double *v, int runs, int frames)
+{
+    double *per_run = malloc((size_t)runs * sizeof *per_run);
+    for (int r = 0; r < runs; r++)
+        per_run[r] = median(v + (size_t)r * frames, frames);
+    double m = median(per_run, runs);
+    free(per_run);
+    return m;
+}
+
 static void summarise(const double *ms, const double *wall, int runs, int frames, frame_result *out)
 {
-    int n = runs * frames;
-    double *per_run = malloc((size_t)runs * sizeof *per_run);
+    size_t n = (size_t)runs * frames;
     for (int k = 0; k < 2; k++) {
-        for (int p = 0; p <= out[k].passes; p++) {
-            const double *v = p < out[k].passes ? ms + ((size_t)k * MAX_PASSES + p) * n : wall + (size_t)k * n;
-            for (int r = 0; r < runs; r++)
-                per_run[r] = median(v + (size_t)r * frames, frames);
-            if (p < out[k].passes) {
-                out[k].median_ms[p] = median(per_run, runs);
-                out[k].mean_ms[p] = mean(v, n);
-            } else
-                out[k].frame_wall_ms = median(per_run, runs);
+        for (int p = 0; p < out[k].passes; p++) {
+            const double *v = ms + ((size_t)k * MAX_PASSES + p) * n;
+            out[k].median_ms[p] = median_of_runs(v, runs, frames);
+            out[k].mean_ms[p] = mean(v, (int)n);
         }
+        out[k].frame_wall_ms = median_of_runs(wall + (size_t)k * n, runs, frames);
     }
-    free(per_run);
 }
 
 static double pass_ms(const frame_result *r, const char *name, bool use_mean)
 {
-    for (int p = 0; p < r->passes; p++)
-        if (!strcmp(r->names[p], name))
-            return use_mean ? r->mean_ms[p] : r->median_ms[p];
-    return NAN;
+    int p = pass_index(r, name);
+    return p < 0 ? NAN : use_mean ? r->mean_ms[p] : r->median_ms[p];
 }
 
 /* ------------------------------------------------------------------------- */
@@ -373,28 +375,22 @@ int main(int argc, char **argv)
     alone_result ar[2];
     vg_info("bench_disparity: 960x540 and 1920x1080 in turn, %d runs of %d frames of %s", runs, frames, scene_path);
     /* All runs' frames, run by run: ms[k][p][r * frames + i]. */
-    int n = runs * frames;
-    double *ms = calloc(2 * (size_t)n * MAX_PASSES, sizeof *ms), *wall = calloc(2 * (size_t)n, sizeof *wall);
-    double *run_ms = calloc(2 * (size_t)frames * MAX_PASSES, sizeof *run_ms), *run_wall = calloc(2 * (size_t)frames, sizeof *run_wall);
+    size_t n = (size_t)runs * frames;
+    double *ms = calloc(2 * n * MAX_PASSES, sizeof *ms), *wall = calloc(2 * n, sizeof *wall);
     double *solve_ratio = calloc((size_t)runs, sizeof *solve_ratio);
     for (int r = 0; r < runs; r++) {
         int kstride;
-        if (run_frames(g, s, sizes, frames, run_ms, run_wall, fr, &kstride) != VG_OK)
+        size_t first = (size_t)r * frames;
+        if (run_frames(g, s, sizes, frames, ms, wall, n, first, fr, &kstride) != VG_OK)
             return 1;
-        for (int k = 0; k < 2; k++) {
-            for (int p = 0; p < MAX_PASSES; p++)
-                memcpy(ms + ((size_t)k * MAX_PASSES + p) * n + (size_t)r * frames,
-                       run_ms + ((size_t)k * MAX_PASSES + p) * frames, (size_t)frames * sizeof *ms);
-            memcpy(wall + (size_t)k * n + (size_t)r * frames, run_wall + (size_t)k * frames, (size_t)frames * sizeof *wall);
-        }
         /* The solve of whole keyframe intervals (the run starts at a keyframe):
-         * what it costs per frame at each size, side by side in this run. */
+         * what it costs at each size, side by side in this run. */
         double sum[2] = {0};
         for (int k = 0; k < 2; k++) {
             int p = pass_index(&fr[k], "mid.solve");
             int whole = frames < kstride ? frames : frames - frames % kstride;
             for (int i = 0; p >= 0 && i < whole; i++)
-                sum[k] += run_ms[((size_t)k * MAX_PASSES + p) * frames + i];
+                sum[k] += ms[((size_t)k * MAX_PASSES + p) * n + first + (size_t)i];
         }
         solve_ratio[r] = sum[0] > 0 ? sum[1] / sum[0] : NAN;
         vg_info("run %d/%d: mid.solve %.1f vs %.1f ms over the run (x%.3f)", r + 1, runs, sum[0], sum[1], solve_ratio[r]);
@@ -430,8 +426,6 @@ int main(int argc, char **argv)
     printf("upsampling (time + space): %.2f vs %.2f ms: x%.2f for x4 pixels\n", up0, up1, up1 / up0);
     free(ms);
     free(wall);
-    free(run_ms);
-    free(run_wall);
     free(solve_ratio);
     scene_destroy(s);
     gpu_destroy(g);
