@@ -257,3 +257,9 @@ game_cell game_hit_cell(int c)
         .path = (game_path)(GAME_PATH_STRAIGHT + c % 2),
     };
 }
+
+void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd)
+{
+    fd->tess_error = tess_error > 0 ? tess_error : g->is_cpu ? 0.5 : 0.0; /* 0: the engine's */
+    fd->shadow_size = g->is_cpu ? 1024 : 0;
+}

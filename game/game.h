@@ -128,3 +128,8 @@ typedef struct game_cell {
 } game_cell;
 #define GAME_HIT_CELLS 12
 game_cell game_hit_cell(int cell);
+
+/* The frame of the game and the studies on a device: a CPU rasteriser gets
+ * error-driven tessellation at 0.5 px (tess_error overrides; 0 = default)
+ * and a 1024 px shadow map, to stay interactive; a GPU the engine's. */
+void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd);

@@ -12,6 +12,7 @@
 #include <GLFW/glfw3.h>
 
 #include "core/clock.h"
+#include "core/io.h"
 #include "core/log.h"
 #include "warp/present_gpu.h"
 #include "window.h"
@@ -104,6 +105,9 @@ static void throw_next(session *ss)
     }
     game_throw_make(&td, &ss->cam_ref, &r, &ss->th);
     ss->throw_no++;
+    /* The ball's future changed: keyframes predicted for it are stale. */
+    for (int m = 0; m <= FRAME_MODE_OPTIMIZED; m++)
+        frame_restart(ss->frames[m]);
     /* Launch on a keyframe (paper 4.4: every 10th frame), a second from now. */
     long launch = (long)ceil((ss->clock + READY_S) * 60.0 / 10.0) * 10;
     ss->t_launch = launch / 60.0;
@@ -212,7 +216,7 @@ static void choose_render_size(session *ss, bool announce)
     ss->rw = (uint32_t)fmax(16, round(ew));
     ss->rh = (uint32_t)fmax(16, round(eh));
     frame_desc fd = {0};
-    play_frame_defaults(window_gpu(ss->win), w, &fd);
+    game_frame_defaults(window_gpu(ss->win), w->tess_error, &fd);
     if (announce && cpu)
         vg_warn("play: %s is a CPU rasteriser: rendering %ux%u per eye%s, error-driven tessellation to %.2g px, "
                 "1024 px shadows, to stay interactive (--render-size and --tess-error override)",
@@ -243,17 +247,12 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
         .present_format = window_format(ss->win), .present_width = e.width, .present_height = e.height,
         /* A study compresses as the paper's did (more than the display needs); play for comfort. */
         .op = d->op, .op_preset = ss->study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
+        .readback = d->win->dump_f && mode == FRAME_MODE_OPTIMIZED,
     };
-    play_frame_defaults(g, d->win, &fd);
+    game_frame_defaults(g, d->win->tess_error, &fd);
     vg_status st = frame_create(g, ss->scene, &fd, &ss->frames[mode]);
     *out = ss->frames[mode];
     return st;
-}
-
-void play_frame_defaults(const gpu *g, const play_window_cli *w, frame_desc *fd)
-{
-    fd->tess_error = w->tess_error > 0 ? w->tess_error : g->is_cpu ? 0.5 : 0.0; /* 0: the engine's */
-    fd->shadow_size = g->is_cpu ? 1024 : 0;
 }
 
 /* Switches mode, or says on screen why not. */
@@ -401,6 +400,21 @@ static void hud_build(session *ss, frame *f)
 /* Loop                                                                      */
 /* ------------------------------------------------------------------------- */
 
+/* --dump-f: f of the frame just shown (waits for it). */
+static vg_status dump_f(session *ss, frame *f, long index)
+{
+    vg_status st = frame_wait_idle(f);
+    const frame_outputs *o = frame_get_outputs(f);
+    const frame_desc *d = frame_get_desc(f);
+    char name[64], path[1100];
+    snprintf(name, sizeof name, "f_%06ld.pfm", index);
+    if (st == VG_OK)
+        st = vg_path_join(path, sizeof path, ss->d->win->dump_f, name);
+    if (st == VG_OK)
+        st = vg_pfm_write(path, &(vg_imagef){(int)d->width, (int)d->height, 1, (float *)o->f});
+    return st;
+}
+
 static vg_status present(session *ss)
 {
     frame *f;
@@ -413,9 +427,12 @@ static vg_status present(session *ss)
     if ((st = window_acquire(ss->win, &target, &stale)) != VG_OK)
         return st;
     if (!stale) {
-        st = frame_present(f, lround(ss->clock * 60.0), &target, &ss->hud);
+        long index = lround(ss->clock * 60.0);
+        st = frame_present(f, index, &target, &ss->hud);
         if (st == VG_OK)
             st = window_present(ss->win, &stale);
+        if (st == VG_OK && ss->d->win->dump_f && ss->mode == FRAME_MODE_OPTIMIZED)
+            st = dump_f(ss, f, index);
     }
     if (st == VG_OK && stale) {
         /* The frames present at the old size: make them again. */
@@ -469,6 +486,12 @@ vg_status play_session_run(const play_session_desc *d)
     ss->trial = d->first_trial;
     ss->mode = d->mode ? d->mode : FRAME_MODE_ORIGINAL;
     vg_status st = scene_load(d->scene_path, &ss->scene);
+    if (st == VG_OK && d->win->frame_ticks > 1 && !d->win->replay) {
+        vg_error("--frame-ticks %d needs --replay (live play advances by the wall clock)", d->win->frame_ticks);
+        st = VG_ERR_ARG;
+    }
+    if (st == VG_OK && d->win->dump_f)
+        st = vg_dir_prepare(d->win->dump_f);
     if (st == VG_OK && (ss->ball = scene_find_node(ss->scene, "ball")) < 0) {
         vg_error("%s has no node named 'ball' to throw (see docs/content.md)", d->scene_path);
         st = VG_ERR_FORMAT;
@@ -479,7 +502,8 @@ vg_status play_session_run(const play_session_desc *d)
         st = window_create(&(window_desc){.title = ss->study ? "vergence study" : "vergence",
                                           .width = d->win->size[0], .height = d->win->size[1],
                                           .fullscreen = d->win->fullscreen, .gpu = &d->win->gpu,
-                                          .replay = d->win->replay, .record = d->win->record}, &ss->win);
+                                          .replay = d->win->replay, .record = d->win->record,
+                                          .frame_ticks = d->win->frame_ticks}, &ss->win);
     }
     gpu *g = ss->win ? window_gpu(ss->win) : NULL;
     if (st == VG_OK) {

@@ -28,6 +28,8 @@ typedef struct play_window_cli {
     int compose;                 /* index into frame_compose_names + 1 */
     const char *replay, *record;
     int ticks;                   /* quit after this many ticks (1/60 s), 0 = never */
+    int frame_ticks;             /* replay: ticks per frame (tests: a device at 60 / N fps), 0 = 1 */
+    const char *dump_f;          /* write f of every frame shown in the optimized mode (tests) */
     int seed;                    /* free play throws, -1 = from the clock */
     double tess_error;           /* 0 = the engine's default, 0.5 px on a CPU device */
     gpu_cli gpu;
@@ -46,6 +48,10 @@ typedef struct play_window_cli {
      "time step (docs/game.md)", NULL, 0, 0},                                                           \
     {"--record", VG_OPT_STRING, &(w).record, "FILE", "write key and mouse events for --replay", NULL, 0, 0}, \
     {"--ticks", VG_OPT_INT, &(w).ticks, "N", "quit after N ticks of 1/60 s (tests)", NULL, 1, 100000000}, \
+    {"--frame-ticks", VG_OPT_INT, &(w).frame_ticks, "N", "with --replay: N ticks per frame, as a device at " \
+     "60/N fps advances (tests)", NULL, 1, 6},                                                          \
+    {"--dump-f", VG_OPT_STRING, &(w).dump_f, "DIR", "write f of every frame shown in the optimized mode " \
+     "to DIR/f_INDEX.pfm (tests)", NULL, 0, 0},                                                         \
     GPU_CLI_OPTIONS((w).gpu)
 
 /* A finished study trial, handed to the study's logger. */
@@ -77,6 +83,3 @@ typedef struct play_session_desc {
 
 vg_status play_session_run(const play_session_desc *desc);
 
-/* What keeps a CPU rasteriser interactive (error-driven tessellation at
- * 0.5 px, a 1024 px shadow map) unless --tess-error says otherwise. */
-void play_frame_defaults(const gpu *g, const play_window_cli *w, frame_desc *fd);

@@ -11,9 +11,9 @@
 
 #include "core/log.h"
 #include "picture.h"
+#include "pref_clip.h"
 #include "window.h"
 
-#define CLIP_STEP 2          /* clips hold every 2nd frame: 30 Hz, each shown twice at 60 Hz */
 #define GAP 8                /* pixels between the panels (eye image) */
 
 static const uint8_t k_back[3] = {18, 22, 30}, k_text[3] = {236, 240, 245}, k_title[3] = {255, 214, 110};
@@ -175,46 +175,39 @@ static vg_status progress(pref *p, int trial, int done, int total)
     return show(p, NULL);
 }
 
+/* One version's clip being rendered ahead. */
+typedef struct clip_ctx {
+    pref *p;
+    int trial, version;
+} clip_ctx;
+
+static vg_status clip_frame(void *user, int k, const frame_outputs *fo, bool *stop)
+{
+    clip_ctx *c = user;
+    pref *p = c->p;
+    p->sw = fo->stereo_width, p->sh = fo->stereo_height;
+    size_t n = (size_t)p->sw * p->sh;
+    if (!p->clip[c->version] && !(p->clip[c->version] = malloc(n * 3 * (size_t)p->frames)))
+        return VG_ERR_NOMEM;
+    uint8_t *dst = p->clip[c->version] + n * 3 * (size_t)k;
+    for (size_t i = 0; i < n; i++)
+        memcpy(dst + 3 * i, fo->stereo + 4 * i, 3);
+    *stop = window_closed(p->win);
+    return k % 8 == 0 ? progress(p, c->trial, c->version * p->frames + k, 3 * p->frames) : VG_OK;
+}
+
 /* Renders the three versions of the clip: slot 0 left, 1 middle (g), 2 right. */
 static vg_status prerender(pref *p, int trial, scene *s, const frame_mode modes[3])
 {
     gpu *g = window_gpu(p->win);
     const pref_window_desc *d = p->d;
-    p->frames = (int)floor(s->duration * 60.0 / CLIP_STEP) + 1;
+    p->frames = pref_clip_frames(s);
     vg_status st = VG_OK;
-    for (int v = 0; v < 3 && st == VG_OK; v++) {
-        frame *f;
-        int errors = vg_log_error_count();
-        frame_desc fd = {
-            .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .fps = 60, .keyframe_stride = 10,
-            .readback = true, .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = modes[v],
-            .compose = p->lay.compose, .op = d->op, .op_preset = DISP_PRESET_STUDY,
-        };
-        play_frame_defaults(g, d->win, &fd);
-        st = frame_create(g, s, &fd, &f);
-        if (st != VG_OK) {
-            if (vg_log_error_count() == errors)
-                vg_error("the preference study shows the %s version beside the others; this build cannot "
-                         "render it", frame_mode_names[modes[v]]);
-            return st;
-        }
-        for (int k = 0; k < p->frames && st == VG_OK && !window_closed(p->win); k++) {
-            if ((st = frame_render(f, (long)k * CLIP_STEP)) != VG_OK)
-                break;
-            const frame_outputs *fo = frame_get_outputs(f);
-            p->sw = fo->stereo_width, p->sh = fo->stereo_height;
-            size_t n = (size_t)p->sw * p->sh;
-            if (!p->clip[v] && !(p->clip[v] = malloc(n * 3 * (size_t)p->frames))) {
-                st = VG_ERR_NOMEM;
-                break;
-            }
-            uint8_t *dst = p->clip[v] + n * 3 * (size_t)k;
-            for (size_t i = 0; i < n; i++)
-                memcpy(dst + 3 * i, fo->stereo + 4 * i, 3);
-            if (k % 8 == 0)
-                st = progress(p, trial, v * p->frames + k, 3 * p->frames);
-        }
-        frame_destroy(f);
+    for (int v = 0; v < 3 && st == VG_OK && !window_closed(p->win); v++) {
+        frame_desc fd = pref_clip_frame_desc(g, &(pref_clip_desc){
+            .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .mode = modes[v], .compose = p->lay.compose,
+            .op = d->op, .display = d->display, .tess_error = d->win->tess_error});
+        st = pref_clip_render(g, s, &fd, clip_frame, &(clip_ctx){p, trial, v});
     }
     return st;
 }
@@ -237,7 +230,7 @@ static vg_status ask(pref *p, int trial, int *choice, double *response_s, bool *
         }
         t0 = t0 < 0 ? tick : t0;
         long t = tick - t0;
-        bool seen = t >= (long)p->frames * CLIP_STEP;
+        bool seen = t >= (long)p->frames * PREF_CLIP_STEP;
         for (int i = 0; i < n; i++) {
             const window_event *e = &ev[i];
             if (e->kind == WINDOW_EVENT_KEY && (e->key == GLFW_KEY_ESCAPE || e->key == GLFW_KEY_Q))
@@ -248,11 +241,11 @@ static vg_status ask(pref *p, int trial, int *choice, double *response_s, bool *
                 *choice = e->x < 0.4 ? 0 : e->x > 0.6 ? 1 : -1;
         }
         if (*choice >= 0) {
-            *response_s = (t - (double)p->frames * CLIP_STEP) / 60.0;
+            *response_s = (t - (double)p->frames * PREF_CLIP_STEP) / 60.0;
             vg_info("study preference: trial %d: %s", trial, *choice ? "right" : "left");
             break;
         }
-        int k = (int)((t / CLIP_STEP) % p->frames);
+        int k = (int)((t / PREF_CLIP_STEP) % p->frames);
         size_t n3 = (size_t)p->sw * p->sh * 3;
         background(p);
         for (int v = 0; v < 3; v++) {
@@ -311,6 +304,7 @@ vg_status pref_window_run(const pref_window_desc *d)
     vg_status st = window_create(&(window_desc){.title = "vergence preference study", .width = d->win->size[0],
                                                 .height = d->win->size[1], .fullscreen = d->win->fullscreen,
                                                 .gpu = &d->win->gpu, .replay = d->win->replay,
+                                                .frame_ticks = d->win->frame_ticks,
                                                 .record = d->win->record}, &p.win);
     gpu *g = p.win ? window_gpu(p.win) : NULL;
     if (st == VG_OK)

@@ -31,6 +31,7 @@ struct window {
     window_event *script;
     int script_count, script_next;
     bool fixed_step;
+    long frame_ticks;           /* per frame at a fixed step */
     FILE *record;
     char record_path[1024];
 };
@@ -236,6 +237,7 @@ vg_status window_create(const window_desc *d, window **out)
     if (d->replay) {
         st = script_load(w, d->replay);
         w->fixed_step = true;
+        w->frame_ticks = d->frame_ticks > 0 ? d->frame_ticks : 1;
     }
     if (st == VG_OK && d->record) {
         snprintf(w->record_path, sizeof w->record_path, "%s", d->record);
@@ -323,7 +325,7 @@ long window_tick(window *w, window_event *events, int cap, int *count)
         w->last_ms = vg_now_ms();
     }
     double now = vg_now_ms();
-    long steps = 1;
+    long steps = w->fixed_step ? w->frame_ticks : 1;
     if (!w->fixed_step) {
         /* Whole ticks of wall time, at most 6 (0.1 s) per frame so a stall
          * (making a frame for a new mode) is no jump. Game time is ticks /

@@ -28,6 +28,7 @@ typedef struct window_desc {
     const char *replay;         /* events from a file at a fixed time step */
     const char *record;         /* write live events to a file */
     double fps;                 /* tick rate, 0 = 60 */
+    int frame_ticks;            /* replay: ticks per frame, 0 = 1 (more: a slower device's frames) */
 } window_desc;
 
 typedef enum window_event_kind {

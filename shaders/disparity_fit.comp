@@ -28,5 +28,5 @@ vec2 sample_at(uint s)
 
 void main()
 {
-    op_fit(op.entry, op.entry, op.smooth_alpha);
+    op_fit(op.entry, op.prev, op.smooth_alpha);
 }

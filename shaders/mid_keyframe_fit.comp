@@ -3,7 +3,9 @@
 // mid.keyframes.operator: the operator's mapping of every keyframe rendered
 // this frame (tiles of the coarse atlas, in time order), g from the coarse
 // depth as disparity.original does. lang-smoothed runs at the keyframe rate:
-// each tile blends with the previous keyframe's mapping (the chain entry).
+// each tile blends with the previous keyframe's mapping (the chain entry),
+// and its mapping is kept in the keyframes' ring (a frame between keyframes
+// blends with it: disparity_fit.comp).
 #include "common.glsl"
 #include "stereo.glsl"
 #include "disparity_operator.glsl"
@@ -34,8 +36,13 @@ void main()
         barrier();
         memoryBarrierBuffer();
         if (gl_LocalInvocationID.x == 0u) {
-            for (uint f = 0u; f < DISP_OP_STATE_FLOATS; f++)
+            uint ring = op.keys + (op.store_first + tile) % op.store_cap;
+            bool keep = (op.flags & DISP_OP_FLAG_KEY_RING) != 0u;
+            for (uint f = 0u; f < DISP_OP_STATE_FLOATS; f++) {
                 state[DISP_OP_ENTRY_CHAIN * DISP_OP_STATE_FLOATS + f] = state[e * DISP_OP_STATE_FLOATS + f];
+                if (keep)
+                    state[ring * DISP_OP_STATE_FLOATS + f] = state[e * DISP_OP_STATE_FLOATS + f];
+            }
         }
         barrier();
         memoryBarrierBuffer();

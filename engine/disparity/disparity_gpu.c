@@ -49,6 +49,10 @@ struct disparity_gpu {
     long first_kf, cur_k;             /* history starts at first_kf; the frame is in interval cur_k */
     long win_first;                   /* the window's first keyframe */
     int *slice;                       /* interval + 1 item boundaries of the amortised solve */
+    long last_index;                  /* the frame rendered last */
+    long store_hi, final_hi;          /* newest keyframe in the store; newest whose ratio is final */
+    int done;                         /* items of the current solve recorded so far */
+    int tail_first, tail_last;        /* the last solve's items this frame (before the build) */
     bool build;                       /* mid.window runs this frame */
     int rec_first, rec_last;          /* mid.solve's items this frame */
     long tiles_first;                 /* keyframes rendered this frame */
@@ -152,8 +156,10 @@ static void tiles_store_execute(const rg_context *ctx, void *user)
 static void window_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
+    uint32_t slot = (uint32_t)d->fc->slot;
+    mid_gpu_record_previous(d->mid, rg_ctx_cmd(ctx), slot, d->tail_first, d->tail_last);
     if (d->build)
-        mid_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->fc->slot, 0, 1);
+        mid_gpu_record(d->mid, rg_ctx_cmd(ctx), slot, 0, 1);
 }
 
 static void solve_execute(const rg_context *ctx, void *user)
@@ -204,16 +210,8 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->ubo, RG_UNIFORM);
     rg_use(g, p, res->depth, RG_STORAGE_READ);
     rg_use(g, p, res->g, RG_STORAGE_WRITE);
-    /* Step 4: h = M(g, saliency). */
-    p = compute_pass(g, "disparity.operator.fit", fit_execute, d);
-    rg_use(g, p, res->g, RG_STORAGE_READ);
-    rg_use(g, p, res->color, RG_STORAGE_READ);
-    rg_use(g, p, d->state, RG_STORAGE_READ_WRITE);
-    p = compute_pass(g, "disparity.operator", map_execute, d);
-    rg_use(g, p, res->g, RG_STORAGE_READ);
-    rg_use(g, p, d->state, RG_STORAGE_READ);
-    rg_use(g, p, res->h, RG_STORAGE_WRITE);
-    /* Step 5: the keyframe window. */
+    /* Step 5: the keyframe window; the keyframes entering it come first,
+     * as a frame's mapping blends with its keyframe's (lang-smoothed). */
     kf_gpu_add(d->kf, g, res, &d->atlas);
     p = compute_pass(g, "mid.keyframes.fit", tiles_fit_execute, d);
     rg_use(g, p, res->ubo, RG_UNIFORM);
@@ -227,10 +225,22 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, d->atlas.ids, RG_STORAGE_READ);
     rg_use(g, p, d->state, RG_STORAGE_READ);
     rg_use(g, p, d->r_store, RG_STORAGE_READ_WRITE);
+    /* Step 4: h = M(g, saliency). */
+    p = compute_pass(g, "disparity.operator.fit", fit_execute, d);
+    rg_use(g, p, res->g, RG_STORAGE_READ);
+    rg_use(g, p, res->color, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ_WRITE);
+    p = compute_pass(g, "disparity.operator", map_execute, d);
+    rg_use(g, p, res->g, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ);
+    rg_use(g, p, res->h, RG_STORAGE_WRITE);
+    /* The last window's unfinished items (frames were skipped), then the
+     * new window's build. */
     p = compute_pass(g, "mid.window", window_execute, d);
     rg_use(g, p, d->r_store, RG_STORAGE_READ);
     rg_use(g, p, d->arena, RG_STORAGE_READ_WRITE);
     rg_use(g, p, d->args, RG_STORAGE_READ_WRITE);
+    rg_use(g, p, d->r_published, RG_STORAGE_READ_WRITE);
     /* Step 6: the solve, and the publication of its ratios. */
     p = compute_pass(g, "mid.solve", solve_execute, d);
     rg_use(g, p, d->arena, RG_STORAGE_READ_WRITE);
@@ -309,9 +319,15 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
     int phase = (int)(t->index - k * d->interval);
     d->build = false;
     d->rec_first = d->rec_last = 0;
+    d->tail_first = d->tail_last = 0;
     d->tiles = 0;
-    if (!d->started || k < d->cur_k || k > d->cur_k + 1) {
-        /* No history: the window starts here, and the frame waits for its
+    if (d->started && t->index == d->last_index) {
+        /* The same frame again (a pause that keeps drawing, a display faster
+         * than the frame rate, a redraw): its work was recorded once, and
+         * nothing it reads has changed since, so f is the same. */
+    } else if (!d->started || t->index < d->last_index || k > d->cur_k + 1) {
+        /* No history, or a jump back or past the window (a seek, a replay
+         * restart): the window starts here, and the frame waits for its
          * whole solve (once). */
         d->started = true;
         d->first_kf = d->cur_k = k;
@@ -321,23 +337,41 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
         window_begin(d, k, true);
         d->build = true;
         d->rec_first = 1;
-        d->rec_last = mid_gpu_item_count(d->mid);
+        d->done = d->rec_last = mid_gpu_item_count(d->mid);
         for (int s = 0; s <= d->interval; s++)
             d->slice[s] = d->rec_last; /* nothing more in this interval */
-    } else if (k == d->cur_k + 1) {
-        /* The window slides by one keyframe: the newest predicted keyframe
-         * enters, the oldest leaves. */
-        d->cur_k = k;
-        d->tiles_first = k + d->future;
-        d->tiles = 1;
-        window_begin(d, k, false);
-        slices_plan(d);
-        d->build = true;
+    } else {
+        if (k == d->cur_k + 1) {
+            /* The window slides by one keyframe: the newest predicted
+             * keyframe enters, the oldest leaves. The last window's solve
+             * is finished first (the items of frames that were not
+             * rendered), so what it published is a finished solve and the
+             * new one starts from it. */
+            d->tail_first = d->done;
+            d->tail_last = mid_gpu_item_count(d->mid);
+            d->final_hi = d->cur_k + 2;
+            d->cur_k = k;
+            d->tiles_first = k + d->future;
+            d->tiles = 1;
+            window_begin(d, k, false);
+            slices_plan(d);
+            d->build = true;
+            d->done = 1;
+        }
+        /* Every item due by this phase, also those of skipped phases. */
+        d->rec_first = d->done;
+        d->rec_last = d->slice[phase + 1] > d->done ? d->slice[phase + 1] : d->done;
+        d->done = d->rec_last;
     }
-    if (!d->build || d->rec_last == 0) {
-        d->rec_first = d->slice[phase];
-        d->rec_last = d->slice[phase + 1];
-    }
+    d->last_index = t->index;
+    /* lang-smoothed: h from keyframe k's mapping and this frame alone. */
+    op_gpu_frame_anchor(d->op, ring_slot(d, k), phase);
+    if (d->tiles > 0)
+        d->store_hi = d->tiles_first + d->tiles - 1;
+    /* A finished solve of interval k publishes keyframes k + 2 on (its first
+     * window: k on); later windows publish from k + 3: k + 2 is final. */
+    if (d->done >= mid_gpu_item_count(d->mid))
+        d->final_hi = d->cur_k + 2;
     kf_gpu_prepare(d->kf, d->tiles_first, d->tiles);
     /* The persistent buffers the graph imported (bound once it is compiled). */
     rg_bind_buffer(d->graph, d->state, op_gpu_state(d->op));
@@ -354,6 +388,8 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
     };
     return VG_OK;
 }
+
+void disparity_gpu_restart(disparity_gpu *d) { d->started = false; }
 
 /* ------------------------------------------------------------------------- */
 /* Lifetime                                                                  */
@@ -418,7 +454,7 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
             .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fc->display.screen_vergence,
                    .range = fd->target_range, .frame_seconds = 1.0 / fd->fps},
             .keyframe_seconds = fd->keyframe_stride / fd->fps, .stride = s,
-            .max_tiles = (uint32_t)d->future + 1}, &d->op);
+            .max_tiles = (uint32_t)d->future + 1, .ring = (uint32_t)d->ring}, &d->op);
     if (st == VG_OK) {
         op_gpu_range(d->op, &d->lo, &d->hi);
         st = kf_gpu_create(fc, &(kf_gpu_desc){.nx = d->nx, .ny = d->ny, .stride = s,
@@ -428,11 +464,11 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.store",
                                                      .size = (VkDeviceSize)d->ring * MID_STORE_FLOATS * d->ns * sizeof(float),
-                                                     .usage = usage}, &d->store);
+                                                     .usage = usage, .host_visible = fd->readback}, &d->store);
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.published",
                                                      .size = sizeof(mid_published) + 2 * (VkDeviceSize)d->ring * d->ns * sizeof(float),
-                                                     .usage = usage}, &d->published);
+                                                     .usage = usage, .host_visible = fd->readback}, &d->published);
     if (st == VG_OK)
         st = mid_gpu_create(g, &(mid_gpu_desc){.nx = (int)d->nx, .ny = (int)d->ny,
                                                .max_keyframes = d->past + d->future + 1,
@@ -475,4 +511,55 @@ void disparity_gpu_get_info(const disparity_gpu *d, disparity_gpu_info *info)
     *info = (disparity_gpu_info){.stride = d->stride, .nx = d->nx, .ny = d->ny, .past = d->past,
                                  .future = d->future, .range_lo = d->lo, .range_hi = d->hi,
                                  .items = mid_gpu_item_count(d->mid)};
+}
+
+void disparity_gpu_keyframe_free(disparity_gpu_keyframe *k)
+{
+    if (!k)
+        return;
+    free(k->g);
+    *k = (disparity_gpu_keyframe){0};
+}
+
+vg_status disparity_gpu_keyframe_read(const disparity_gpu *d, long keyframe, disparity_gpu_keyframe *out)
+{
+    if (!d->store.mapped || !d->published.mapped) {
+        vg_error("the solve's keyframes are read back only from a frame with readback");
+        return VG_ERR_ARG;
+    }
+    if (!d->started || keyframe < d->first_kf || keyframe > d->store_hi || keyframe <= d->store_hi - d->ring ||
+        keyframe > d->final_hi) {
+        vg_error("keyframe %ld is not in the store with a final ratio (store %ld..%ld, final up to %ld)", keyframe,
+                 d->store_hi - d->ring + 1 > d->first_kf ? d->store_hi - d->ring + 1 : d->first_kf, d->store_hi,
+                 d->final_hi);
+        return VG_ERR_ARG;
+    }
+    size_t ns = d->ns;
+    if (out->ns != (int)ns) {
+        disparity_gpu_keyframe_free(out);
+        float *mem = malloc(9 * ns * sizeof(float));
+        if (!mem)
+            return VG_ERR_NOMEM;
+        *out = (disparity_gpu_keyframe){.ns = (int)ns, .g = mem, .h = mem + ns, .f = mem + 2 * ns,
+                                        .depth = mem + 3 * ns, .id = mem + 4 * ns, .flow_fwd = mem + 5 * ns,
+                                        .flow_bwd = mem + 7 * ns};
+    }
+    uint32_t slot = ring_slot(d, keyframe);
+    const float *st = (const float *)d->store.mapped + (size_t)slot * MID_STORE_FLOATS * ns;
+    const mid_published *pub = d->published.mapped;
+    const float *ratio = (const float *)(pub + 1) + (size_t)slot * ns;
+    memcpy(out->g, st + MID_STORE_G * ns, ns * sizeof(float));
+    memcpy(out->h, st + MID_STORE_H * ns, ns * sizeof(float));
+    memcpy(out->depth, st + MID_STORE_DEPTH * ns, ns * sizeof(float));
+    memcpy(out->id, st + MID_STORE_ID * ns, ns * sizeof(float));
+    memcpy(out->flow_fwd, st + MID_STORE_FLOW_F * ns, 2 * ns * sizeof(float));
+    memcpy(out->flow_bwd, st + MID_STORE_FLOW_B * ns, 2 * ns * sizeof(float));
+    /* f as the upsampling makes it at the keyframe's samples (Fig. 4). */
+    for (size_t q = 0; q < ns; q++) {
+        float f = out->h[q] * ratio[q];
+        if (pub->range_hi > pub->range_lo)
+            f = fminf(fmaxf(f, pub->range_lo), pub->range_hi);
+        out->f[q] = f;
+    }
+    return VG_OK;
 }

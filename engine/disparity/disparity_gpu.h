@@ -27,8 +27,17 @@ void disparity_gpu_destroy(disparity_gpu *d);
 void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res);
 /* Per-frame CPU work before the frame is recorded (frame_ctx holds the
  * slot, times and cameras of this frame): which keyframes to render, which
- * part of the solve runs, where the frame is between its keyframes. */
+ * part of the solve runs, where the frame is between its keyframes.
+ *
+ * Any sequence of frame indices gives the f of rendering every index: the
+ * solve's work due in frames that were skipped runs in the next one that is
+ * rendered (a window moves on only once its solve is finished), an index
+ * rendered again records nothing, and an index before the last one or past
+ * the window starts the window afresh (docs/method.md "GPU passes"). */
 vg_status disparity_gpu_prepare(disparity_gpu *d);
+/* The scene's future changed (the game threw a new ball): the predicted
+ * keyframes are stale, so the next frame starts the window afresh. */
+void disparity_gpu_restart(disparity_gpu *d);
 
 /* The stride of the solver's grid for a frame size: coarse_stride (0 = 5),
  * widened until the grid is at most 192 x 108 (paper 4.5: the solve's
@@ -44,3 +53,19 @@ typedef struct disparity_gpu_info {
     int items;                    /* steps of the current window's solve */
 } disparity_gpu_info;
 void disparity_gpu_get_info(const disparity_gpu *d, disparity_gpu_info *info);
+
+/* Keyframe `keyframe`'s coarse samples as the solve sees them (frames with
+ * readback only, after the frame was rendered): the store's g, h, depth,
+ * instance ids and flows to the neighbouring keyframes (coarse pixels), and
+ * f = h x the ratio the solve published for it (what the upsampling shows at
+ * that keyframe). VG_ERR_ARG when the keyframe has left the store or its
+ * ratio is not final yet: keyframe K is final from the first frame rendered
+ * in interval K - 1 until keyframe K + ring enters the store. */
+typedef struct disparity_gpu_keyframe {
+    int ns;                                  /* samples (nx x ny of the info) */
+    float *g, *h, *f, *depth, *id;           /* ns floats each */
+    float *flow_fwd, *flow_bwd;              /* 2 ns floats each */
+} disparity_gpu_keyframe;
+/* Fills *out (allocated on first use, reused after; zero it before the first call). */
+vg_status disparity_gpu_keyframe_read(const disparity_gpu *d, long keyframe, disparity_gpu_keyframe *out);
+void disparity_gpu_keyframe_free(disparity_gpu_keyframe *k);

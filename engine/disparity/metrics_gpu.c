@@ -13,8 +13,10 @@
 struct gpu_metrics {
     gpu_metrics_desc d;
     disp_grid grid;
-    int ns, nt, cap;
+    int ns, nt, cap;                   /* keyframes k0 .. k0 + nt - 1 of at most cap */
+    long k0;                           /* the first keyframe's number (-1: none yet) */
     float *g, *h, *f, *z, *id, *ffw, *fbw;  /* keyframe samples (cap keyframes) */
+    uint8_t *have;                     /* which keyframes of the span were added */
     long last_index;
     double g_lo, g_hi;                 /* the range the frames were measured in */
     double h_out, f_out, pixels;
@@ -49,11 +51,13 @@ vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
     m->h2 = malloc(np * sizeof(float));
     m->id1 = malloc(np * sizeof(uint32_t));
     m->id2 = malloc(np * sizeof(uint32_t));
+    m->have = calloc((size_t)m->cap, 1);
     m->last_index = -1;
+    m->k0 = -1;
     m->g_lo = desc->range_lo;
     m->g_hi = desc->range_hi;
     if (!m->g || !m->h || !m->f || !m->z || !m->id || !m->ffw || !m->fbw || !m->f1 || !m->f2 || !m->h1 || !m->h2 || !m->id1 ||
-        !m->id2) {
+        !m->id2 || !m->have) {
         gpu_metrics_destroy(m);
         return VG_ERR_NOMEM;
     }
@@ -66,7 +70,7 @@ void gpu_metrics_destroy(gpu_metrics *m)
     if (!m)
         return;
     free(m->g); free(m->h); free(m->f); free(m->z); free(m->id); free(m->ffw); free(m->fbw);
-    free(m->f1); free(m->f2); free(m->h1); free(m->h2); free(m->id1); free(m->id2);
+    free(m->f1); free(m->f2); free(m->h1); free(m->h2); free(m->id1); free(m->id2); free(m->have);
     free(m);
 }
 
@@ -122,9 +126,26 @@ static void second_differences(gpu_metrics *m, const float *f, const float *h, c
     d2_add(&m->c_d2, sc / (double)n, ph, s);
 }
 
+/* The offset of keyframe `key` in the arrays, -1 when it cannot be held
+ * (before the first, past the capacity, or already there). */
+static long keyframe_slot(gpu_metrics *m, long key)
+{
+    if (m->k0 < 0)
+        m->k0 = key;
+    long j = key - m->k0;
+    if (j < 0 || j >= m->cap || m->have[j])
+        return -1;
+    m->have[j] = 1;
+    m->nt = j + 1 > m->nt ? (int)(j + 1) : m->nt;
+    return j * m->ns;
+}
+
 void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
                      const float *motion, const uint32_t *ids)
 {
+    /* The same frame again (a redraw) shows the same maps: counted once. */
+    if (index == m->last_index)
+        return;
     size_t np = (size_t)m->d.width * m->d.height;
     double lo = m->d.range_lo, hi = m->d.range_hi;
     for (size_t i = 0; m->d.hull && i < np; i++) {
@@ -151,11 +172,12 @@ void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h,
     memcpy(m->id1, ids, np * sizeof(uint32_t));
     m->held = m->held < 2 ? m->held + 1 : 2;
     m->last_index = index;
-    if (index % m->d.keyframe_stride != 0 || m->nt >= m->cap)
+    long j = index % m->d.keyframe_stride == 0 ? keyframe_slot(m, index / m->d.keyframe_stride) : -1;
+    if (j < 0)
         return;
     /* A keyframe: coarse samples and the motion to its neighbours as the
      * window's flows (coarse pixels). */
-    size_t o = (size_t)m->nt * m->ns;
+    size_t o = (size_t)j;
     disp_grid_sample(&m->grid, g, 1, m->g + o);
     disp_grid_sample(&m->grid, h, 1, m->h + o);
     disp_grid_sample(&m->grid, f, 1, m->f + o);
@@ -173,13 +195,29 @@ void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h,
         m->ffw[2 * (o + q)] = mv[2] * inv;
         m->ffw[2 * (o + q) + 1] = mv[3] * inv;
     }
-    m->nt++;
+}
+
+void gpu_metrics_add_keyframe(gpu_metrics *m, long keyframe, const disparity_gpu_keyframe *k)
+{
+    long j = k->ns == m->ns ? keyframe_slot(m, keyframe) : -1;
+    if (j < 0)
+        return;
+    size_t o = (size_t)j, n = (size_t)m->ns;
+    memcpy(m->g + o, k->g, n * sizeof(float));
+    memcpy(m->h + o, k->h, n * sizeof(float));
+    memcpy(m->f + o, k->f, n * sizeof(float));
+    memcpy(m->z + o, k->depth, n * sizeof(float));
+    memcpy(m->id + o, k->id, n * sizeof(float));
+    memcpy(m->ffw + 2 * o, k->flow_fwd, 2 * n * sizeof(float));
+    memcpy(m->fbw + 2 * o, k->flow_bwd, 2 * n * sizeof(float));
 }
 
 vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
 {
     memset(out, 0, sizeof *out);
-    out->keyframes = m->nt;
+    for (int j = 0; j < m->nt; j++)
+        out->keyframes_missing += !m->have[j];
+    out->keyframes = out->keyframes_missing ? 0 : m->nt;
     out->h_range_violation = m->pixels > 0 ? m->h_out / m->pixels : 0;
     out->f_range_violation = m->pixels > 0 ? m->f_out / m->pixels : 0;
     out->f_d2 = m->f_d2;
@@ -194,8 +232,8 @@ vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
     }
     out->range_lo = m->g_lo;
     out->range_hi = m->g_hi;
-    if (m->nt < 3)
-        return VG_OK; /* no acceleration to measure */
+    if (out->keyframes < 3)
+        return VG_OK; /* no acceleration to measure (or keyframes between were not rendered) */
     mid_window *w;
     vg_status st = mid_window_create(&(mid_window_desc){.width = m->grid.nx, .height = m->grid.ny, .keyframes = m->nt,
                                                         .range_lo = (float)m->g_lo, .range_hi = (float)m->g_hi,

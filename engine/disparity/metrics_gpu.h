@@ -13,6 +13,7 @@
 
 #include "core/status.h"
 #include "disp_metrics.h"
+#include "disparity_gpu.h"
 
 typedef struct gpu_metrics_desc {
     uint32_t width, height, stride;  /* frames and the solver's coarse stride */
@@ -37,7 +38,8 @@ typedef struct gpu_metrics_result {
     double h_range_violation, f_range_violation; /* over every pixel of every frame */
     gpu_second_difference f_d2, h_d2;
     gpu_second_difference c_d2; /* of the correction f - h: what the pipeline adds to h */
-    int keyframes;
+    int keyframes;              /* of the MID window; 0 when keyframes_missing */
+    int keyframes_missing;      /* keyframes between the first and the last that were not added: no MID */
     double range_lo, range_hi;
 } gpu_metrics_result;
 
@@ -45,9 +47,15 @@ typedef struct gpu_metrics gpu_metrics;
 
 vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out);
 void gpu_metrics_destroy(gpu_metrics *m);
-/* One frame (absolute index); frames must come in order. motion: 4 floats
- * per pixel (px to the previous keyframe, to the next). */
+/* One frame (absolute index). motion: 4 floats per pixel (px to the previous
+ * keyframe, to the next). Frames may skip indices: second differences come
+ * from consecutive frames only, and MID needs every keyframe between the
+ * first and the last; an index added again is ignored. */
 void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
                      const float *motion, const uint32_t *ids);
+/* One keyframe as the solve saw it (disparity_gpu_keyframe_read): the MID
+ * window's samples from the store and the published f instead of from a
+ * rendered frame (a metrics object takes keyframes from one source). */
+void gpu_metrics_add_keyframe(gpu_metrics *m, long keyframe, const disparity_gpu_keyframe *k);
 /* The metrics over the frames added (needs at least 3 keyframes for MID). */
 vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out);

@@ -442,14 +442,17 @@ struct disp_op_push {
     uint kind, bins, stride, fixed_domain; /* stride: statistics from every stride-th pixel */
     float screen_vergence, range_lo, range_hi, floor_slope;
     float blur_bins, saliency_floor, smooth_alpha, dom_lo; /* smooth_alpha: per call (frame) */
-    float dom_hi, key_alpha, unused0, unused1;             /* key_alpha: per keyframe interval */
+    float dom_hi, key_alpha;                               /* key_alpha: per keyframe interval */
+    uint prev, keys;                                       /* the entry a frame fit blends with; keyframes' ring */
     uint width, height, tiles, tile_height;                /* frame size; keyframe tiles in the atlas */
     uint store_first, store_cap, entry, flags;             /* ring slot of tile 0; state entry; DISP_OP_FLAG_* */
 };
 #define DISP_OP_FLAG_NO_SALIENCY 1u /* every pixel weighs 1 */
 #define DISP_OP_FLAG_RESET 2u       /* forget the temporal state (lang-smoothed) */
-/* State entries: the frame's mapping, the keyframes' running mapping, then
- * one per keyframe tile rendered this frame. */
+#define DISP_OP_FLAG_KEY_RING 4u    /* keyframe fits also go to the keyframes' ring */
+/* State entries: the frame's mapping, the keyframes' running mapping, one
+ * per keyframe tile rendered this frame, then a ring of each keyframe's
+ * running mapping (the store's slots: a frame blends with its keyframe's). */
 #define DISP_OP_ENTRY_FRAME 0u
 #define DISP_OP_ENTRY_CHAIN 1u
 #define DISP_OP_ENTRY_TILE0 2u

@@ -22,6 +22,7 @@ struct op_gpu {
     op_gpu_desc d;
     disp_op_push push;
     double lo, hi;
+    double frame_s, tau;   /* lang-smoothed: a frame's seconds, the time constant */
     bool reset_frame, reset_tiles;
     gpu_buffer state;
     VkDescriptorSetLayout set[P_COUNT];
@@ -74,13 +75,17 @@ vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out)
         .dom_lo = (float)d->in_min,
         .dom_hi = (float)d->in_max,
         .flags = desc->no_saliency ? DISP_OP_FLAG_NO_SALIENCY : 0,
+        .prev = DISP_OP_ENTRY_FRAME,
+        .keys = DISP_OP_ENTRY_TILE0 + desc->max_tiles,
     };
     /* The integer histogram weights assume the default saliency floor. */
     if (fabs(o->push.saliency_floor - DISP_OP_SALIENCY_FLOOR) > 1e-6 && !desc->no_saliency)
         vg_warn("GPU operator: saliency floor %g is not the default; the GPU uses %g", o->push.saliency_floor,
                 DISP_OP_SALIENCY_FLOOR);
+    o->frame_s = frame_s;
+    o->tau = tau;
     o->reset_frame = o->reset_tiles = true;
-    size_t entries = DISP_OP_ENTRY_TILE0 + desc->max_tiles;
+    size_t entries = DISP_OP_ENTRY_TILE0 + desc->max_tiles + desc->ring;
     st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "disparity.operator state",
                                                  .size = entries * DISP_OP_STATE_FLOATS * sizeof(float),
                                                  .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
@@ -139,6 +144,18 @@ void op_gpu_destroy(op_gpu *o)
 }
 
 void op_gpu_reset(op_gpu *o) { o->reset_frame = o->reset_tiles = true; }
+
+void op_gpu_frame_anchor(op_gpu *o, uint32_t key_slot, long frames)
+{
+    if (!o->d.ring)
+        return;
+    /* The first-order filter from the keyframe's state over `frames`
+     * frames: exp(-dt / tau) with dt the whole time since the keyframe. */
+    o->push.prev = o->push.keys + key_slot % o->d.ring;
+    o->push.smooth_alpha = (float)exp(-(double)(frames > 0 ? frames : 0) * o->frame_s / o->tau);
+    /* The keyframe's mapping starts afresh after a reset itself. */
+    o->reset_frame = false;
+}
 
 void op_gpu_range(const op_gpu *o, double *lo, double *hi)
 {
@@ -217,6 +234,8 @@ static disp_op_push tiles_push(const op_gpu *o, const op_gpu_tiles *t)
     pc.tiles = t->tiles;
     pc.store_first = t->store_first;
     pc.store_cap = t->store_cap ? t->store_cap : 1;
+    if (o->d.ring && pc.store_cap <= o->d.ring)
+        pc.flags |= DISP_OP_FLAG_KEY_RING;
     return pc;
 }
 

@@ -21,6 +21,7 @@ typedef struct op_gpu_desc {
     double keyframe_seconds;    /* lang-smoothed at the keyframe rate, 0 = 10 / 60 s */
     uint32_t stride;            /* statistics of a frame from every stride-th pixel, 0 = 1 */
     uint32_t max_tiles;         /* keyframes fitted at once, 0 = none */
+    uint32_t ring;              /* keyframe mappings kept (the store's ring slots), 0 = none */
     bool no_saliency;           /* every pixel weighs 1 (the CPU's saliency = NULL) */
 } op_gpu_desc;
 
@@ -30,6 +31,14 @@ vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out);
 void op_gpu_destroy(op_gpu *o);
 /* The next fit starts without temporal state (lang-smoothed). */
 void op_gpu_reset(op_gpu *o);
+/* lang-smoothed in the frame: the next frame fit blends with the mapping of
+ * the keyframe in ring slot key_slot (that keyframe's running mapping),
+ * decayed over the `frames` frames since it, instead of with the last
+ * frame's. A frame's h then depends on its keyframe and itself only, not on
+ * which frames between were rendered (issue 13); at a keyframe (frames 0)
+ * it is that keyframe's mapping, so h is continuous across keyframes.
+ * Needs desc.ring; without a call, fits blend with the last frame fit. */
+void op_gpu_frame_anchor(op_gpu *o, uint32_t key_slot, long frames);
 /* The target range (disp_operator_range without a fixed domain). */
 void op_gpu_range(const op_gpu *o, double *lo, double *hi);
 

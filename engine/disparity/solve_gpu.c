@@ -151,6 +151,15 @@ typedef struct item {
     uint8_t graph, trial;
 } item;
 
+/* A solve's program: its constants and items. */
+typedef struct program {
+    mid_push push;
+    bool gather, jacobi;
+    float lambda;
+    item *items;
+    int count, cap;
+} program;
+
 #define MAX_STEPS 64
 
 struct mid_gpu {
@@ -168,30 +177,31 @@ struct mid_gpu {
     rg_graph *graph[G_COUNT];
     step_ref refs[G_COUNT][MAX_STEPS];
 
-    /* the program being recorded */
-    mid_push push;
-    bool gather, jacobi;
-    float lambda, trial_t;
-    item *items;
-    int item_count, item_cap;
+    /* The current program (the last mid_gpu_begin) and the one before it,
+     * whose unrecorded items a frame may still have to record. */
+    program prog[2];
+    int cur;
+    const program *rec;  /* the one being recorded */
+    float trial_t;
 };
 
 static void step_execute(const rg_context *ctx, void *user)
 {
     const step_ref *r = user;
     mid_gpu *m = r->m;
+    const program *pr = m->rec;
     const step_def *s = r->def;
-    if ((s->only == ONLY_LINES && m->jacobi) || (s->only == ONLY_JACOBI && !m->jacobi))
+    if ((s->only == ONLY_LINES && pr->jacobi) || (s->only == ONLY_JACOBI && !pr->jacobi))
         return;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    mid_push p = m->push;
-    p.op = s->op == MID_OP_GATHER && !m->gather ? MID_OP_PREPARE : s->op;
+    mid_push p = pr->push;
+    p.op = s->op == MID_OP_GATHER && !pr->gather ? MID_OP_PREPARE : s->op;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipe[s->kernel][s->kernel == K_CONTROL ? 0 : p.op]);
     m->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 0, MID_B_COUNT, m->writes);
     if (s->op == MID_OP_TRIAL)
         p.scalar = m->trial_t;
     else if (s->op == MID_OP_DESCENT)
-        p.scalar = m->lambda;
+        p.scalar = pr->lambda;
     vkCmdPushConstants(cmd, m->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof p, &p);
     if (s->gate != GATE_NONE) {
         uint32_t slot = 2 * (uint32_t)(s->gate - 1) + (s->size == SIZE_SUM);
@@ -456,7 +466,8 @@ void mid_gpu_destroy(mid_gpu *m)
     gpu_buffer_destroy(m->gpu, &m->args);
     gpu_buffer_destroy(m->gpu, &m->own_store);
     gpu_buffer_destroy(m->gpu, &m->own_published);
-    free(m->items);
+    free(m->prog[0].items);
+    free(m->prog[1].items);
     free(m);
 }
 
@@ -464,17 +475,17 @@ void mid_gpu_destroy(mid_gpu *m)
 /* Programs                                                                  */
 /* ------------------------------------------------------------------------- */
 
-static void add_item(mid_gpu *m, int graph, int trial)
+static void add_item(program *pr, int graph, int trial)
 {
-    if (m->item_count == m->item_cap) {
-        int cap = m->item_cap ? 2 * m->item_cap : 256;
-        item *p = realloc(m->items, (size_t)cap * sizeof *p);
+    if (pr->count == pr->cap) {
+        int cap = pr->cap ? 2 * pr->cap : 256;
+        item *p = realloc(pr->items, (size_t)cap * sizeof *p);
         if (!p)
-            return; /* the program ends early; logged below */
-        m->items = p;
-        m->item_cap = cap;
+            return; /* the program ends early (without its publish step) */
+        pr->items = p;
+        pr->cap = cap;
     }
-    m->items[m->item_count++] = (item){(uint8_t)graph, (uint8_t)trial};
+    pr->items[pr->count++] = (item){(uint8_t)graph, (uint8_t)trial};
 }
 
 void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
@@ -488,7 +499,9 @@ void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
     mid_weights w = mid_weights_resolve(s->weights);
     mid_solver_kind kind = s->solver == MID_SOLVER_DEFAULT ? MID_SOLVER_GAUSS_NEWTON : s->solver;
     float occ = s->occlusion_tolerance > 0 ? s->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
-    m->push = (mid_push){
+    m->cur ^= 1; /* the current program becomes the previous one */
+    program *pr = &m->prog[m->cur];
+    pr->push = (mid_push){
         .nx = (uint32_t)m->d.nx, .ny = (uint32_t)m->d.ny, .nt = nt, .ns = m->ns,
         .n = n, .cap = m->cap, .blocks = (n + MID_SUM_CHUNK - 1) / MID_SUM_CHUNK,
         .w_data = w.data, .w_spatial = w.spatial, .w_temporal = w.temporal, .w_accel = w.accel,
@@ -502,51 +515,64 @@ void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
         .publish_from = (uint32_t)(s->publish_from > 0 ? s->publish_from : 0), .adj_cap = m->adj_cap,
         .shift = (uint32_t)s->shift, .warm = s->warm && s->prev_keyframes > 0,
     };
-    m->gather = s->gather;
-    m->jacobi = s->precond == MID_PRECOND_JACOBI;
-    m->lambda = s->step > 0 ? s->step : MID_DESCENT_STEP;
+    pr->gather = s->gather;
+    pr->jacobi = s->precond == MID_PRECOND_JACOBI;
+    pr->lambda = s->step > 0 ? s->step : MID_DESCENT_STEP;
     int iterations = s->iterations > 0 ? s->iterations
                      : kind == MID_SOLVER_DESCENT ? MID_DESCENT_ITERATIONS : MID_GN_ITERATIONS;
     int cg = s->cg_steps > 0 ? s->cg_steps : MID_GN_CG_STEPS;
-    m->item_count = 0;
-    add_item(m, G_BUILD, 0);
-    add_item(m, G_INIT, 0);
+    pr->count = 0;
+    add_item(pr, G_BUILD, 0);
+    add_item(pr, G_INIT, 0);
     for (int it = 0; it < iterations; it++) {
         if (kind == MID_SOLVER_DESCENT) {
-            add_item(m, G_DESCENT, 0);
+            add_item(pr, G_DESCENT, 0);
             continue;
         }
-        add_item(m, G_PROLOGUE, 0);
+        add_item(pr, G_PROLOGUE, 0);
         for (int j = 0; j < cg; j++)
-            add_item(m, G_CG, 0);
+            add_item(pr, G_CG, 0);
         for (int t = 0; t < MID_LINE_TRIALS; t++)
-            add_item(m, G_TRIAL, t);
-        add_item(m, G_END, 0);
+            add_item(pr, G_TRIAL, t);
+        add_item(pr, G_END, 0);
     }
     if (s->publish)
-        add_item(m, G_PUBLISH, 0);
+        add_item(pr, G_PUBLISH, 0);
 }
 
-int mid_gpu_item_count(const mid_gpu *m) { return m->item_count; }
+int mid_gpu_item_count(const mid_gpu *m) { return m->prog[m->cur].count; }
+int mid_gpu_previous_item_count(const mid_gpu *m) { return m->prog[m->cur ^ 1].count; }
 
 double mid_gpu_item_cost(const mid_gpu *m, int i)
 {
-    if (i < 0 || i >= m->item_count)
+    const program *pr = &m->prog[m->cur];
+    if (i < 0 || i >= pr->count)
         return 0.0;
-    const item *it = &m->items[i];
+    const item *it = &pr->items[i];
     /* Trials after the first are usually skipped (their dispatch size is 0). */
     if (it->graph == G_TRIAL && it->trial > 0)
         return 0.2;
     return k_graphs[it->graph].cost;
 }
 
-void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+static void record(mid_gpu *m, const program *pr, VkCommandBuffer cmd, uint32_t slot, int first, int last)
 {
-    for (int i = first < 0 ? 0 : first; i < last && i < m->item_count; i++) {
-        const item *it = &m->items[i];
+    m->rec = pr;
+    for (int i = first < 0 ? 0 : first; i < last && i < pr->count; i++) {
+        const item *it = &pr->items[i];
         m->trial_t = ldexpf(1.0f, -(int)it->trial); /* t = 1, 1/2, 1/4, ... as the CPU's t *= 0.5f */
         rg_execute(m->graph[it->graph], cmd, slot);
     }
+}
+
+void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+{
+    record(m, &m->prog[m->cur], cmd, slot, first, last);
+}
+
+void mid_gpu_record_previous(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+{
+    record(m, &m->prog[m->cur ^ 1], cmd, slot, first, last);
 }
 
 VkBuffer mid_gpu_arena(const mid_gpu *m) { return m->arena.buffer; }

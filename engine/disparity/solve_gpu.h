@@ -57,14 +57,19 @@ typedef struct mid_gpu mid_gpu;
 vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out);
 void mid_gpu_destroy(mid_gpu *m);
 
-/* Starts a program for one window (no GPU work). */
+/* Starts a program for one window (no GPU work). The program it replaces
+ * stays recordable as the previous one: a frame that skipped the frames its
+ * last items were due in records them before the new window's build. */
 void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *solve);
-/* Items of the program and their estimated cost (element traversals). */
+/* Items of the current (previous) program and their estimated cost (element traversals). */
 int mid_gpu_item_count(const mid_gpu *m);
+int mid_gpu_previous_item_count(const mid_gpu *m);
 double mid_gpu_item_cost(const mid_gpu *m, int item);
-/* Records items [first, last) into cmd (outside any render pass); slot picks
- * the timestamp queries of the frame in flight. */
+/* Records items [first, last) of the current (previous) program into cmd
+ * (outside any render pass); slot picks the timestamp queries of the frame
+ * in flight. */
 void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
+void mid_gpu_record_previous(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
 
 /* The arena and the dispatch-size buffer, for the frame graph's declarations. */
 VkBuffer mid_gpu_arena(const mid_gpu *m);

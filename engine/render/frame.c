@@ -223,11 +223,11 @@ static vg_status build_graph(frame *f)
                 f->outputs.f = readback_ptr(f, k++);
             f->outputs.curve = readback_ptr(f, k++);
         }
-    } else if (f->present) {
-        f->r_swapchain = present_pass_add(f->present, g, res);
-    } else {
-        rg_export(g, stereo ? res->stereo : res->color);
     }
+    if (f->present)
+        f->r_swapchain = present_pass_add(f->present, g, res);
+    if (!fc->desc.readback && !f->present)
+        rg_export(g, stereo ? res->stereo : res->color);
     vg_status st = rg_compile(g);
     if (st == VG_OK)
         st = rg_realize(g, fc->gpu);
@@ -400,7 +400,7 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         if (st == VG_OK)
             st = compose_gpu_create(fc, &f->compose);
     }
-    if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED && !fc->desc.readback)
+    if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED)
         st = present_pass_create(fc, fc->desc.present_format,
                                  (VkExtent2D){fc->desc.present_width, fc->desc.present_height}, &f->present);
     if (st == VG_OK)
@@ -693,6 +693,28 @@ const frame_times *frame_get_times(const frame *f) { return &f->fc.times; }
 const vg_camera *frame_get_camera(const frame *f) { return &f->fc.cam; }
 const frame_desc *frame_get_desc(const frame *f) { return &f->fc.desc; }
 rg_graph *frame_get_graph(frame *f) { return f->graph; }
+
+void frame_restart(frame *f)
+{
+    if (f && f->disparity)
+        disparity_gpu_restart(f->disparity);
+}
+
+bool frame_disparity_info(const frame *f, disparity_gpu_info *info)
+{
+    if (f->disparity)
+        disparity_gpu_get_info(f->disparity, info);
+    return f->disparity != NULL;
+}
+
+vg_status frame_solved_keyframe(const frame *f, long keyframe, disparity_gpu_keyframe *out)
+{
+    if (!f->disparity) {
+        vg_error("the frame has no disparity pipeline");
+        return VG_ERR_ARG;
+    }
+    return disparity_gpu_keyframe_read(f->disparity, keyframe, out);
+}
 
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap)
 {

@@ -131,7 +131,9 @@ typedef struct frame_times {
 vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **out);
 void frame_destroy(frame *f);
 
-/* Renders frame `index` and waits for it (headless) . */
+/* Renders frame `index` and waits for it (headless). Indices may skip,
+ * repeat or jump: each frame shows what rendering every index would
+ * (disparity_gpu_prepare). */
 vg_status frame_render(frame *f, long index);
 
 const frame_outputs *frame_get_outputs(const frame *f);
@@ -150,11 +152,21 @@ typedef struct frame_target {
 } frame_target;
 struct frame_hud;
 vg_status frame_present(frame *f, long index, const frame_target *target, const struct frame_hud *hud);
+/* The scene's future changed (what evaluating it ahead gave is stale: a new
+ * throw of the game): the next frame starts the keyframe window afresh. */
+void frame_restart(frame *f);
 /* Waits until no frame is in flight. */
 vg_status frame_wait_idle(frame *f);
 
 /* GPU ms of each pass of the last frame; returns the number of passes. */
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap);
+
+/* The disparity pipeline's grid, window and range; false when the frame has none. */
+struct disparity_gpu_info;
+bool frame_disparity_info(const frame *f, struct disparity_gpu_info *info);
+/* A keyframe as the solve sees it (readback frames; disparity_gpu_keyframe_read). */
+struct disparity_gpu_keyframe;
+vg_status frame_solved_keyframe(const frame *f, long keyframe, struct disparity_gpu_keyframe *out);
 
 /* Keyframe times around a frame number (pure: used by tests too). */
 frame_times frame_times_at(long index, double fps, int stride);

@@ -13,12 +13,16 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
   preference_window  the side-by-side preference study answers a replayed key
                      press
   study_window       the same for the hit study with a replayed click
+  frame_ticks        live play at 3 ticks per frame (a device at 20 fps), with
+                     a pause that draws the same frame again, shows at every
+                     frame the f of one tick per frame (issue 13)
   device_lost        the device is lost (VERGENCE_FAULT) after a trial of the
                      windowed hit study: one clear error, the finished trial
                      stays in the CSV, --resume continues after it
 """
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -180,6 +184,40 @@ def case_play_replay():
         fail(f"the replayed click gave '{click}', want '{want}'")
 
 
+def read_pfm(path):
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"Pf":
+            fail(f"{path} is not a one-channel PFM")
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        return np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4").reshape(h, w)
+
+
+def case_frame_ticks():
+    # The first throw launches at tick 60 and is seen until tick 96; the
+    # replay ends after the ball is gone. P at 100 and 110: the paused game
+    # draws frame 100 again and again.
+    runs = {}
+    for ticks, script in ((1, "180 key Q\n"), (3, "100 key P\n110 key P\n180 key Q\n")):
+        out = tempfile.mkdtemp(prefix="vergence_dumpf_")
+        g = Game(["play", "--size", "320x180", "--render-size", "160x90", "--seed", "4", "--mode", "optimized",
+                  "--replay", replay_file(script), "--frame-ticks", str(ticks), "--dump-f", out])
+        g.finish(300)
+        runs[ticks] = {int(re.search(r"\d+", n).group(0)): os.path.join(out, n)
+                       for n in os.listdir(out) if n.endswith(".pfm")}
+    common = sorted(set(runs[1]) & set(runs[3]))
+    frames = {i: read_pfm(runs[1][i]) - read_pfm(runs[3][i]) for i in common}
+    for r in runs.values():
+        shutil.rmtree(os.path.dirname(next(iter(r.values()))), ignore_errors=True)
+    if len(common) < 50 or not any(60 <= i <= 96 for i in common):
+        fail(f"the two runs share {len(common)} frames, not the ball's flight")
+    worst = max(float(np.abs(d).max()) for d in frames.values())
+    print(f"{len(common)} frames in common (of {len(runs[1])} and {len(runs[3])}): "
+          f"max |f(3 ticks per frame) - f(1 tick)| {worst:.3g} arcmin")
+    if worst > 0.05:
+        fail(f"live play at 3 ticks per frame shows f {worst:.3g} arcmin off one tick per frame (bound 0.05)")
+
+
 def case_golden():
     script = replay_file("75 key P\n")
     g = Game(["play", "--size", "320x180", "--seed", "5", "--replay", script])
@@ -277,5 +315,5 @@ if __name__ == "__main__":
     os.environ.setdefault("XDG_RUNTIME_DIR", "/tmp")
     {"play_live": case_play_live, "play_replay": case_play_replay, "golden": case_golden,
      "preference_window": case_preference_window, "study_window": case_study_window,
-     "device_lost": case_device_lost}[sys.argv[2]]()
+     "device_lost": case_device_lost, "frame_ticks": case_frame_ticks}[sys.argv[2]]()
     print("ok")

@@ -10,6 +10,7 @@
 #include "../test.h"
 #include "game.h"
 #include "observer.h"
+#include "pref_clip.h"
 #include "study_log.h"
 
 #define ARENA "content/arena.gltf"
@@ -288,12 +289,77 @@ static int csv_log(void)
     return 0;
 }
 
+/* ------------------------------------------------------------------------- */
+/* The preference study's clips                                              */
+/* ------------------------------------------------------------------------- */
+
+typedef struct clip_f {
+    float **f;
+    size_t np;
+} clip_f;
+
+static vg_status keep_f(void *user, int k, const frame_outputs *o, bool *stop)
+{
+    clip_f *c = user;
+    (void)stop;
+    if (!o->f || !(c->f[k] = malloc(c->np * sizeof(float))))
+        return VG_ERR_NOMEM;
+    memcpy(c->f[k], o->f, c->np * sizeof(float));
+    return VG_OK;
+}
+
+/* A clip holds every 2nd frame (issue 13): its optimized version, at the
+ * study's CPU defaults (320 x 180 panels, the study preset, the warp at
+ * 0.5 px), shows at each of its frames the f of rendering every frame. */
+static int pref_clip(void)
+{
+    gpu *g;
+    scene *s;
+    frame *f;
+    CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &g) == VG_OK, "gpu_create");
+    CHECK(scene_load("content/balloon.gltf", &s) == VG_OK, "scene_load");
+    frame_desc fd = pref_clip_frame_desc(g, &(pref_clip_desc){.width = 320, .height = 180,
+                                                              .mode = FRAME_MODE_OPTIMIZED,
+                                                              .compose = FRAME_COMPOSE_ANAGLYPH});
+    int n = pref_clip_frames(s);
+    clip_f c = {calloc((size_t)n, sizeof(float *)), (size_t)fd.width * fd.height};
+    CHECK(c.f, "memory");
+    CHECK(pref_clip_render(g, s, &fd, keep_f, &c) == VG_OK, "the clip renders");
+    CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
+    double worst = 0;
+    long worst_at = -1;
+    for (long t = 0; t <= (long)(n - 1) * PREF_CLIP_STEP; t++) {
+        CHECK(frame_render(f, t) == VG_OK, "frame %ld", t);
+        if (t % PREF_CLIP_STEP)
+            continue;
+        const float *ref = frame_get_outputs(f)->f, *got = c.f[t / PREF_CLIP_STEP];
+        for (size_t p = 0; p < c.np; p++)
+            if (fabs((double)got[p] - ref[p]) > worst) {
+                worst = fabs((double)got[p] - ref[p]);
+                worst_at = t;
+            }
+    }
+    frame_destroy(f);
+    for (int k = 0; k < n; k++)
+        free(c.f[k]);
+    free(c.f);
+    scene_destroy(s);
+    gpu_destroy(g);
+    int v = gpu_validation_messages();
+    printf("preference clip of balloon: %d frames, one every %d; max |f - f(every frame)| %.3g arcmin (frame %ld); "
+           "%d validation messages\n", n, PREF_CLIP_STEP, worst, worst_at, v);
+    CHECK(worst <= 0.05, "the clip's f is %.3g arcmin off (bound 0.05)", worst);
+    CHECK(v == 0, "%d validation messages", v);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
         {"click_error", click_error},     {"throws", throws},           {"schedule", schedule},
         {"click_mapping", click_mapping}, {"pose_hook", pose_hook},     {"observer_exact", observer_exact},
         {"observer_conditions", observer_conditions}, {"csv_log", csv_log},
+        {"pref_clip", pref_clip},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }

@@ -1,0 +1,31 @@
+/* vergence — a preference trial's clips (paper Sec. 5), rendered ahead and
+ * headless: every PREF_CLIP_STEP-th frame of the scene's duration in one
+ * mode, with the study's frame (its operator preset, the warp, the CPU
+ * defaults). The window plays them back frame-accurately (pref_window.c);
+ * tests render the same clips (tests/game). */
+#pragma once
+#include <stdbool.h>
+
+#include "disparity/disp_operator.h"
+#include "render/frame.h"
+#include "scene/scene.h"
+
+#define PREF_CLIP_STEP 2        /* clips hold every 2nd frame: 30 Hz, each shown twice at 60 Hz */
+
+/* The frame a clip of one version is rendered with. */
+typedef struct pref_clip_desc {
+    uint32_t width, height;     /* one panel's eye image */
+    frame_mode mode;
+    frame_compose compose;
+    disp_operator_kind op;
+    stereo_display_desc display;
+    double tess_error;          /* 0 = game_frame_defaults' */
+} pref_clip_desc;
+frame_desc pref_clip_frame_desc(const gpu *g, const pref_clip_desc *d);
+
+/* Frames of a clip of the scene (its duration at 60 / PREF_CLIP_STEP Hz). */
+int pref_clip_frames(const scene *s);
+
+/* Each rendered frame k (index k * PREF_CLIP_STEP); *stop ends the clip. */
+typedef vg_status (*pref_clip_fn)(void *user, int k, const frame_outputs *o, bool *stop);
+vg_status pref_clip_render(gpu *g, const scene *s, const frame_desc *fd, pref_clip_fn on_frame, void *user);
