@@ -26,7 +26,7 @@
 #include "disparity/mid_solver.h"
 #include "disparity/mid_synth.h"
 #include "gpu_cli.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
 
 static struct {

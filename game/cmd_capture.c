@@ -18,14 +18,14 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
-#include "disparity/disparity_gpu.h"
-#include "disparity/metrics_gpu.h"
+#include "disparity/gpu/disparity_gpu.h"
+#include "frame/science_metrics.h"
 #include "gpu_cli.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 #include "shared.h"
 #include "stereo/stereo_display.h"
 #include "warp/curve_cpu.h"
-#include "warp/warp_metrics.h"
+#include "frame/warp_metrics.h"
 
 typedef struct capture_opts {
     const char *scene, *out, *dump_graph;

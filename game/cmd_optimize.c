@@ -6,7 +6,7 @@
 
 #include "commands.h"
 #include "core/log.h"
-#include "disparity/disp_offline.h"
+#include "offline/offline.h"
 
 static const char *const g_solvers[] = {"gauss-newton", "descent", NULL};
 static const char *const g_presets[] = {"comfort", "study", NULL};

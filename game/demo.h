@@ -12,9 +12,9 @@
 #include "disparity/disp_metrics.h"
 #include "disparity/disp_operator.h"
 #include "graph/graph.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
-#include "warp/warp_metrics.h"
+#include "frame/warp_metrics.h"
 
 #define DEMO_MODES 3         /* original, manipulated, optimized */
 #define DEMO_MAPS 3          /* g, h, f */

@@ -12,8 +12,8 @@
 #include "core/log.h"
 #include "demo.h"
 #include "demo_image.h"
-#include "disparity/disparity_gpu.h"
-#include "disparity/metrics_gpu.h"
+#include "disparity/gpu/disparity_gpu.h"
+#include "frame/science_metrics.h"
 #include "stereo/stereo_display.h"
 
 typedef struct run_ctx {

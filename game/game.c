@@ -1,7 +1,7 @@
 /* vergence — the hit-prediction game's rules (paper Sec. 5, Fig. 6). */
 #include "game.h"
 
-#include "warp/compose_gpu.h"
+#include "output/compose_gpu.h"
 
 #include <math.h>
 #include <string.h>

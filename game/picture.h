@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #include "gpu/gpu.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 
 typedef struct picture picture;
 

@@ -14,7 +14,7 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
-#include "warp/present_gpu.h"
+#include "output/present_gpu.h"
 #include "window.h"
 
 #define READY_S 1.0      /* the ball rests at its launch point before a throw */

@@ -18,7 +18,7 @@
 #include "disparity/disp_operator.h"
 #include "game.h"
 #include "gpu_cli.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 
 /* Window options of `play` and of a human `study`. */
 typedef struct play_window_cli {

@@ -7,7 +7,7 @@
 #include <stdbool.h>
 
 #include "disparity/disp_operator.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
 
 #define PREF_CLIP_STEP 2        /* clips hold every 2nd frame: 30 Hz, each shown twice at 60 Hz */

@@ -18,7 +18,7 @@
 
 #include "gpu/swapchain.h"
 #include "gpu_cli.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 
 typedef struct window_desc {
     const char *title;

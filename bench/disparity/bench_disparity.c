@@ -24,11 +24,11 @@
 
 #include "core/clock.h"
 #include "core/log.h"
-#include "disparity/disparity_gpu.h"
+#include "disparity/gpu/disparity_gpu.h"
 #include "disparity/mid_shared.h"
-#include "disparity/operator_gpu.h"
-#include "disparity/upsample_gpu.h"
-#include "render/frame.h"
+#include "disparity/gpu/operator_gpu.h"
+#include "disparity/gpu/upsample_gpu.h"
+#include "frame/frame.h"
 #include "stereo/stereo_display.h"
 
 static int cmp_double(const void *a, const void *b)

@@ -15,7 +15,7 @@
 
 #include "core/clock.h"
 #include "core/log.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 
 typedef struct bench_opts {
     const char *scene;

@@ -15,7 +15,7 @@
 
 #include "core/clock.h"
 #include "core/log.h"
-#include "render/frame.h"
+#include "frame/frame.h"
 
 static int cmp_double(const void *a, const void *b)
 {

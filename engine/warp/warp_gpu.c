@@ -8,7 +8,7 @@
 #include "core/log.h"
 
 #include "gpu/pipeline.h"
-#include "render/gbuffer.h"
+#include "render/gbuffer_gpu.h"
 #include "shared.h"
 
 #include "cameras_vert.h"

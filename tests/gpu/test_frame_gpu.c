@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "disparity/disparity_gpu.h"
-#include "disparity/metrics_gpu.h"
-#include "render/frame.h"
+#include "disparity/gpu/disparity_gpu.h"
+#include "frame/science_metrics.h"
+#include "frame/frame.h"
 #include "stereo/stereo_display.h"
 #include "test.h"
 

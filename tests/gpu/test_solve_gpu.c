@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "disparity/mid_solver.h"
-#include "disparity/solve_gpu.h"
+#include "disparity/gpu/solve_gpu.h"
 #include "disparity/testlib.h"
 #include "test.h"
 

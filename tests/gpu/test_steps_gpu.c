@@ -19,9 +19,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "disparity/disparity_gpu.h"
-#include "disparity/metrics_gpu.h"
-#include "render/frame.h"
+#include "disparity/gpu/disparity_gpu.h"
+#include "frame/science_metrics.h"
+#include "frame/frame.h"
 #include "test.h"
 
 /* Frames of a run (4 s, 24 keyframes: the flights of the paper's scenes). */

@@ -9,7 +9,7 @@
 
 #include <embree3/rtcore.h>
 
-#include "render/frame.h"
+#include "frame/frame.h"
 
 /* ------------------------------------------------------------------------- */
 /* A rendering context                                                       */

@@ -7,7 +7,7 @@
 
 #include "core/log.h"
 #include "gpu/pipeline.h"
-#include "mid_shared.h"
+#include "disparity/mid_shared.h"
 #include "shared.h"
 
 #include "disparity_fit_comp.h"

@@ -1,5 +1,5 @@
 /* vergence — science metrics over the GPU pipeline's frames. */
-#include "metrics_gpu.h"
+#include "science_metrics.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "core/log.h"
-#include "disp_upsample.h"
-#include "mid_window.h"
+#include "disparity/disp_upsample.h"
+#include "disparity/mid_window.h"
 
 struct gpu_metrics {
     gpu_metrics_desc d;

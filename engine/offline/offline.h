@@ -12,8 +12,8 @@
  * A stale metrics.json is removed first, so a failed run never looks complete. */
 #pragma once
 #include "core/status.h"
-#include "disp_operator.h"
-#include "mid_solver.h"
+#include "disparity/disp_operator.h"
+#include "disparity/mid_solver.h"
 #include "stereo/stereo_display.h"
 
 typedef enum disp_g_units {

@@ -10,7 +10,7 @@
 #include <cglm/cglm.h>
 
 #include "gpu/pipeline.h"
-#include "render/gbuffer.h"
+#include "render/gbuffer_gpu.h"
 #include "shared.h"
 
 #include "gbuffer_unlit_frag.h"

@@ -12,8 +12,8 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "disp_metrics.h"
-#include "disparity_gpu.h"
+#include "disparity/disp_metrics.h"
+#include "disparity/gpu/disparity_gpu.h"
 
 typedef struct gpu_metrics_desc {
     uint32_t width, height, stride;  /* frames and the solver's coarse stride */

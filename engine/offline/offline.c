@@ -1,4 +1,4 @@
-#include "disp_offline.h"
+#include "offline.h"
 
 #include <errno.h>
 #include <float.h>
@@ -12,9 +12,9 @@
 #include "core/json.h"
 #include "core/log.h"
 #include "core/parallel.h"
-#include "disp_metrics.h"
-#include "disp_pattern.h"
-#include "disp_upsample.h"
+#include "disparity/disp_metrics.h"
+#include "disparity/disp_pattern.h"
+#include "disparity/disp_upsample.h"
 
 #define PATH_CAP 4096
 

@@ -10,12 +10,12 @@
 
 #include "core/clock.h"
 #include "core/log.h"
-#include "disparity/disparity_gpu.h"
-#include "frame_ctx.h"
-#include "gbuffer.h"
+#include "disparity/gpu/disparity_gpu.h"
+#include "render/frame_ctx.h"
+#include "render/gbuffer_gpu.h"
 #include "shared.h"
-#include "warp/compose_gpu.h"
-#include "warp/present_gpu.h"
+#include "output/compose_gpu.h"
+#include "output/present_gpu.h"
 #include "warp/warp_gpu.h"
 
 /* One image (or buffer: height 0, width = bytes) copied to the host after the frame. */

@@ -19,7 +19,7 @@
 
 #include "gpu/gpu.h"
 #include "graph/graph.h"
-#include "mid_solver.h"
+#include "disparity/mid_solver.h"
 
 typedef struct mid_gpu_desc {
     int nx, ny;            /* coarse grid */

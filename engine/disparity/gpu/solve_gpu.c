@@ -8,7 +8,7 @@
 
 #include "core/log.h"
 #include "gpu/pipeline.h"
-#include "mid_shared.h"
+#include "disparity/mid_shared.h"
 
 #include "mid_control_comp.h"
 #include "mid_precond_comp.h"

@@ -8,7 +8,7 @@
 #include "core/log.h"
 #include "gpu/pipeline.h"
 #include "keyframe_gpu.h"
-#include "mid_shared.h"
+#include "disparity/mid_shared.h"
 #include "operator_gpu.h"
 #include "shared.h"
 #include "solve_gpu.h"

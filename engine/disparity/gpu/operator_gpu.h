@@ -13,7 +13,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "disp_operator.h"
+#include "disparity/disp_operator.h"
 #include "gpu/gpu.h"
 
 typedef struct op_gpu_desc {

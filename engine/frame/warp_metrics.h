@@ -22,7 +22,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "render/frame.h"
+#include "frame.h"
 
 typedef struct warp_metrics {
     /* accumulated */

@@ -1,5 +1,5 @@
 /* vergence — shadow, sky and G-buffer passes. */
-#include "gbuffer.h"
+#include "gbuffer_gpu.h"
 
 #include <stdlib.h>
 

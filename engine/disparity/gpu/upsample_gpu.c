@@ -5,7 +5,7 @@
 #include <stdlib.h>
 
 #include "gpu/pipeline.h"
-#include "mid_shared.h"
+#include "disparity/mid_shared.h"
 
 #include "mid_upsample_space_comp.h"
 #include "mid_upsample_time_comp.h"
