@@ -266,8 +266,8 @@ typedef struct capture_log {
     vg_camera *cameras;           /* frames */
     frame_times *times;           /* frames */
     warp_metrics warp;            /* stereo captures */
-    gpu_metrics *science;         /* MID metrics of h and f (stereo captures) */
-    gpu_metrics_result result;
+    science_metrics *science;         /* MID metrics of h and f (stereo captures) */
+    science_metrics_result result;
 } capture_log;
 
 static void json_camera(vg_json *j, const vg_camera *c, const frame_times *t)
@@ -314,7 +314,7 @@ static void json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m)
 }
 
 static void json_field_metrics(vg_json *j, const char *key, const disp_metrics *m, double violation,
-                               const gpu_second_difference *d2)
+                               const science_second_difference *d2)
 {
     vg_json_object_begin(j, key);
     vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
@@ -330,7 +330,7 @@ static void json_field_metrics(vg_json *j, const char *key, const disp_metrics *
 }
 
 /* The science metrics of h and f, shaped as `vergence optimize`'s metrics.json. */
-static void json_science(vg_json *j, const frame_desc *fd, const gpu_metrics_result *r)
+static void json_science(vg_json *j, const frame_desc *fd, const science_metrics_result *r)
 {
     vg_json_object_begin(j, "metrics");
     json_field_metrics(j, "h", &r->h, r->h_range_violation, &r->h_d2);
@@ -454,7 +454,7 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
 
 /* The science metrics over the captured frames, in the target range of the
  * frame's operator (for `none`, which keeps g, the hull of g is added). */
-static vg_status science_create(const frame_desc *d, gpu_metrics **out)
+static vg_status science_create(const frame_desc *d, science_metrics **out)
 {
     stereo_display disp;
     stereo_display_init(&disp, &d->display);
@@ -467,7 +467,7 @@ static vg_status science_create(const frame_desc *d, gpu_metrics **out)
     double lo, hi;
     disp_operator_range(op, &lo, &hi);
     disp_operator_destroy(op);
-    return gpu_metrics_create(&(gpu_metrics_desc){
+    return science_metrics_create(&(science_metrics_desc){
         .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
         .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride), .range_lo = lo, .range_hi = hi,
         .hull = d->op == DISP_OPERATOR_NONE}, out);
@@ -529,16 +529,16 @@ static vg_status capture(gpu *g, const scene *s)
             st = warp_metrics_add(&log.warp, frame_get_outputs(f), d->width, d->height);
         const frame_outputs *fo = frame_get_outputs(f);
         if (st == VG_OK && log.science && fo->h && fo->f)
-            gpu_metrics_add(log.science, first + i, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
+            science_metrics_add(log.science, first + i, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
     }
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);
         warp_metrics_finish(&log.warp);
         if (log.science)
-            st = gpu_metrics_finish(log.science, &log.result);
+            st = science_metrics_finish(log.science, &log.result);
         if (st == VG_OK)
             st = write_json(o.out, s, g, d, &log);
-        const gpu_metrics_result *m = &log.result;
+        const science_metrics_result *m = &log.result;
         if (st == VG_OK && log.science && m->h.moving_measured > 0 && m->h.mid_distortion_jnd > 0)
             vg_info("MID distortion h %.2f JND, f %.2f JND (%.3f of h's) over %d moving samples of %d keyframes; "
                     "f outside the range at %g of the pixels",
@@ -546,7 +546,7 @@ static vg_status capture(gpu *g, const scene *s)
                     m->f.moving_measured, m->keyframes, m->f_range_violation);
     }
     warp_metrics_free(&log.warp);
-    gpu_metrics_destroy(log.science);
+    science_metrics_destroy(log.science);
     free(log.pass_ms);
     free(log.cpu_ms);
     free(log.cameras);

@@ -96,7 +96,7 @@ static int run(int argc, char **argv)
         vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
         vg_cli_require(&vg_cmd_optimize, "--out", o.out) != VG_OK)
         return fail(VG_ERR_ARG);
-    disp_offline_desc d = {
+    offline_desc d = {
         .g = o.g, .h = o.h, .depth = o.depth, .flow_next = o.flow_next, .flow_prev = o.flow_prev,
         .saliency = o.saliency, .out_dir = o.out, .keyframe_stride = o.stride, .coarse = o.coarse,
         .fps = o.fps, .row = o.row, .preset = (disp_operator_preset)o.preset, .target_range = o.range,
@@ -124,7 +124,7 @@ static int run(int argc, char **argv)
         vg_error("optimize: --weights '%s' is not four numbers M,S,T,A >= 0 with M > 0", o.weights);
         return fail(VG_ERR_ARG);
     }
-    st = disp_offline_run(&d);
+    st = offline_run(&d);
     return st == VG_OK ? 0 : fail(st);
 }
 

@@ -28,7 +28,7 @@ typedef struct run_ctx {
     bool own[DEMO_MAPS];         /* this run writes the scene's slices and tracks of map m */
     double *pass_samples;        /* samples x RG_MAX_PASSES, NAN where a pass did not run */
     double *cpu_ms;
-    gpu_metrics *science;        /* MID metrics of h and f (the analysis run) */
+    science_metrics *science;        /* MID metrics of h and f (the analysis run) */
     FILE *video;
     demo_progress_fn progress;
     void *user;
@@ -214,7 +214,7 @@ static frame_desc base_desc(const run_ctx *c)
 /* The science metrics over the clip (as `vergence capture` computes them),
  * in the target range of the frame's operator; for `none`, which keeps g,
  * the hull of g is added. */
-static vg_status science_create(run_ctx *c, gpu_metrics **out)
+static vg_status science_create(run_ctx *c, science_metrics **out)
 {
     const frame_desc *d = frame_get_desc(c->frame);
     stereo_display disp;
@@ -227,7 +227,7 @@ static vg_status science_create(run_ctx *c, gpu_metrics **out)
         return st;
     disp_operator_range(op, &c->r->range_lo, &c->r->range_hi);
     disp_operator_destroy(op);
-    return gpu_metrics_create(&(gpu_metrics_desc){
+    return science_metrics_create(&(science_metrics_desc){
         .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
         .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride),
         .range_lo = c->r->range_lo, .range_hi = c->r->range_hi, .hull = d->op == DISP_OPERATOR_NONE}, out);
@@ -235,8 +235,8 @@ static vg_status science_create(run_ctx *c, gpu_metrics **out)
 
 static vg_status science_finish(run_ctx *c)
 {
-    gpu_metrics_result res;
-    vg_status st = gpu_metrics_finish(c->science, &res);
+    science_metrics_result res;
+    vg_status st = science_metrics_finish(c->science, &res);
     if (st != VG_OK)
         return st;
     demo_run *r = c->r;
@@ -280,7 +280,7 @@ static vg_status render_clip(run_ctx *c, frame *f)
         if (r->analysis)
             record_maps(c, fo, i, w, h);
         if (c->science)
-            gpu_metrics_add(c->science, n, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
+            science_metrics_add(c->science, n, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
         /* Every run's video has the same frames (every o->step-th). */
         if (n % c->o->step == 0)
             video_frame(c, fo);
@@ -402,7 +402,7 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
         st = render_stills(&c, FRAME_STEREO_IMAGEWARP);
     if (st == VG_OK)
         st = demo_capture_json(c.dir, s, sc, r, o, g->props.deviceName, gpu_device_type_text(g->props.deviceType));
-    gpu_metrics_destroy(c.science);
+    science_metrics_destroy(c.science);
     free(c.node_track);
     free(c.pass_samples);
     free(c.cpu_ms);

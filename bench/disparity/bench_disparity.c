@@ -151,8 +151,8 @@ static double pass_ms(const frame_result *r, const char *name, bool use_mean)
 typedef struct alone {
     gpu *gpu;
     uint32_t w, h, stride, nx, ny;
-    ups_gpu *ups;
-    op_gpu *op;
+    upsample_gpu *ups;
+    operator_gpu *op;
     gpu_buffer store, published;
     rg_res depth, motion, hmap, fmap, g, color, ratio, r_store, r_pub, state;
 } alone;
@@ -176,41 +176,41 @@ static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
     return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
 }
 
-static ups_gpu_frame ups_frame(const alone *a)
+static upsample_gpu_frame ups_frame(const alone *a)
 {
-    return (ups_gpu_frame){.width = a->w, .height = a->h, .stride = a->stride, .tau = 0.3f, .has1 = true,
+    return (upsample_gpu_frame){.width = a->w, .height = a->h, .stride = a->stride, .tau = 0.3f, .has1 = true,
                            .slot0 = 0, .slot1 = 1};
 }
 
 static void time_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
-    ups_gpu_frame fr = ups_frame(a);
+    upsample_gpu_frame fr = ups_frame(a);
     VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion);
-    ups_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
+    upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
                         rg_ctx_buffer(ctx, a->ratio));
 }
 
 static void space_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
-    ups_gpu_frame fr = ups_frame(a);
+    upsample_gpu_frame fr = ups_frame(a);
     VkDescriptorImageInfo h = image_of(ctx, a->hmap), f = image_of(ctx, a->fmap);
-    ups_gpu_record_space(a->ups, rg_ctx_cmd(ctx), &fr, &h, rg_ctx_buffer(ctx, a->r_pub), rg_ctx_buffer(ctx, a->ratio), &f);
+    upsample_gpu_record_space(a->ups, rg_ctx_cmd(ctx), &fr, &h, rg_ctx_buffer(ctx, a->r_pub), rg_ctx_buffer(ctx, a->ratio), &f);
 }
 
 static void fit_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
     VkDescriptorImageInfo g = image_of(ctx, a->g), c = image_of(ctx, a->color);
-    op_gpu_record_fit(a->op, rg_ctx_cmd(ctx), &g, &c, a->w, a->h);
+    operator_gpu_record_fit(a->op, rg_ctx_cmd(ctx), &g, &c, a->w, a->h);
 }
 
 static void map_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
     VkDescriptorImageInfo g = image_of(ctx, a->g), h = image_of(ctx, a->hmap);
-    op_gpu_record_map(a->op, rg_ctx_cmd(ctx), &g, &h, a->w, a->h);
+    operator_gpu_record_map(a->op, rg_ctx_cmd(ctx), &g, &h, a->w, a->h);
 }
 
 /* A graph of the clear and the first `passes` of: mid.upsample.time,
@@ -229,7 +229,7 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
     rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
     a->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", a->store.size}, &rw);
     a->r_pub = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", a->published.size}, &rw);
-    a->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", op_gpu_state_size(a->op)}, &rw);
+    a->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", operator_gpu_state_size(a->op)}, &rw);
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "clear", .type = RG_PASS_TRANSFER, .execute = clear_execute,
                                                .user = a, .side_effects = true});
     rg_res cleared[] = {a->depth, a->motion, a->hmap, a->g, a->color};
@@ -272,7 +272,7 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
     }
     rg_bind_buffer(g, a->r_store, a->store.buffer);
     rg_bind_buffer(g, a->r_pub, a->published.buffer);
-    rg_bind_buffer(g, a->state, op_gpu_state(a->op));
+    rg_bind_buffer(g, a->state, operator_gpu_state(a->op));
     return g;
 }
 
@@ -306,9 +306,9 @@ static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int 
     stereo_display_init(&disp, &(stereo_display_desc){0});
     alone a = {.gpu = g, .w = w, .h = h, .stride = stride, .nx = (w + stride - 1) / stride, .ny = (h + stride - 1) / stride};
     size_t ns = (size_t)a.nx * a.ny;
-    vg_status st = ups_gpu_create(g, &a.ups);
+    vg_status st = upsample_gpu_create(g, &a.ups);
     if (st == VG_OK)
-        st = op_gpu_create(g, &(op_gpu_desc){.op = {.kind = DISP_OPERATOR_LANG, .screen_vergence = disp.screen_vergence},
+        st = operator_gpu_create(g, &(operator_gpu_desc){.op = {.kind = DISP_OPERATOR_LANG, .screen_vergence = disp.screen_vergence},
                                              .stride = stride}, &a.op);
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "store", .size = 2 * MID_STORE_FLOATS * ns * sizeof(float),
@@ -339,8 +339,8 @@ static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int 
         rg_destroy(g2);
     }
     *out = (alone_result){one[0] - base[0], two[0] - one[0], one[1] - base[1], two[1] - one[1]};
-    ups_gpu_destroy(a.ups);
-    op_gpu_destroy(a.op);
+    upsample_gpu_destroy(a.ups);
+    operator_gpu_destroy(a.op);
     gpu_buffer_destroy(g, &a.store);
     gpu_buffer_destroy(g, &a.published);
     return VG_OK;

@@ -31,11 +31,11 @@ _Static_assert(VG_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "the graph keeps timestamps 
 
 struct frame {
     frame_ctx fc;
-    gbuffer_pass *gbuffer;
+    gbuffer_gpu *gbuffer;
     disparity_gpu *disparity;
     warp_gpu *warp;
     compose_gpu *compose;
-    present_pass *present;
+    present_gpu *present;
     rg_res r_swapchain;
 
     gpu_buffer readback;
@@ -142,7 +142,7 @@ static vg_status build_graph(frame *f)
     res->statics = rg_import_buffer(g, &(rg_buffer_desc){"scene.statics", fc->sg.statics.size}, &ready_vertex);
     res->indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", fc->sg.indices.size}, &ready_index);
 
-    gbuffer_pass_add(f->gbuffer, g, res);
+    gbuffer_gpu_add(f->gbuffer, g, res);
     bool stereo = fc->desc.stereo != FRAME_STEREO_OFF;
     uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
     if (stereo) {
@@ -225,7 +225,7 @@ static vg_status build_graph(frame *f)
         }
     }
     if (f->present)
-        f->r_swapchain = present_pass_add(f->present, g, res);
+        f->r_swapchain = present_gpu_add(f->present, g, res);
     if (!fc->desc.readback && !f->present)
         rg_export(g, stereo ? res->stereo : res->color);
     vg_status st = rg_compile(g);
@@ -392,7 +392,7 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     if (st == VG_OK)
         st = create_submission(f);
     if (st == VG_OK)
-        st = gbuffer_pass_create(fc, &f->gbuffer);
+        st = gbuffer_gpu_create(fc, &f->gbuffer);
     if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
         st = disparity_gpu_create(fc, &f->disparity);
         if (st == VG_OK)
@@ -401,7 +401,7 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
             st = compose_gpu_create(fc, &f->compose);
     }
     if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED)
-        st = present_pass_create(fc, fc->desc.present_format,
+        st = present_gpu_create(fc, fc->desc.present_format,
                                  (VkExtent2D){fc->desc.present_width, fc->desc.present_height}, &f->present);
     if (st == VG_OK)
         st = build_graph(f);
@@ -421,11 +421,11 @@ void frame_destroy(frame *f)
     gpu *g = fc->gpu;
     vkDeviceWaitIdle(g->device);
     rg_destroy(f->graph);
-    present_pass_destroy(f->present);
+    present_gpu_destroy(f->present);
     compose_gpu_destroy(f->compose);
     warp_gpu_destroy(f->warp);
     disparity_gpu_destroy(f->disparity);
-    gbuffer_pass_destroy(f->gbuffer);
+    gbuffer_gpu_destroy(f->gbuffer);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         gpu_buffer_destroy(g, &fc->ubo[i]);
         if (f->fence[i])
@@ -653,7 +653,7 @@ vg_status frame_present(frame *f, long index, const frame_target *target, const 
     vg_status st = frame_begin(f, index);
     if (st != VG_OK)
         return st;
-    present_pass_update(f->present, hud);
+    present_gpu_update(f->present, hud);
     rg_bind_image(f->graph, f->r_swapchain, target->image, target->view);
     if ((st = frame_record(f, &cmd)) != VG_OK)
         return st;

@@ -10,8 +10,8 @@
 #include "disparity/disp_upsample.h"
 #include "disparity/mid_window.h"
 
-struct gpu_metrics {
-    gpu_metrics_desc d;
+struct science_metrics {
+    science_metrics_desc d;
     disp_grid grid;
     int ns, nt, cap;                   /* keyframes k0 .. k0 + nt - 1 of at most cap */
     long k0;                           /* the first keyframe's number (-1: none yet) */
@@ -24,13 +24,13 @@ struct gpu_metrics {
     float *f1, *f2, *h1, *h2;
     uint32_t *id1, *id2;
     int held;
-    gpu_second_difference f_d2, h_d2, c_d2;
+    science_second_difference f_d2, h_d2, c_d2;
 };
 
-vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
+vg_status science_metrics_create(const science_metrics_desc *desc, science_metrics **out)
 {
     *out = NULL;
-    gpu_metrics *m = calloc(1, sizeof *m);
+    science_metrics *m = calloc(1, sizeof *m);
     if (!m)
         return VG_ERR_NOMEM;
     m->d = *desc;
@@ -58,14 +58,14 @@ vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out)
     m->g_hi = desc->range_hi;
     if (!m->g || !m->h || !m->f || !m->z || !m->id || !m->ffw || !m->fbw || !m->f1 || !m->f2 || !m->h1 || !m->h2 || !m->id1 ||
         !m->id2 || !m->have) {
-        gpu_metrics_destroy(m);
+        science_metrics_destroy(m);
         return VG_ERR_NOMEM;
     }
     *out = m;
     return VG_OK;
 }
 
-void gpu_metrics_destroy(gpu_metrics *m)
+void science_metrics_destroy(science_metrics *m)
 {
     if (!m)
         return;
@@ -82,7 +82,7 @@ static long outside(const float *x, size_t n, double lo, double hi)
     return c;
 }
 
-static void d2_add(gpu_second_difference *acc, double mean, long ph, int s)
+static void d2_add(science_second_difference *acc, double mean, long ph, int s)
 {
     if (ph == 0 || ph == s - 1) { /* f(t_mid + 1) or f(t_mid) starts an interval */
         acc->boundary += mean;
@@ -103,7 +103,7 @@ static void d2_add(gpu_second_difference *acc, double mean, long ph, int s)
 /* Second differences at frame t_mid = t - 1 of f, h and f - h, from frames
  * t - 2 (held f2, h2), t - 1 (f1, h1) and t (f, h), in one walk over the
  * pixels that show the same instance in all three. */
-static void second_differences(gpu_metrics *m, const float *f, const float *h, const uint32_t *ids, long t_mid)
+static void second_differences(science_metrics *m, const float *f, const float *h, const uint32_t *ids, long t_mid)
 {
     size_t np = (size_t)m->d.width * m->d.height, n = 0;
     double sf = 0, sh = 0, sc = 0;
@@ -128,7 +128,7 @@ static void second_differences(gpu_metrics *m, const float *f, const float *h, c
 
 /* The offset of keyframe `key` in the arrays, -1 when it cannot be held
  * (before the first, past the capacity, or already there). */
-static long keyframe_slot(gpu_metrics *m, long key)
+static long keyframe_slot(science_metrics *m, long key)
 {
     if (m->k0 < 0)
         m->k0 = key;
@@ -140,7 +140,7 @@ static long keyframe_slot(gpu_metrics *m, long key)
     return j * m->ns;
 }
 
-void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
+void science_metrics_add(science_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
                      const float *motion, const uint32_t *ids)
 {
     /* The same frame again (a redraw) shows the same maps: counted once. */
@@ -197,7 +197,7 @@ void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h,
     }
 }
 
-void gpu_metrics_add_keyframe(gpu_metrics *m, long keyframe, const disparity_gpu_keyframe *k)
+void science_metrics_add_keyframe(science_metrics *m, long keyframe, const disparity_gpu_keyframe *k)
 {
     long j = k->ns == m->ns ? keyframe_slot(m, keyframe) : -1;
     if (j < 0)
@@ -212,7 +212,7 @@ void gpu_metrics_add_keyframe(gpu_metrics *m, long keyframe, const disparity_gpu
     memcpy(m->fbw + 2 * o, k->flow_bwd, 2 * n * sizeof(float));
 }
 
-vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
+vg_status science_metrics_finish(science_metrics *m, science_metrics_result *out)
 {
     memset(out, 0, sizeof *out);
     for (int j = 0; j < m->nt; j++)
@@ -223,7 +223,7 @@ vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out)
     out->f_d2 = m->f_d2;
     out->h_d2 = m->h_d2;
     out->c_d2 = m->c_d2;
-    gpu_second_difference *d2[3] = {&out->f_d2, &out->h_d2, &out->c_d2};
+    science_second_difference *d2[3] = {&out->f_d2, &out->h_d2, &out->c_d2};
     for (int i = 0; i < 3; i++) {
         d2[i]->boundary = d2[i]->boundary_frames ? d2[i]->boundary / d2[i]->boundary_frames : 0;
         d2[i]->between = d2[i]->between_frames ? d2[i]->between / d2[i]->between_frames : 0;

@@ -15,47 +15,47 @@
 #include "disparity/disp_metrics.h"
 #include "disparity/gpu/disparity_gpu.h"
 
-typedef struct gpu_metrics_desc {
+typedef struct science_metrics_desc {
     uint32_t width, height, stride;  /* frames and the solver's coarse stride */
     int keyframe_stride;
     double fps;
     double range_lo, range_hi;       /* target range (arcmin) */
     bool hull;                       /* operator none: the range also holds each frame's g */
     int max_keyframes;               /* window capacity, 0 = 256 */
-} gpu_metrics_desc;
+} science_metrics_desc;
 
 /* Mean |f(t+1) - 2 f(t) + f(t-1)| over pixels that show the same instance in
  * all three frames, at frames next to a keyframe boundary (t or t + 1 a
  * keyframe) and at the others; and, to see a kink of the interpolation in
  * time, at keyframes (t a keyframe) and at the frames either side of them. */
-typedef struct gpu_second_difference {
+typedef struct science_second_difference {
     double boundary, between, at_key, next_to_key;
     int boundary_frames, between_frames, key_frames, next_frames;
-} gpu_second_difference;
+} science_second_difference;
 
-typedef struct gpu_metrics_result {
+typedef struct science_metrics_result {
     disp_metrics h, f;
     double h_range_violation, f_range_violation; /* over every pixel of every frame */
-    gpu_second_difference f_d2, h_d2;
-    gpu_second_difference c_d2; /* of the correction f - h: what the pipeline adds to h */
+    science_second_difference f_d2, h_d2;
+    science_second_difference c_d2; /* of the correction f - h: what the pipeline adds to h */
     int keyframes;              /* of the MID window; 0 when keyframes_missing */
     int keyframes_missing;      /* keyframes between the first and the last that were not added: no MID */
     double range_lo, range_hi;
-} gpu_metrics_result;
+} science_metrics_result;
 
-typedef struct gpu_metrics gpu_metrics;
+typedef struct science_metrics science_metrics;
 
-vg_status gpu_metrics_create(const gpu_metrics_desc *desc, gpu_metrics **out);
-void gpu_metrics_destroy(gpu_metrics *m);
+vg_status science_metrics_create(const science_metrics_desc *desc, science_metrics **out);
+void science_metrics_destroy(science_metrics *m);
 /* One frame (absolute index). motion: 4 floats per pixel (px to the previous
  * keyframe, to the next). Frames may skip indices: second differences come
  * from consecutive frames only, and MID needs every keyframe between the
  * first and the last; an index added again is ignored. */
-void gpu_metrics_add(gpu_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
+void science_metrics_add(science_metrics *m, long index, const float *g, const float *h, const float *f, const float *depth,
                      const float *motion, const uint32_t *ids);
 /* One keyframe as the solve saw it (disparity_gpu_keyframe_read): the MID
  * window's samples from the store and the published f instead of from a
  * rendered frame (a metrics object takes keyframes from one source). */
-void gpu_metrics_add_keyframe(gpu_metrics *m, long keyframe, const disparity_gpu_keyframe *k);
+void science_metrics_add_keyframe(science_metrics *m, long keyframe, const disparity_gpu_keyframe *k);
 /* The metrics over the frames added (needs at least 3 keyframes for MID). */
-vg_status gpu_metrics_finish(gpu_metrics *m, gpu_metrics_result *out);
+vg_status science_metrics_finish(science_metrics *m, science_metrics_result *out);

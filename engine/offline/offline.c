@@ -23,7 +23,7 @@
 /* ------------------------------------------------------------------------- */
 
 typedef struct seq {
-    const disp_offline_desc *d;
+    const offline_desc *d;
     disp_pattern pg, ph, pz, pfn, pfp, ps;
     bool has_h, has_z, has_fn, has_fp, has_s;
     int w, h, frames, stride, nt;
@@ -203,7 +203,7 @@ static vg_status frame_depth(seq *s, int t, const float *g, float *z)
 /* A: every input read once, so that a bad file fails the run before any output. */
 static vg_status pass_validate(seq *s)
 {
-    const disp_offline_desc *d = s->d;
+    const offline_desc *d = s->d;
     vg_status st = VG_OK;
     for (int t = d->first; t <= d->last && st == VG_OK; t++) {
         vg_progress("optimize: checking inputs", t - d->first, s->frames);
@@ -295,7 +295,7 @@ typedef struct outputs {
 /* C: upsample the keyframe correction to every frame and write f. */
 static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, outputs *o)
 {
-    const disp_offline_desc *d = s->d;
+    const offline_desc *d = s->d;
     size_t np = (size_t)s->w * s->h, nf2 = 2 * np;
     int nc = w->ns, row = d->row >= 0 && d->row < s->h ? d->row : s->h / 2;
     float *g = malloc(np * sizeof(float)), *h = malloc(np * sizeof(float)), *z = malloc(np * sizeof(float));
@@ -477,7 +477,7 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
 
 static vg_status parse_patterns(seq *s)
 {
-    const disp_offline_desc *d = s->d;
+    const offline_desc *d = s->d;
     struct { const char *text, *opt; disp_pattern *p; bool *has; } list[] = {
         {d->g, "--g", &s->pg, NULL},          {d->h, "--h", &s->ph, &s->has_h},
         {d->depth, "--depth", &s->pz, &s->has_z}, {d->flow_next, "--flow-next", &s->pfn, &s->has_fn},
@@ -512,7 +512,7 @@ static vg_status place_keyframes(seq *s)
     return VG_OK;
 }
 
-vg_status disp_offline_run(const disp_offline_desc *d)
+vg_status offline_run(const offline_desc *d)
 {
     seq s = {.d = d, .g_min = DBL_MAX, .g_max = -DBL_MAX};
     mid_window *w = NULL;

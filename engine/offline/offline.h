@@ -21,7 +21,7 @@ typedef enum disp_g_units {
     DISP_G_PX,         /* stereo-dataset pixel disparity x_left - x_right, larger = nearer */
 } disp_g_units;
 
-typedef struct disp_offline_desc {
+typedef struct offline_desc {
     /* printf-style patterns (disp_pattern.h); all but g and out optional */
     const char *g, *h, *depth, *flow_next, *flow_prev, *saliency;
     const char *out_dir;
@@ -41,6 +41,6 @@ typedef struct disp_offline_desc {
     disp_g_units g_units;
     double px_zero;           /* pixel disparity shown on the screen plane (px units) */
     float occlusion_tolerance; /* 0 = MID_OCCLUSION_TOLERANCE */
-} disp_offline_desc;
+} offline_desc;
 
-vg_status disp_offline_run(const disp_offline_desc *desc);
+vg_status offline_run(const offline_desc *desc);

@@ -27,7 +27,7 @@ typedef struct hud_push {
     float pad;
 } hud_push;
 
-struct present_pass {
+struct present_gpu {
     frame_ctx *fc;
     VkFormat format;
     VkExtent2D extent;
@@ -68,7 +68,7 @@ static uint32_t add_text(hud_vertex *v, uint32_t n, float x, float y, const char
                                              (int)((HUD_MAX_QUADS - n) * 4 * sizeof(hud_vertex)));
 }
 
-void present_pass_update(present_pass *p, const frame_hud *hud)
+void present_gpu_update(present_gpu *p, const frame_hud *hud)
 {
     int slot = p->fc->slot;
     hud_vertex *v = p->vertices[slot].mapped;
@@ -115,7 +115,7 @@ void present_pass_update(present_pass *p, const frame_hud *hud)
 /* ------------------------------------------------------------------------- */
 
 /* Size of what the frame composes (the stereo image, or the centre colour). */
-static VkExtent2D source_size(const present_pass *p)
+static VkExtent2D source_size(const present_gpu *p)
 {
     const frame_desc *d = &p->fc->desc;
     VkExtent2D e = {d->width, d->height};
@@ -126,7 +126,7 @@ static VkExtent2D source_size(const present_pass *p)
 
 /* Fit inside the window keeping the aspect ratio; the HUD pass paints the
  * bars around it black. */
-static void place_picture(present_pass *p)
+static void place_picture(present_gpu *p)
 {
     VkExtent2D src = source_size(p);
     float s = (float)p->extent.width / (float)src.width;
@@ -139,7 +139,7 @@ static void place_picture(present_pass *p)
 
 static void blit_execute(const rg_context *ctx, void *user)
 {
-    present_pass *p = user;
+    present_gpu *p = user;
     VkExtent2D src = source_size(p);
     rg_res from = p->res->stereo.id ? p->res->stereo : p->res->color;
     VkImageBlit blit = {
@@ -154,7 +154,7 @@ static void blit_execute(const rg_context *ctx, void *user)
 
 static void hud_execute(const rg_context *ctx, void *user)
 {
-    present_pass *p = user;
+    present_gpu *p = user;
     int slot = p->fc->slot;
     if (!p->quads[slot])
         return;
@@ -168,7 +168,7 @@ static void hud_execute(const rg_context *ctx, void *user)
     vkCmdDrawIndexed(cmd, 6 * p->quads[slot], 1, 0, 0, 0);
 }
 
-rg_res present_pass_add(present_pass *p, rg_graph *g, frame_resources *res)
+rg_res present_gpu_add(present_gpu *p, rg_graph *g, frame_resources *res)
 {
     p->res = res;
     place_picture(p);
@@ -189,10 +189,10 @@ rg_res present_pass_add(present_pass *p, rg_graph *g, frame_resources *res)
 /* Lifetime                                                                  */
 /* ------------------------------------------------------------------------- */
 
-vg_status present_pass_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_pass **out)
+vg_status present_gpu_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_gpu **out)
 {
     *out = NULL;
-    present_pass *p = calloc(1, sizeof *p);
+    present_gpu *p = calloc(1, sizeof *p);
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
@@ -246,14 +246,14 @@ vg_status present_pass_create(frame_ctx *fc, VkFormat format, VkExtent2D extent,
         }
     }
     if (st != VG_OK) {
-        present_pass_destroy(p);
+        present_gpu_destroy(p);
         return st;
     }
     *out = p;
     return VG_OK;
 }
 
-void present_pass_destroy(present_pass *p)
+void present_gpu_destroy(present_gpu *p)
 {
     if (!p)
         return;

@@ -23,11 +23,11 @@ typedef struct frame_hud {
     char banner[PRESENT_HUD_LINE];
 } frame_hud;
 
-typedef struct present_pass present_pass;
+typedef struct present_gpu present_gpu;
 
-vg_status present_pass_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_pass **out);
-void present_pass_destroy(present_pass *p);
+vg_status present_gpu_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_gpu **out);
+void present_gpu_destroy(present_gpu *p);
 /* Declares the swapchain image and the two passes; returns the imported image. */
-rg_res present_pass_add(present_pass *p, rg_graph *g, frame_resources *res);
+rg_res present_gpu_add(present_gpu *p, rg_graph *g, frame_resources *res);
 /* Builds this frame's HUD geometry (slot = frame_ctx slot). */
-void present_pass_update(present_pass *p, const frame_hud *hud);
+void present_gpu_update(present_gpu *p, const frame_hud *hud);

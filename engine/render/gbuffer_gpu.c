@@ -20,7 +20,7 @@ const VkFormat gbuffer_formats[4] = {
     [VG_GBUFFER_MOTION] = VK_FORMAT_R32G32B32A32_SFLOAT,
 };
 
-struct gbuffer_pass {
+struct gbuffer_gpu {
     frame_ctx *fc;
     VkPipeline shadow, sky, gbuffer;
     rg_res shadow_map;
@@ -32,7 +32,7 @@ struct gbuffer_pass {
 
 static void shadow_execute(const rg_context *ctx, void *user)
 {
-    gbuffer_pass *p = user;
+    gbuffer_gpu *p = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->shadow);
     frame_ctx_push_scene(p->fc, ctx, (rg_res){0});
@@ -43,7 +43,7 @@ static void shadow_execute(const rg_context *ctx, void *user)
 
 static void gbuffer_execute(const rg_context *ctx, void *user)
 {
-    gbuffer_pass *p = user;
+    gbuffer_gpu *p = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     frame_ctx_push_scene(p->fc, ctx, p->shadow_map);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->fc->scene_layout, 1, 1,
@@ -54,7 +54,7 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
     scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_MOTION, 0);
 }
 
-void gbuffer_pass_add(gbuffer_pass *p, rg_graph *g, frame_resources *res)
+void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
 {
     uint32_t w = p->fc->desc.width, h = p->fc->desc.height, sz = p->fc->desc.shadow_size;
     res->shadow = p->shadow_map = rg_image(g, &(rg_image_desc){"shadow.map", GBUFFER_DEPTH_FORMAT, sz, sz, 1});
@@ -91,10 +91,10 @@ void gbuffer_pass_add(gbuffer_pass *p, rg_graph *g, frame_resources *res)
 /* Pipelines                                                                 */
 /* ------------------------------------------------------------------------- */
 
-vg_status gbuffer_pass_create(frame_ctx *fc, gbuffer_pass **out)
+vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out)
 {
     gpu *g = fc->gpu;
-    gbuffer_pass *p = calloc(1, sizeof *p);
+    gbuffer_gpu *p = calloc(1, sizeof *p);
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
@@ -139,14 +139,14 @@ vg_status gbuffer_pass_create(frame_ctx *fc, gbuffer_pass **out)
         if (mods[i])
             vkDestroyShaderModule(g->device, mods[i], NULL);
     if (st != VG_OK) {
-        gbuffer_pass_destroy(p);
+        gbuffer_gpu_destroy(p);
         return st;
     }
     *out = p;
     return VG_OK;
 }
 
-void gbuffer_pass_destroy(gbuffer_pass *p)
+void gbuffer_gpu_destroy(gbuffer_gpu *p)
 {
     if (!p)
         return;

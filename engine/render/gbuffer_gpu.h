@@ -4,11 +4,11 @@
 #pragma once
 #include "frame_ctx.h"
 
-typedef struct gbuffer_pass gbuffer_pass;
+typedef struct gbuffer_gpu gbuffer_gpu;
 
-vg_status gbuffer_pass_create(frame_ctx *fc, gbuffer_pass **out);
-void gbuffer_pass_destroy(gbuffer_pass *p);
-void gbuffer_pass_add(gbuffer_pass *p, rg_graph *g, frame_resources *res);
+vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out);
+void gbuffer_gpu_destroy(gbuffer_gpu *p);
+void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res);
 
 /* Formats of the G-buffer colour attachments, in shader output order. */
 extern const VkFormat gbuffer_formats[4];

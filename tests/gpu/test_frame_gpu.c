@@ -22,7 +22,7 @@
 #endif
 
 typedef struct run_result {
-    gpu_metrics_result m;
+    science_metrics_result m;
     int validation;
 } run_result;
 
@@ -37,7 +37,7 @@ static int run(const char *scene_path, frame_desc fd, long frames, bool measure,
     CHECK(scene_load(scene_path, &s) == VG_OK, "scene_load(%s)", scene_path);
     CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
     const frame_desc *d = frame_get_desc(f);
-    gpu_metrics *gm = NULL;
+    science_metrics *gm = NULL;
     if (measure) {
         stereo_display disp;
         stereo_display_init(&disp, &d->display);
@@ -48,7 +48,7 @@ static int run(const char *scene_path, frame_desc fd, long frames, bool measure,
         double lo, hi;
         disp_operator_range(op, &lo, &hi);
         disp_operator_destroy(op);
-        CHECK(gpu_metrics_create(&(gpu_metrics_desc){
+        CHECK(science_metrics_create(&(science_metrics_desc){
                   .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
                   .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride),
                   .range_lo = lo, .range_hi = hi}, &gm) == VG_OK, "metrics");
@@ -58,12 +58,12 @@ static int run(const char *scene_path, frame_desc fd, long frames, bool measure,
         const frame_outputs *o = frame_get_outputs(f);
         if (gm) {
             CHECK(o->h && o->f, "h and f are read back");
-            gpu_metrics_add(gm, t, o->g, o->h, o->f, o->depth, o->motion, o->ids);
+            science_metrics_add(gm, t, o->g, o->h, o->f, o->depth, o->motion, o->ids);
         }
     }
     if (gm) {
-        CHECK(gpu_metrics_finish(gm, &out->m) == VG_OK, "metrics");
-        gpu_metrics_destroy(gm);
+        CHECK(science_metrics_finish(gm, &out->m) == VG_OK, "metrics");
+        science_metrics_destroy(gm);
     }
     frame_destroy(f);
     scene_destroy(s);
@@ -72,7 +72,7 @@ static int run(const char *scene_path, frame_desc fd, long frames, bool measure,
     return 0;
 }
 
-static void report(const char *name, const gpu_metrics_result *m)
+static void report(const char *name, const science_metrics_result *m)
 {
     printf("%s: MID distortion h %.3f JND, f %.3f JND (%.3f of h's) over %d moving samples of %d keyframes; "
            "range violation h %g, f %g; static RMS f %.3f arcmin\n",

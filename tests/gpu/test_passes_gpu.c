@@ -54,7 +54,7 @@ static void op_inputs(int frame, float *g, uint8_t *rgba, float *sal)
 }
 
 typedef struct op_test {
-    op_gpu *o;
+    operator_gpu *o;
     rg_res g, color, h, state;
     uint32_t w, hgt;
 } op_test;
@@ -68,14 +68,14 @@ static void op_fit_execute(const rg_context *ctx, void *user)
 {
     op_test *t = user;
     VkDescriptorImageInfo g = image_info(ctx, t->g), c = image_info(ctx, t->color);
-    op_gpu_record_fit(t->o, rg_ctx_cmd(ctx), &g, &c, t->w, t->hgt);
+    operator_gpu_record_fit(t->o, rg_ctx_cmd(ctx), &g, &c, t->w, t->hgt);
 }
 
 static void op_map_execute(const rg_context *ctx, void *user)
 {
     op_test *t = user;
     VkDescriptorImageInfo g = image_info(ctx, t->g), h = image_info(ctx, t->h);
-    op_gpu_record_map(t->o, rg_ctx_cmd(ctx), &g, &h, t->w, t->hgt);
+    operator_gpu_record_map(t->o, rg_ctx_cmd(ctx), &g, &h, t->w, t->hgt);
 }
 
 static int operator_agrees(disp_operator_kind kind, int frames)
@@ -88,13 +88,13 @@ static int operator_agrees(disp_operator_kind kind, int frames)
     harness hs;
     CHECK(harness_open(&hs) == 0, "harness");
     op_test t = {.w = OP_W, .hgt = OP_H};
-    CHECK(op_gpu_create(hs.gpu, &(op_gpu_desc){.op = od, .stride = 1}, &t.o) == VG_OK, "GPU operator");
+    CHECK(operator_gpu_create(hs.gpu, &(operator_gpu_desc){.op = od, .stride = 1}, &t.o) == VG_OK, "GPU operator");
     t.g = harness_image_add(&hs, "g", VK_FORMAT_R32_SFLOAT, OP_W, OP_H, true, false);
     t.color = harness_image_add(&hs, "color", VK_FORMAT_R8G8B8A8_UNORM, OP_W, OP_H, true, false);
     t.h = harness_image_add(&hs, "h", VK_FORMAT_R32_SFLOAT, OP_W, OP_H, false, true);
     CHECK(harness_upload(&hs) == 0, "upload");
     rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
-    t.state = rg_import_buffer(hs.graph, &(rg_buffer_desc){"operator.state", op_gpu_state_size(t.o)}, &rw);
+    t.state = rg_import_buffer(hs.graph, &(rg_buffer_desc){"operator.state", operator_gpu_state_size(t.o)}, &rw);
     rg_pass fit = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "disparity.operator.fit", .type = RG_PASS_COMPUTE,
                                                          .execute = op_fit_execute, .user = &t});
     rg_use(hs.graph, fit, t.g, RG_STORAGE_READ);
@@ -106,7 +106,7 @@ static int operator_agrees(disp_operator_kind kind, int frames)
     rg_use(hs.graph, map, t.state, RG_STORAGE_READ);
     rg_use(hs.graph, map, t.h, RG_STORAGE_WRITE);
     CHECK(harness_build(&hs) == 0, "graph");
-    rg_bind_buffer(hs.graph, t.state, op_gpu_state(t.o));
+    rg_bind_buffer(hs.graph, t.state, operator_gpu_state(t.o));
     float *g = malloc(OP_W * OP_H * sizeof(float)), *sal = malloc(OP_W * OP_H * sizeof(float));
     float *h = malloc(OP_W * OP_H * sizeof(float));
     double worst = 0, moved = 0;
@@ -131,7 +131,7 @@ static int operator_agrees(disp_operator_kind kind, int frames)
     free(g);
     free(sal);
     free(h);
-    op_gpu_destroy(t.o);
+    operator_gpu_destroy(t.o);
     disp_operator_destroy(cpu);
     CHECK(harness_close(&hs) == 0, "validation messages");
     return 0;
@@ -152,8 +152,8 @@ static int operator_lang_smoothed(void) { return operator_agrees(DISP_OPERATOR_L
 #define UP_STRIDE 5
 
 typedef struct up_test {
-    ups_gpu *u;
-    ups_gpu_frame fr;
+    upsample_gpu *u;
+    upsample_gpu_frame fr;
     rg_res depth, motion, h, f, ratio, store, published;
 } up_test;
 
@@ -161,7 +161,7 @@ static void up_time_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
     VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion);
-    ups_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, rg_ctx_buffer(ctx, t->store),
+    upsample_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, rg_ctx_buffer(ctx, t->store),
                         rg_ctx_buffer(ctx, t->published), rg_ctx_buffer(ctx, t->ratio));
 }
 
@@ -169,7 +169,7 @@ static void up_space_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
     VkDescriptorImageInfo h = image_info(ctx, t->h), f = image_info(ctx, t->f);
-    ups_gpu_record_space(t->u, rg_ctx_cmd(ctx), &t->fr, &h, rg_ctx_buffer(ctx, t->published),
+    upsample_gpu_record_space(t->u, rg_ctx_cmd(ctx), &t->fr, &h, rg_ctx_buffer(ctx, t->published),
                          rg_ctx_buffer(ctx, t->ratio), &f);
 }
 
@@ -241,7 +241,7 @@ static int upsample_agrees(float tau, bool at_key)
     CHECK(harness_open(&hs) == 0, "harness");
     up_test t = {.fr = {.width = UP_W, .height = UP_H, .stride = UP_STRIDE, .tau = tau, .at_key = at_key,
                         .has1 = true, .slot0 = 1, .slot1 = 0, .slots = 2, .span = span}};
-    CHECK(ups_gpu_create(hs.gpu, &t.u) == VG_OK, "GPU upsampling");
+    CHECK(upsample_gpu_create(hs.gpu, &t.u) == VG_OK, "GPU upsampling");
     t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.motion = harness_image_add(&hs, "motion", VK_FORMAT_R32G32B32A32_SFLOAT, UP_W, UP_H, true, false);
     t.h = harness_image_add(&hs, "h", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
@@ -303,7 +303,7 @@ static int upsample_agrees(float tau, bool at_key)
     printf("upsampling tau %.2f%s: max |f_gpu - f_cpu| %.3g arcmin at (%d, %d): %.4f vs %.4f; correction up to %.1f arcmin, %d clamped\n",
            tau, at_key ? " (keyframe)" : "", worst, at % UP_W, at / UP_W, fg[at], f[at], corr, clamped);
     CHECK(worst < AGREEMENT_ARCMIN, "GPU and CPU upsampling differ by %.3g arcmin", worst);
-    ups_gpu_destroy(t.u);
+    upsample_gpu_destroy(t.u);
     gpu_buffer_destroy(hs.gpu, &store);
     gpu_buffer_destroy(hs.gpu, &pub);
     CHECK(harness_close(&hs) == 0, "validation messages");

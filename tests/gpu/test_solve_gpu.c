@@ -15,7 +15,7 @@
 
 typedef struct gpu_window {
     gpu *gpu;
-    mid_gpu *m;
+    solve_gpu *m;
     mid_window *w;
     gpu_buffer published; /* a ring of nt slots: ratios, then slopes */
 } gpu_window;
@@ -33,13 +33,13 @@ static int open_window(gpu_window *c, synth_motion motion)
                                                        .size = sizeof(mid_published) + 2 * (size_t)w->n * sizeof(float),
                                                        .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
                             &c->published) == VG_OK, "published");
-    CHECK(mid_gpu_create(c->gpu, &(mid_gpu_desc){.nx = w->nx, .ny = w->ny, .max_keyframes = w->nt,
+    CHECK(solve_gpu_create(c->gpu, &(solve_gpu_desc){.nx = w->nx, .ny = w->ny, .max_keyframes = w->nt,
                                                  .host_visible = true, .published = c->published.buffer,
                                                  .published_size = c->published.size}, &c->m) == VG_OK,
-          "mid_gpu_create");
-    uint32_t cap = mid_gpu_capacity(c->m);
-    float *field = mid_gpu_host(c->m, MID_B_FIELD, NULL), *flow = mid_gpu_host(c->m, MID_B_FLOW, NULL);
-    float *invdt = mid_gpu_host(c->m, MID_B_INVDT, NULL);
+          "solve_gpu_create");
+    uint32_t cap = solve_gpu_capacity(c->m);
+    float *field = solve_gpu_host(c->m, MID_B_FIELD, NULL), *flow = solve_gpu_host(c->m, MID_B_FLOW, NULL);
+    float *invdt = solve_gpu_host(c->m, MID_B_INVDT, NULL);
     CHECK(field && flow && invdt, "host-visible arena");
     memcpy(field, w->g, (size_t)w->n * sizeof(float));
     memcpy(field + cap, w->h, (size_t)w->n * sizeof(float));
@@ -54,7 +54,7 @@ static int open_window(gpu_window *c, synth_motion motion)
 
 static int close_window(gpu_window *c)
 {
-    mid_gpu_destroy(c->m);
+    solve_gpu_destroy(c->m);
     gpu_buffer_destroy(c->gpu, &c->published);
     gpu_destroy(c->gpu);
     mid_window_destroy(c->w);
@@ -63,9 +63,9 @@ static int close_window(gpu_window *c)
     return 0;
 }
 
-static mid_gpu_solve solve_of(const mid_window *w, const mid_solve_desc *d)
+static solve_gpu_params solve_of(const mid_window *w, const mid_solve_desc *d)
 {
-    return (mid_gpu_solve){.keyframes = w->nt, .range_lo = w->range_lo, .range_hi = w->range_hi,
+    return (solve_gpu_params){.keyframes = w->nt, .range_lo = w->range_lo, .range_hi = w->range_hi,
                            .solver = d->solver, .precond = d->precond, .iterations = d->iterations,
                            .cg_steps = d->cg_iterations, .publish = true, .store_cap = (uint32_t)w->nt};
 }
@@ -74,7 +74,7 @@ static int run_program(gpu_window *c, int first, int last)
 {
     VkCommandBuffer cmd;
     CHECK(gpu_oneshot_begin(c->gpu, &cmd) == VG_OK, "oneshot");
-    mid_gpu_record(c->m, cmd, 0, first, last);
+    solve_gpu_record(c->m, cmd, 0, first, last);
     CHECK(gpu_oneshot_submit(c->gpu, cmd) == VG_OK, "submit");
     return 0;
 }
@@ -87,15 +87,15 @@ static int window_build(void)
     if (open_window(&c, SYNTH_CONSTANT_ACCEL))
         return 1;
     const mid_window *w = c.w;
-    mid_gpu_begin(c.m, &(mid_gpu_solve){.keyframes = w->nt, .range_lo = w->range_lo, .range_hi = w->range_hi});
+    solve_gpu_begin(c.m, &(solve_gpu_params){.keyframes = w->nt, .range_lo = w->range_lo, .range_hi = w->range_hi});
     if (run_program(&c, 0, 1))
         return 1;
-    uint32_t cap = mid_gpu_capacity(c.m), acap = mid_gpu_adj_capacity(c.m);
-    const mid_link *links = mid_gpu_host(c.m, MID_B_LINK, NULL);
-    const uint32_t *off = mid_gpu_host(c.m, MID_B_ADJ_OFF, NULL);
-    const mid_adj_entry *adj = mid_gpu_host(c.m, MID_B_ADJ, NULL);
-    const int32_t *chain = mid_gpu_host(c.m, MID_B_CHAIN, NULL);
-    const float *edge = mid_gpu_host(c.m, MID_B_EDGE, NULL), *target = mid_gpu_host(c.m, MID_B_TARGET, NULL);
+    uint32_t cap = solve_gpu_capacity(c.m), acap = solve_gpu_adj_capacity(c.m);
+    const mid_link *links = solve_gpu_host(c.m, MID_B_LINK, NULL);
+    const uint32_t *off = solve_gpu_host(c.m, MID_B_ADJ_OFF, NULL);
+    const mid_adj_entry *adj = solve_gpu_host(c.m, MID_B_ADJ, NULL);
+    const int32_t *chain = solve_gpu_host(c.m, MID_B_CHAIN, NULL);
+    const float *edge = solve_gpu_host(c.m, MID_B_EDGE, NULL), *target = solve_gpu_host(c.m, MID_B_TARGET, NULL);
     int bad_links = 0, bad_rows = 0, bad_chains = 0;
     double worst_edge = 0, worst_target = 0;
     for (int i = 0; i < w->n; i++) {
@@ -133,12 +133,12 @@ static int solve_agrees(synth_motion motion, mid_solve_desc d, const char *what)
     float *f = malloc((size_t)w->n * sizeof(float));
     mid_solve_stats stats;
     CHECK(f && mid_solve(w, &d, f, &stats) == VG_OK, "CPU solve");
-    mid_gpu_solve s = solve_of(w, &d);
-    mid_gpu_begin(c.m, &s);
-    if (run_program(&c, 0, mid_gpu_item_count(c.m)))
+    solve_gpu_params s = solve_of(w, &d);
+    solve_gpu_begin(c.m, &s);
+    if (run_program(&c, 0, solve_gpu_item_count(c.m)))
         return 1;
-    const float *fg = mid_gpu_host(c.m, MID_B_F, NULL);
-    const mid_solve_state *st = mid_gpu_host(c.m, MID_B_STATE, NULL);
+    const float *fg = solve_gpu_host(c.m, MID_B_F, NULL);
+    const mid_solve_state *st = solve_gpu_host(c.m, MID_B_STATE, NULL);
     double worst = 0, sum = 0, h_change = 0;
     int at = 0;
     for (int i = 0; i < w->n; i++) {
@@ -217,17 +217,17 @@ static int warm_start(void)
     CHECK(f && half, "memory");
     CHECK(mid_solve(w, &(mid_solve_desc){.iterations = 2}, half, NULL) == VG_OK, "CPU first half");
     CHECK(mid_solve(w, &(mid_solve_desc){.iterations = 2, .f_init = half}, f, NULL) == VG_OK, "CPU second half");
-    mid_gpu_solve s = solve_of(w, &(mid_solve_desc){.iterations = 2});
+    solve_gpu_params s = solve_of(w, &(mid_solve_desc){.iterations = 2});
     s.publish_from = w->nt; /* the publish step keeps the solution for the warm start */
-    mid_gpu_begin(c.m, &s);
-    if (run_program(&c, 0, mid_gpu_item_count(c.m)))
+    solve_gpu_begin(c.m, &s);
+    if (run_program(&c, 0, solve_gpu_item_count(c.m)))
         return 1;
     s.warm = true;
     s.prev_keyframes = w->nt;
-    mid_gpu_begin(c.m, &s);
-    if (run_program(&c, 1, mid_gpu_item_count(c.m))) /* the window is built */
+    solve_gpu_begin(c.m, &s);
+    if (run_program(&c, 1, solve_gpu_item_count(c.m))) /* the window is built */
         return 1;
-    const float *fg = mid_gpu_host(c.m, MID_B_F, NULL);
+    const float *fg = solve_gpu_host(c.m, MID_B_F, NULL);
     double worst = 0;
     for (int i = 0; i < w->n; i++)
         worst = fmax(worst, fabs((double)fg[i] - f[i]));

@@ -52,8 +52,8 @@ static sequence make_sequence(const char *name, int lo, int hi, uint32_t seed)
 
 typedef struct run_out {
     float **f;                  /* f per index (NULL where not rendered); owned */
-    gpu_metrics_result frames;  /* measured on the rendered frames */
-    gpu_metrics_result solve;   /* measured on the solve's published keyframes */
+    science_metrics_result frames;  /* measured on the rendered frames */
+    science_metrics_result solve;   /* measured on the solve's published keyframes */
     bool every_keyframe;        /* every keyframe index was rendered */
     int validation;
 } run_out;
@@ -76,12 +76,12 @@ static frame_desc steps_desc(disp_operator_kind op)
                         .shadow_size = 512, .mode = FRAME_MODE_OPTIMIZED, .op = op};
 }
 
-static int metrics_open(const frame *f, gpu_metrics **out)
+static int metrics_open(const frame *f, science_metrics **out)
 {
     const frame_desc *d = frame_get_desc(f);
     disparity_gpu_info info;
     CHECK(frame_disparity_info(f, &info), "the frame has a disparity pipeline");
-    CHECK(gpu_metrics_create(&(gpu_metrics_desc){
+    CHECK(science_metrics_create(&(science_metrics_desc){
               .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
               .stride = info.stride, .range_lo = info.range_lo, .range_hi = info.range_hi}, out) == VG_OK,
           "metrics");
@@ -100,7 +100,7 @@ static int run(const char *scene_path, disp_operator_kind op, const sequence *se
     CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
     const frame_desc *d = frame_get_desc(f);
     size_t np = (size_t)d->width * d->height;
-    gpu_metrics *frames_m, *solve_m;
+    science_metrics *frames_m, *solve_m;
     if (metrics_open(f, &frames_m) || metrics_open(f, &solve_m))
         return 1;
     out->f = calloc(STEPS_FRAMES, sizeof *out->f);
@@ -122,22 +122,22 @@ static int run(const char *scene_path, disp_operator_kind op, const sequence *se
             CHECK(memcmp(out->f[t], o->f, np * sizeof(float)) == 0, "%s: frame %ld repeated shows another f",
                   seq->name, t);
         }
-        gpu_metrics_add(frames_m, t, o->g, o->h, o->f, o->depth, o->motion, o->ids);
+        science_metrics_add(frames_m, t, o->g, o->h, o->f, o->depth, o->motion, o->ids);
         /* Keyframes whose published ratio is final by now (docs/method.md
          * "GPU passes": keyframe K is last published in interval K - 2). */
         long k = t / d->keyframe_stride;
         for (; solve_next <= k + 1; solve_next++) {
             CHECK(frame_solved_keyframe(f, solve_next, &kf) == VG_OK, "%s: keyframe %ld is in the store at frame %ld",
                   seq->name, solve_next, t);
-            gpu_metrics_add_keyframe(solve_m, solve_next, &kf);
+            science_metrics_add_keyframe(solve_m, solve_next, &kf);
         }
     }
     disparity_gpu_keyframe_free(&kf);
     out->every_keyframe = keyframes_seen == (STEPS_FRAMES + d->keyframe_stride - 1) / d->keyframe_stride;
-    CHECK(gpu_metrics_finish(frames_m, &out->frames) == VG_OK, "metrics");
-    CHECK(gpu_metrics_finish(solve_m, &out->solve) == VG_OK, "metrics");
-    gpu_metrics_destroy(frames_m);
-    gpu_metrics_destroy(solve_m);
+    CHECK(science_metrics_finish(frames_m, &out->frames) == VG_OK, "metrics");
+    CHECK(science_metrics_finish(solve_m, &out->solve) == VG_OK, "metrics");
+    science_metrics_destroy(frames_m);
+    science_metrics_destroy(solve_m);
     frame_destroy(f);
     scene_destroy(s);
     gpu_destroy(g);
@@ -209,7 +209,7 @@ static int steps_cubes(void) { return scene_case("cubes", "content/cubes.gltf", 
 static int steps_bird(void) { return scene_case("bird", "content/bird.gltf", DISP_OPERATOR_LANG); }
 static int steps_arena(void) { return scene_case("arena", "content/arena.gltf", DISP_OPERATOR_LANG); }
 /* lang-smoothed's temporal state: a frame's mapping blends with its
- * keyframe's, not with the last rendered frame's (op_gpu_frame_anchor). */
+ * keyframe's, not with the last rendered frame's (operator_gpu_frame_anchor). */
 static int steps_balloon_smoothed(void)
 {
     return scene_case("balloon lang-smoothed", "content/balloon.gltf", DISP_OPERATOR_LANG_SMOOTHED);

@@ -27,22 +27,22 @@ struct disparity_gpu {
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
     VkPipeline original;
-    op_gpu *op;
-    kf_gpu *kf;
-    mid_gpu *mid;
-    ups_gpu *ups;
+    operator_gpu *op;
+    keyframe_gpu *kf;
+    solve_gpu *mid;
+    upsample_gpu *ups;
     gpu_buffer store, published;
 
     uint32_t stride, nx, ny, ns;
     int past, future, ring, interval; /* window keyframes behind / ahead; ring slots; frames per keyframe */
     double lo, hi;
-    mid_gpu_solve solve;              /* the current window's */
+    solve_gpu_params solve;              /* the current window's */
 
     /* this frame's graph resources */
     rg_graph *graph;
     frame_resources *res;
     rg_res depth, g, state, r_store, r_published, arena, args, ratio;
-    kf_gpu_atlas atlas;
+    keyframe_gpu_atlas atlas;
 
     /* timeline */
     bool started;
@@ -57,7 +57,7 @@ struct disparity_gpu {
     int rec_first, rec_last;          /* mid.solve's items this frame */
     long tiles_first;                 /* keyframes rendered this frame */
     int tiles;
-    ups_gpu_frame up;
+    upsample_gpu_frame up;
 };
 
 uint32_t disparity_gpu_grid_stride(uint32_t width, uint32_t height, int coarse_stride)
@@ -113,23 +113,23 @@ static void fit_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo g = image_of(ctx, d->res->g), c = image_of(ctx, d->res->color);
-    op_gpu_record_fit(d->op, rg_ctx_cmd(ctx), &g, &c, d->fc->desc.width, d->fc->desc.height);
+    operator_gpu_record_fit(d->op, rg_ctx_cmd(ctx), &g, &c, d->fc->desc.width, d->fc->desc.height);
 }
 
 static void map_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo g = image_of(ctx, d->res->g), h = image_of(ctx, d->res->h);
-    op_gpu_record_map(d->op, rg_ctx_cmd(ctx), &g, &h, d->fc->desc.width, d->fc->desc.height);
+    operator_gpu_record_map(d->op, rg_ctx_cmd(ctx), &g, &h, d->fc->desc.width, d->fc->desc.height);
 }
 
-static op_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescriptorImageInfo *img)
+static operator_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescriptorImageInfo *img)
 {
     img[0] = image_of(ctx, d->atlas.depth);
     img[1] = image_of(ctx, d->atlas.color);
     img[2] = image_of(ctx, d->atlas.motion);
     img[3] = image_of(ctx, d->atlas.ids);
-    return (op_gpu_tiles){.ubo = d->fc->ubo[d->fc->slot].buffer, .depth = &img[0], .color = &img[1],
+    return (operator_gpu_tiles){.ubo = d->fc->ubo[d->fc->slot].buffer, .depth = &img[0], .color = &img[1],
                           .motion = &img[2], .ids = &img[3], .tiles = (uint32_t)d->tiles, .tile_w = d->nx, .tile_h = d->ny,
                           .store = rg_ctx_buffer(ctx, d->r_store), .store_first = ring_slot(d, d->tiles_first),
                           .store_cap = (uint32_t)d->ring};
@@ -139,40 +139,40 @@ static void tiles_fit_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo img[4];
-    op_gpu_tiles t = tiles_of(d, ctx, img);
+    operator_gpu_tiles t = tiles_of(d, ctx, img);
     if (d->tiles > 0)
-        op_gpu_record_tiles_fit(d->op, rg_ctx_cmd(ctx), &t);
+        operator_gpu_record_tiles_fit(d->op, rg_ctx_cmd(ctx), &t);
 }
 
 static void tiles_store_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo img[4];
-    op_gpu_tiles t = tiles_of(d, ctx, img);
+    operator_gpu_tiles t = tiles_of(d, ctx, img);
     if (d->tiles > 0)
-        op_gpu_record_tiles_store(d->op, rg_ctx_cmd(ctx), &t);
+        operator_gpu_record_tiles_store(d->op, rg_ctx_cmd(ctx), &t);
 }
 
 static void window_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     uint32_t slot = (uint32_t)d->fc->slot;
-    mid_gpu_record_previous(d->mid, rg_ctx_cmd(ctx), slot, d->tail_first, d->tail_last);
+    solve_gpu_record_previous(d->mid, rg_ctx_cmd(ctx), slot, d->tail_first, d->tail_last);
     if (d->build)
-        mid_gpu_record(d->mid, rg_ctx_cmd(ctx), slot, 0, 1);
+        solve_gpu_record(d->mid, rg_ctx_cmd(ctx), slot, 0, 1);
 }
 
 static void solve_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    mid_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->fc->slot, d->rec_first, d->rec_last);
+    solve_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->fc->slot, d->rec_first, d->rec_last);
 }
 
 static void time_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo z = image_of(ctx, d->res->depth), m = image_of(ctx, d->res->motion);
-    ups_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, rg_ctx_buffer(ctx, d->r_store),
+    upsample_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, rg_ctx_buffer(ctx, d->r_store),
                         rg_ctx_buffer(ctx, d->r_published), rg_ctx_buffer(ctx, d->ratio));
 }
 
@@ -180,7 +180,7 @@ static void space_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo h = image_of(ctx, d->res->h), f = image_of(ctx, d->res->f);
-    ups_gpu_record_space(d->ups, rg_ctx_cmd(ctx), &d->up, &h, rg_ctx_buffer(ctx, d->r_published),
+    upsample_gpu_record_space(d->ups, rg_ctx_cmd(ctx), &d->up, &h, rg_ctx_buffer(ctx, d->r_published),
                          rg_ctx_buffer(ctx, d->ratio), &f);
 }
 
@@ -198,10 +198,10 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     d->g = res->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, w, h, 1});
     res->h = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, w, h, 1});
     res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
-    d->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", op_gpu_state_size(d->op)}, &rw);
+    d->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", operator_gpu_state_size(d->op)}, &rw);
     d->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", d->store.size}, &rw);
     d->r_published = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", d->published.size}, &rw);
-    d->arena = rg_import_buffer(g, &(rg_buffer_desc){"mid.arena", mid_gpu_arena_size(d->mid)}, &rw);
+    d->arena = rg_import_buffer(g, &(rg_buffer_desc){"mid.arena", solve_gpu_arena_size(d->mid)}, &rw);
     d->args = rg_import_buffer(g, &(rg_buffer_desc){"mid.args", MID_ARGS_COUNT * 12},
                                &(rg_import_desc){.initial = RG_INDIRECT, .final = RG_INDIRECT});
     d->ratio = rg_buffer(g, &(rg_buffer_desc){"mid.ratio", (uint64_t)d->ns * sizeof(float)});
@@ -212,7 +212,7 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->g, RG_STORAGE_WRITE);
     /* Step 5: the keyframe window; the keyframes entering it come first,
      * as a frame's mapping blends with its keyframe's (lang-smoothed). */
-    kf_gpu_add(d->kf, g, res, &d->atlas);
+    keyframe_gpu_add(d->kf, g, res, &d->atlas);
     p = compute_pass(g, "mid.keyframes.fit", tiles_fit_execute, d);
     rg_use(g, p, res->ubo, RG_UNIFORM);
     rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
@@ -273,7 +273,7 @@ static void window_begin(disparity_gpu *d, long k, bool restart)
     int prev_nt = d->solve.keyframes;
     d->win_first = restart ? k : (k - d->past > d->first_kf ? k - d->past : d->first_kf);
     const frame_desc *fd = &d->fc->desc;
-    d->solve = (mid_gpu_solve){
+    d->solve = (solve_gpu_params){
         .keyframes = (int)(k + d->future - d->win_first + 1),
         .range_lo = (float)d->lo, .range_hi = (float)d->hi, .range_hull = fd->op == DISP_OPERATOR_NONE,
         .gather = true, .keyframe_seconds = (float)(fd->keyframe_stride / fd->fps),
@@ -287,21 +287,21 @@ static void window_begin(disparity_gpu *d, long k, bool restart)
          * interval: publishing them again would make f jump (a pop). */
         .publish_from = restart ? 0 : (int)(k + 2 - d->win_first),
     };
-    mid_gpu_begin(d->mid, &d->solve);
+    solve_gpu_begin(d->mid, &d->solve);
 }
 
 /* Items of the solve (after the build) spread over the interval's frames by
  * estimated cost: each frame does about the same share (amortised). */
 static void slices_plan(disparity_gpu *d)
 {
-    int n = mid_gpu_item_count(d->mid);
+    int n = solve_gpu_item_count(d->mid);
     double total = 0, at = 0;
     for (int i = 1; i < n; i++)
-        total += mid_gpu_item_cost(d->mid, i);
+        total += solve_gpu_item_cost(d->mid, i);
     int s = 0;
     d->slice[0] = 1;
     for (int i = 1; i < n; i++) {
-        double c = mid_gpu_item_cost(d->mid, i);
+        double c = solve_gpu_item_cost(d->mid, i);
         int want = total > 0 ? (int)((at + 0.5 * c) / total * d->interval) : 0;
         want = want >= d->interval ? d->interval - 1 : want;
         while (s < want)
@@ -333,11 +333,11 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
         d->first_kf = d->cur_k = k;
         d->tiles_first = k;
         d->tiles = d->future + 1;
-        op_gpu_reset(d->op);
+        operator_gpu_reset(d->op);
         window_begin(d, k, true);
         d->build = true;
         d->rec_first = 1;
-        d->done = d->rec_last = mid_gpu_item_count(d->mid);
+        d->done = d->rec_last = solve_gpu_item_count(d->mid);
         for (int s = 0; s <= d->interval; s++)
             d->slice[s] = d->rec_last; /* nothing more in this interval */
     } else {
@@ -348,7 +348,7 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
              * rendered), so what it published is a finished solve and the
              * new one starts from it. */
             d->tail_first = d->done;
-            d->tail_last = mid_gpu_item_count(d->mid);
+            d->tail_last = solve_gpu_item_count(d->mid);
             d->final_hi = d->cur_k + 2;
             d->cur_k = k;
             d->tiles_first = k + d->future;
@@ -365,22 +365,22 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
     }
     d->last_index = t->index;
     /* lang-smoothed: h from keyframe k's mapping and this frame alone. */
-    op_gpu_frame_anchor(d->op, ring_slot(d, k), phase);
+    operator_gpu_frame_anchor(d->op, ring_slot(d, k), phase);
     if (d->tiles > 0)
         d->store_hi = d->tiles_first + d->tiles - 1;
     /* A finished solve of interval k publishes keyframes k + 2 on (its first
      * window: k on); later windows publish from k + 3: k + 2 is final. */
-    if (d->done >= mid_gpu_item_count(d->mid))
+    if (d->done >= solve_gpu_item_count(d->mid))
         d->final_hi = d->cur_k + 2;
-    kf_gpu_prepare(d->kf, d->tiles_first, d->tiles);
+    keyframe_gpu_prepare(d->kf, d->tiles_first, d->tiles);
     /* The persistent buffers the graph imported (bound once it is compiled). */
-    rg_bind_buffer(d->graph, d->state, op_gpu_state(d->op));
+    rg_bind_buffer(d->graph, d->state, operator_gpu_state(d->op));
     rg_bind_buffer(d->graph, d->r_store, d->store.buffer);
     rg_bind_buffer(d->graph, d->r_published, d->published.buffer);
-    rg_bind_buffer(d->graph, d->arena, mid_gpu_arena(d->mid));
-    rg_bind_buffer(d->graph, d->args, mid_gpu_args(d->mid));
+    rg_bind_buffer(d->graph, d->arena, solve_gpu_arena(d->mid));
+    rg_bind_buffer(d->graph, d->args, solve_gpu_args(d->mid));
     /* Where this frame is between keyframes k and k + 1 (Fig. 4). */
-    d->up = (ups_gpu_frame){
+    d->up = (upsample_gpu_frame){
         .width = d->fc->desc.width, .height = d->fc->desc.height, .stride = d->stride,
         .tau = (float)phase / (float)d->interval, .at_key = phase == 0, .has1 = true,
         .slot0 = ring_slot(d, k), .slot1 = ring_slot(d, k + 1), .slots = (uint32_t)d->ring,
@@ -450,14 +450,14 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
     if (m)
         vkDestroyShaderModule(g->device, m, NULL);
     if (st == VG_OK)
-        st = op_gpu_create(g, &(op_gpu_desc){
+        st = operator_gpu_create(g, &(operator_gpu_desc){
             .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fc->display.screen_vergence,
                    .range = fd->target_range, .frame_seconds = 1.0 / fd->fps},
             .keyframe_seconds = fd->keyframe_stride / fd->fps, .stride = s,
             .max_tiles = (uint32_t)d->future + 1, .ring = (uint32_t)d->ring}, &d->op);
     if (st == VG_OK) {
-        op_gpu_range(d->op, &d->lo, &d->hi);
-        st = kf_gpu_create(fc, &(kf_gpu_desc){.nx = d->nx, .ny = d->ny, .stride = s,
+        operator_gpu_range(d->op, &d->lo, &d->hi);
+        st = keyframe_gpu_create(fc, &(keyframe_gpu_desc){.nx = d->nx, .ny = d->ny, .stride = s,
                                               .max_tiles = (uint32_t)d->future + 1}, &d->kf);
     }
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
@@ -470,13 +470,13 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
                                                      .size = sizeof(mid_published) + 2 * (VkDeviceSize)d->ring * d->ns * sizeof(float),
                                                      .usage = usage, .host_visible = fd->readback}, &d->published);
     if (st == VG_OK)
-        st = mid_gpu_create(g, &(mid_gpu_desc){.nx = (int)d->nx, .ny = (int)d->ny,
+        st = solve_gpu_create(g, &(solve_gpu_desc){.nx = (int)d->nx, .ny = (int)d->ny,
                                                .max_keyframes = d->past + d->future + 1,
                                                .store = d->store.buffer, .published = d->published.buffer,
                                                .store_size = d->store.size, .published_size = d->published.size},
                             &d->mid);
     if (st == VG_OK)
-        st = ups_gpu_create(g, &d->ups);
+        st = upsample_gpu_create(g, &d->ups);
     if (st != VG_OK) {
         disparity_gpu_destroy(d);
         return st;
@@ -490,10 +490,10 @@ void disparity_gpu_destroy(disparity_gpu *d)
     if (!d)
         return;
     gpu *g = d->fc->gpu;
-    ups_gpu_destroy(d->ups);
-    mid_gpu_destroy(d->mid);
-    kf_gpu_destroy(d->kf);
-    op_gpu_destroy(d->op);
+    upsample_gpu_destroy(d->ups);
+    solve_gpu_destroy(d->mid);
+    keyframe_gpu_destroy(d->kf);
+    operator_gpu_destroy(d->op);
     gpu_buffer_destroy(g, &d->store);
     gpu_buffer_destroy(g, &d->published);
     if (d->original)
@@ -510,7 +510,7 @@ void disparity_gpu_get_info(const disparity_gpu *d, disparity_gpu_info *info)
 {
     *info = (disparity_gpu_info){.stride = d->stride, .nx = d->nx, .ny = d->ny, .past = d->past,
                                  .future = d->future, .range_lo = d->lo, .range_hi = d->hi,
-                                 .items = mid_gpu_item_count(d->mid)};
+                                 .items = solve_gpu_item_count(d->mid)};
 }
 
 void disparity_gpu_keyframe_free(disparity_gpu_keyframe *k)

@@ -20,9 +20,9 @@
 
 #define UBO_STRIDE ((sizeof(vg_frame_ubo) + 255) & ~(size_t)255)
 
-struct kf_gpu {
+struct keyframe_gpu {
     frame_ctx *fc;
-    kf_gpu_desc d;
+    keyframe_gpu_desc d;
     VkPipeline sky, scene;
     scene_state now, prev, next;
     gpu_buffer vertices[VG_FRAMES_IN_FLIGHT]; /* per tile: current (6 floats) | prev (3) | next (3) */
@@ -33,7 +33,7 @@ struct kf_gpu {
     int tiles;                                /* this frame */
 };
 
-static vg_status pipelines_create(kf_gpu *k)
+static vg_status pipelines_create(keyframe_gpu *k)
 {
     frame_ctx *fc = k->fc;
     gpu *g = fc->gpu;
@@ -62,10 +62,10 @@ static vg_status pipelines_create(kf_gpu *k)
     return st;
 }
 
-vg_status kf_gpu_create(frame_ctx *fc, const kf_gpu_desc *desc, kf_gpu **out)
+vg_status keyframe_gpu_create(frame_ctx *fc, const keyframe_gpu_desc *desc, keyframe_gpu **out)
 {
     *out = NULL;
-    kf_gpu *k = calloc(1, sizeof *k);
+    keyframe_gpu *k = calloc(1, sizeof *k);
     if (!k)
         return VG_ERR_NOMEM;
     k->fc = fc;
@@ -90,14 +90,14 @@ vg_status kf_gpu_create(frame_ctx *fc, const kf_gpu_desc *desc, kf_gpu **out)
     if (st == VG_OK)
         st = pipelines_create(k);
     if (st != VG_OK) {
-        kf_gpu_destroy(k);
+        keyframe_gpu_destroy(k);
         return st;
     }
     *out = k;
     return VG_OK;
 }
 
-void kf_gpu_destroy(kf_gpu *k)
+void keyframe_gpu_destroy(keyframe_gpu *k)
 {
     if (!k)
         return;
@@ -124,7 +124,7 @@ void kf_gpu_destroy(kf_gpu *k)
  * tile m lands where full-resolution sample X(q) = q s + s/2 has its centre
  * (disp_grid), so a coarse keyframe is a point sample of the frame it
  * predicts; clip' = A clip. */
-static void atlas_matrix(const kf_gpu *k, int tile, mat4 a)
+static void atlas_matrix(const keyframe_gpu *k, int tile, mat4 a)
 {
     double w = k->fc->desc.width, h = k->fc->desc.height, s = k->d.stride, half = floor(s / 2.0) + 0.5;
     double nx = k->d.nx, ny = k->d.ny, rows = (double)k->d.ny * k->d.max_tiles;
@@ -135,7 +135,7 @@ static void atlas_matrix(const kf_gpu *k, int tile, mat4 a)
     a[3][1] = (float)(2.0 / rows * ((h / 2.0 - half) / s + 0.5 + tile * ny) - 1.0);
 }
 
-static void tile_ubo(kf_gpu *k, int tile, const vg_camera *cam, const vg_camera *prev, const vg_camera *next,
+static void tile_ubo(keyframe_gpu *k, int tile, const vg_camera *cam, const vg_camera *prev, const vg_camera *next,
                      vg_frame_ubo *u)
 {
     frame_ctx *fc = k->fc;
@@ -158,7 +158,7 @@ static void tile_ubo(kf_gpu *k, int tile, const vg_camera *cam, const vg_camera 
     memcpy(u->viewport.v, (float[4]){aw, ah, 1.0f / aw, 1.0f / ah}, 16);
 }
 
-void kf_gpu_prepare(kf_gpu *k, long first, int count)
+void keyframe_gpu_prepare(keyframe_gpu *k, long first, int count)
 {
     frame_ctx *fc = k->fc;
     const scene *s = fc->scene;
@@ -190,7 +190,7 @@ void kf_gpu_prepare(kf_gpu *k, long first, int count)
     rg_bind_buffer(k->graph, k->r_ubo, k->ubo[slot].buffer);
 }
 
-int kf_gpu_tiles(const kf_gpu *k) { return k->tiles; }
+int keyframe_gpu_tiles(const keyframe_gpu *k) { return k->tiles; }
 
 /* ------------------------------------------------------------------------- */
 /* Pass                                                                      */
@@ -198,7 +198,7 @@ int kf_gpu_tiles(const kf_gpu *k) { return k->tiles; }
 
 static void keyframes_execute(const rg_context *ctx, void *user)
 {
-    kf_gpu *k = user;
+    keyframe_gpu *k = user;
     frame_ctx *fc = k->fc;
     const scene *s = fc->scene;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
@@ -230,7 +230,7 @@ static void keyframes_execute(const rg_context *ctx, void *user)
     }
 }
 
-void kf_gpu_add(kf_gpu *k, rg_graph *g, const frame_resources *res, kf_gpu_atlas *a)
+void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, keyframe_gpu_atlas *a)
 {
     uint32_t w = k->d.nx, h = k->d.ny * k->d.max_tiles;
     k->graph = g;

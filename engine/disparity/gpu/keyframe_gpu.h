@@ -12,23 +12,23 @@
 
 #include "render/frame_ctx.h"
 
-typedef struct kf_gpu kf_gpu;
+typedef struct keyframe_gpu keyframe_gpu;
 
-typedef struct kf_gpu_desc {
+typedef struct keyframe_gpu_desc {
     uint32_t nx, ny, stride;   /* coarse grid of the full-resolution frame */
     uint32_t max_tiles;        /* keyframes rendered in one frame */
-} kf_gpu_desc;
+} keyframe_gpu_desc;
 
 /* The atlas images (max_tiles tiles of nx x ny stacked vertically). */
-typedef struct kf_gpu_atlas {
+typedef struct keyframe_gpu_atlas {
     rg_res color, depth, ids, motion, zbuffer;
-} kf_gpu_atlas;
+} keyframe_gpu_atlas;
 
-vg_status kf_gpu_create(frame_ctx *fc, const kf_gpu_desc *desc, kf_gpu **out);
-void kf_gpu_destroy(kf_gpu *k);
+vg_status keyframe_gpu_create(frame_ctx *fc, const keyframe_gpu_desc *desc, keyframe_gpu **out);
+void keyframe_gpu_destroy(keyframe_gpu *k);
 /* Adds "mid.keyframes"; fills the atlas resources. */
-void kf_gpu_add(kf_gpu *k, rg_graph *g, const frame_resources *res, kf_gpu_atlas *atlas);
+void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, keyframe_gpu_atlas *atlas);
 /* This frame renders keyframes first .. first + count - 1 (count 0: none):
  * evaluates the scene at their times and fills the slot's streams. */
-void kf_gpu_prepare(kf_gpu *k, long first, int count);
-int kf_gpu_tiles(const kf_gpu *k);
+void keyframe_gpu_prepare(keyframe_gpu *k, long first, int count);
+int keyframe_gpu_tiles(const keyframe_gpu *k);

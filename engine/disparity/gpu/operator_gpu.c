@@ -17,9 +17,9 @@
 
 enum { P_FIT, P_MAP, P_TILES_FIT, P_TILES_STORE, P_COUNT };
 
-struct op_gpu {
+struct operator_gpu {
     gpu *gpu;
-    op_gpu_desc d;
+    operator_gpu_desc d;
     disp_op_push push;
     double lo, hi;
     double frame_s, tau;   /* lang-smoothed: a frame's seconds, the time constant */
@@ -30,7 +30,7 @@ struct op_gpu {
     VkPipeline pipe[P_COUNT];
 };
 
-vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out)
+vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gpu **out)
 {
     *out = NULL;
     /* The CPU reference resolves the defaults and checks the range. */
@@ -38,7 +38,7 @@ vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out)
     vg_status st = disp_operator_create(&desc->op, &ref);
     if (st != VG_OK)
         return st;
-    op_gpu *o = calloc(1, sizeof *o);
+    operator_gpu *o = calloc(1, sizeof *o);
     if (!o) {
         disp_operator_destroy(ref);
         return VG_ERR_NOMEM;
@@ -119,14 +119,14 @@ vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out)
             vkDestroyShaderModule(g->device, m, NULL);
     }
     if (st != VG_OK) {
-        op_gpu_destroy(o);
+        operator_gpu_destroy(o);
         return st;
     }
     *out = o;
     return VG_OK;
 }
 
-void op_gpu_destroy(op_gpu *o)
+void operator_gpu_destroy(operator_gpu *o)
 {
     if (!o)
         return;
@@ -143,9 +143,9 @@ void op_gpu_destroy(op_gpu *o)
     free(o);
 }
 
-void op_gpu_reset(op_gpu *o) { o->reset_frame = o->reset_tiles = true; }
+void operator_gpu_reset(operator_gpu *o) { o->reset_frame = o->reset_tiles = true; }
 
-void op_gpu_frame_anchor(op_gpu *o, uint32_t key_slot, long frames)
+void operator_gpu_frame_anchor(operator_gpu *o, uint32_t key_slot, long frames)
 {
     if (!o->d.ring)
         return;
@@ -157,14 +157,14 @@ void op_gpu_frame_anchor(op_gpu *o, uint32_t key_slot, long frames)
     o->reset_frame = false;
 }
 
-void op_gpu_range(const op_gpu *o, double *lo, double *hi)
+void operator_gpu_range(const operator_gpu *o, double *lo, double *hi)
 {
     *lo = o->lo;
     *hi = o->hi;
 }
 
-VkBuffer op_gpu_state(const op_gpu *o) { return o->state.buffer; }
-VkDeviceSize op_gpu_state_size(const op_gpu *o) { return o->state.size; }
+VkBuffer operator_gpu_state(const operator_gpu *o) { return o->state.buffer; }
+VkDeviceSize operator_gpu_state_size(const operator_gpu *o) { return o->state.size; }
 
 /* ------------------------------------------------------------------------- */
 /* Recording                                                                 */
@@ -176,7 +176,7 @@ typedef struct binding {
     VkBuffer buffer;
 } binding;
 
-static void push(op_gpu *o, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_op_push *pc)
+static void push(operator_gpu *o, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_op_push *pc)
 {
     VkWriteDescriptorSet w[6];
     VkDescriptorBufferInfo bufs[6];
@@ -198,7 +198,7 @@ static void push(op_gpu *o, VkCommandBuffer cmd, int p, const binding *b, uint32
 #define BUF(buf) {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf)}
 #define UBO(buf) {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, (buf)}
 
-void op_gpu_record_fit(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+void operator_gpu_record_fit(operator_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
                        const VkDescriptorImageInfo *color, uint32_t width, uint32_t height)
 {
     disp_op_push pc = o->push;
@@ -213,7 +213,7 @@ void op_gpu_record_fit(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageIn
     vkCmdDispatch(cmd, 1, 1, 1);
 }
 
-void op_gpu_record_map(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+void operator_gpu_record_map(operator_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
                        const VkDescriptorImageInfo *h, uint32_t width, uint32_t height)
 {
     disp_op_push pc = o->push;
@@ -225,7 +225,7 @@ void op_gpu_record_map(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageIn
     vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
 }
 
-static disp_op_push tiles_push(const op_gpu *o, const op_gpu_tiles *t)
+static disp_op_push tiles_push(const operator_gpu *o, const operator_gpu_tiles *t)
 {
     disp_op_push pc = o->push;
     pc.width = t->tile_w;
@@ -239,7 +239,7 @@ static disp_op_push tiles_push(const op_gpu *o, const op_gpu_tiles *t)
     return pc;
 }
 
-void op_gpu_record_tiles_fit(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t)
+void operator_gpu_record_tiles_fit(operator_gpu *o, VkCommandBuffer cmd, const operator_gpu_tiles *t)
 {
     disp_op_push pc = tiles_push(o, t);
     if (o->reset_tiles)
@@ -250,7 +250,7 @@ void op_gpu_record_tiles_fit(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles 
     vkCmdDispatch(cmd, 1, 1, 1);
 }
 
-void op_gpu_record_tiles_store(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t)
+void operator_gpu_record_tiles_store(operator_gpu *o, VkCommandBuffer cmd, const operator_gpu_tiles *t)
 {
     disp_op_push pc = tiles_push(o, t);
     binding b[6] = {UBO(t->ubo), IMG(t->depth), IMG(t->motion), BUF(o->state.buffer), BUF(t->store), IMG(t->ids)};

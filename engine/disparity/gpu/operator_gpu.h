@@ -16,21 +16,21 @@
 #include "disparity/disp_operator.h"
 #include "gpu/gpu.h"
 
-typedef struct op_gpu_desc {
+typedef struct operator_gpu_desc {
     disp_operator_desc op;      /* kind, preset, screen vergence, range, domain, ... (CPU meaning) */
     double keyframe_seconds;    /* lang-smoothed at the keyframe rate, 0 = 10 / 60 s */
     uint32_t stride;            /* statistics of a frame from every stride-th pixel, 0 = 1 */
     uint32_t max_tiles;         /* keyframes fitted at once, 0 = none */
     uint32_t ring;              /* keyframe mappings kept (the store's ring slots), 0 = none */
     bool no_saliency;           /* every pixel weighs 1 (the CPU's saliency = NULL) */
-} op_gpu_desc;
+} operator_gpu_desc;
 
-typedef struct op_gpu op_gpu;
+typedef struct operator_gpu operator_gpu;
 
-vg_status op_gpu_create(gpu *g, const op_gpu_desc *desc, op_gpu **out);
-void op_gpu_destroy(op_gpu *o);
+vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gpu **out);
+void operator_gpu_destroy(operator_gpu *o);
 /* The next fit starts without temporal state (lang-smoothed). */
-void op_gpu_reset(op_gpu *o);
+void operator_gpu_reset(operator_gpu *o);
 /* lang-smoothed in the frame: the next frame fit blends with the mapping of
  * the keyframe in ring slot key_slot (that keyframe's running mapping),
  * decayed over the `frames` frames since it, instead of with the last
@@ -38,29 +38,29 @@ void op_gpu_reset(op_gpu *o);
  * which frames between were rendered (issue 13); at a keyframe (frames 0)
  * it is that keyframe's mapping, so h is continuous across keyframes.
  * Needs desc.ring; without a call, fits blend with the last frame fit. */
-void op_gpu_frame_anchor(op_gpu *o, uint32_t key_slot, long frames);
+void operator_gpu_frame_anchor(operator_gpu *o, uint32_t key_slot, long frames);
 /* The target range (disp_operator_range without a fixed domain). */
-void op_gpu_range(const op_gpu *o, double *lo, double *hi);
+void operator_gpu_range(const operator_gpu *o, double *lo, double *hi);
 
-VkBuffer op_gpu_state(const op_gpu *o);
-VkDeviceSize op_gpu_state_size(const op_gpu *o);
+VkBuffer operator_gpu_state(const operator_gpu *o);
+VkDeviceSize operator_gpu_state_size(const operator_gpu *o);
 
 /* Frame: fit to g (and the saliency in colour's alpha), then map g to h.
  * Images as storage images in the given layouts. */
-void op_gpu_record_fit(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+void operator_gpu_record_fit(operator_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
                        const VkDescriptorImageInfo *color, uint32_t width, uint32_t height);
-void op_gpu_record_map(op_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
+void operator_gpu_record_map(operator_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
                        const VkDescriptorImageInfo *h, uint32_t width, uint32_t height);
 
 /* Keyframes: `tiles` coarse renders stacked in an atlas of tile_w x tile_h
  * tiles (depth, colour with saliency, motion in coarse pixels), in time
  * order; the store gets them in ring slots store_first, store_first + 1, ... */
-typedef struct op_gpu_tiles {
+typedef struct operator_gpu_tiles {
     VkBuffer ubo;                               /* vg_frame_ubo: rig and display for g */
     const VkDescriptorImageInfo *depth, *color, *motion, *ids;
     uint32_t tiles, tile_w, tile_h;
     VkBuffer store;
     uint32_t store_first, store_cap;
-} op_gpu_tiles;
-void op_gpu_record_tiles_fit(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t);
-void op_gpu_record_tiles_store(op_gpu *o, VkCommandBuffer cmd, const op_gpu_tiles *t);
+} operator_gpu_tiles;
+void operator_gpu_record_tiles_fit(operator_gpu *o, VkCommandBuffer cmd, const operator_gpu_tiles *t);
+void operator_gpu_record_tiles_store(operator_gpu *o, VkCommandBuffer cmd, const operator_gpu_tiles *t);

@@ -143,7 +143,7 @@ static const struct {
 /* ------------------------------------------------------------------------- */
 
 typedef struct step_ref {
-    struct mid_gpu *m;
+    struct solve_gpu *m;
     const step_def *def;
 } step_ref;
 
@@ -162,9 +162,9 @@ typedef struct program {
 
 #define MAX_STEPS 64
 
-struct mid_gpu {
+struct solve_gpu {
     gpu *gpu;
-    mid_gpu_desc d;
+    solve_gpu_desc d;
     uint32_t cap, adj_cap, ns;
     gpu_buffer arena, args, own_store, own_published;
     VkBuffer store, published;
@@ -177,7 +177,7 @@ struct mid_gpu {
     rg_graph *graph[G_COUNT];
     step_ref refs[G_COUNT][MAX_STEPS];
 
-    /* The current program (the last mid_gpu_begin) and the one before it,
+    /* The current program (the last solve_gpu_begin) and the one before it,
      * whose unrecorded items a frame may still have to record. */
     program prog[2];
     int cur;
@@ -188,7 +188,7 @@ struct mid_gpu {
 static void step_execute(const rg_context *ctx, void *user)
 {
     const step_ref *r = user;
-    mid_gpu *m = r->m;
+    solve_gpu *m = r->m;
     const program *pr = m->rec;
     const step_def *s = r->def;
     if ((s->only == ONLY_LINES && pr->jacobi) || (s->only == ONLY_JACOBI && !pr->jacobi))
@@ -218,7 +218,7 @@ static void step_execute(const rg_context *ctx, void *user)
 }
 
 /* One pass per step: the graph derives the barrier between each pair. */
-static vg_status graph_build(mid_gpu *m, int gi)
+static vg_status graph_build(solve_gpu *m, int gi)
 {
     rg_graph *g = m->graph[gi] = rg_create();
     if (!g)
@@ -267,7 +267,7 @@ static vg_status graph_build(mid_gpu *m, int gi)
 }
 
 /* Byte sizes of the arena's arrays (mid_shared.h MID_B_*). */
-static void arena_layout(mid_gpu *m)
+static void arena_layout(solve_gpu *m)
 {
     VkDeviceSize n = m->cap, f = sizeof(float), blocks = (n + MID_SUM_CHUNK - 1) / MID_SUM_CHUNK;
     VkDeviceSize sz[MID_B_COUNT] = {
@@ -304,7 +304,7 @@ static void arena_layout(mid_gpu *m)
     m->arena.size = at;
 }
 
-static void descriptors_init(mid_gpu *m)
+static void descriptors_init(solve_gpu *m)
 {
     for (int b = 0; b < MID_B_COUNT; b++) {
         VkDescriptorBufferInfo info = {m->arena.buffer, m->offset[b], m->bytes[b]};
@@ -321,7 +321,7 @@ static void descriptors_init(mid_gpu *m)
     }
 }
 
-static vg_status pipelines_create(mid_gpu *m)
+static vg_status pipelines_create(solve_gpu *m)
 {
     /* Every binding a storage buffer (more than gpu_push_layout_create takes). */
     gpu *g = m->gpu;
@@ -394,7 +394,7 @@ static vg_status pipelines_create(mid_gpu *m)
     return st;
 }
 
-vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out)
+vg_status solve_gpu_create(gpu *g, const solve_gpu_desc *desc, solve_gpu **out)
 {
     *out = NULL;
     if (desc->nx < 2 || desc->ny < 2 || desc->max_keyframes < 1 || desc->max_keyframes > (int)MID_MAX_KEYFRAMES) {
@@ -402,7 +402,7 @@ vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out)
                  desc->nx, desc->ny, desc->max_keyframes, MID_MAX_KEYFRAMES);
         return VG_ERR_ARG;
     }
-    mid_gpu *m = calloc(1, sizeof *m);
+    solve_gpu *m = calloc(1, sizeof *m);
     if (!m)
         return VG_ERR_NOMEM;
     m->gpu = g;
@@ -440,14 +440,14 @@ vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out)
     for (int gi = 0; gi < G_COUNT && st == VG_OK; gi++)
         st = graph_build(m, gi);
     if (st != VG_OK) {
-        mid_gpu_destroy(m);
+        solve_gpu_destroy(m);
         return st;
     }
     *out = m;
     return VG_OK;
 }
 
-void mid_gpu_destroy(mid_gpu *m)
+void solve_gpu_destroy(solve_gpu *m)
 {
     if (!m)
         return;
@@ -488,7 +488,7 @@ static void add_item(program *pr, int graph, int trial)
     pr->items[pr->count++] = (item){(uint8_t)graph, (uint8_t)trial};
 }
 
-void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
+void solve_gpu_begin(solve_gpu *m, const solve_gpu_params *s)
 {
     uint32_t nt = (uint32_t)s->keyframes, n = m->ns * nt;
     if (n > m->cap) {
@@ -540,10 +540,10 @@ void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *s)
         add_item(pr, G_PUBLISH, 0);
 }
 
-int mid_gpu_item_count(const mid_gpu *m) { return m->prog[m->cur].count; }
-int mid_gpu_previous_item_count(const mid_gpu *m) { return m->prog[m->cur ^ 1].count; }
+int solve_gpu_item_count(const solve_gpu *m) { return m->prog[m->cur].count; }
+int solve_gpu_previous_item_count(const solve_gpu *m) { return m->prog[m->cur ^ 1].count; }
 
-double mid_gpu_item_cost(const mid_gpu *m, int i)
+double solve_gpu_item_cost(const solve_gpu *m, int i)
 {
     const program *pr = &m->prog[m->cur];
     if (i < 0 || i >= pr->count)
@@ -555,7 +555,7 @@ double mid_gpu_item_cost(const mid_gpu *m, int i)
     return k_graphs[it->graph].cost;
 }
 
-static void record(mid_gpu *m, const program *pr, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+static void record(solve_gpu *m, const program *pr, VkCommandBuffer cmd, uint32_t slot, int first, int last)
 {
     m->rec = pr;
     for (int i = first < 0 ? 0 : first; i < last && i < pr->count; i++) {
@@ -565,23 +565,23 @@ static void record(mid_gpu *m, const program *pr, VkCommandBuffer cmd, uint32_t 
     }
 }
 
-void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+void solve_gpu_record(solve_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
 {
     record(m, &m->prog[m->cur], cmd, slot, first, last);
 }
 
-void mid_gpu_record_previous(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
+void solve_gpu_record_previous(solve_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last)
 {
     record(m, &m->prog[m->cur ^ 1], cmd, slot, first, last);
 }
 
-VkBuffer mid_gpu_arena(const mid_gpu *m) { return m->arena.buffer; }
-VkDeviceSize mid_gpu_arena_size(const mid_gpu *m) { return m->arena.size; }
-VkBuffer mid_gpu_args(const mid_gpu *m) { return m->args.buffer; }
-uint32_t mid_gpu_capacity(const mid_gpu *m) { return m->cap; }
-uint32_t mid_gpu_adj_capacity(const mid_gpu *m) { return m->adj_cap; }
+VkBuffer solve_gpu_arena(const solve_gpu *m) { return m->arena.buffer; }
+VkDeviceSize solve_gpu_arena_size(const solve_gpu *m) { return m->arena.size; }
+VkBuffer solve_gpu_args(const solve_gpu *m) { return m->args.buffer; }
+uint32_t solve_gpu_capacity(const solve_gpu *m) { return m->cap; }
+uint32_t solve_gpu_adj_capacity(const solve_gpu *m) { return m->adj_cap; }
 
-void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes)
+void *solve_gpu_host(const solve_gpu *m, int binding, VkDeviceSize *bytes)
 {
     if (!m->arena.mapped || binding < 0 || binding >= MID_B_COUNT || binding == MID_B_ARGS ||
         binding == MID_B_STORE || binding == MID_B_PUBLISHED)
@@ -591,10 +591,10 @@ void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes)
     return (uint8_t *)m->arena.mapped + m->offset[binding];
 }
 
-int mid_gpu_graph_count(void) { return G_COUNT; }
-const char *mid_gpu_graph_name(int graph) { return graph >= 0 && graph < G_COUNT ? k_graphs[graph].name : "?"; }
+int solve_gpu_graph_count(void) { return G_COUNT; }
+const char *solve_gpu_graph_name(int graph) { return graph >= 0 && graph < G_COUNT ? k_graphs[graph].name : "?"; }
 
-uint32_t mid_gpu_step_timings(const mid_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap)
+uint32_t solve_gpu_step_timings(const solve_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap)
 {
     if (graph < 0 || graph >= G_COUNT)
         return 0;
@@ -604,7 +604,7 @@ uint32_t mid_gpu_step_timings(const mid_gpu *m, int graph, uint32_t slot, const 
     return n;
 }
 
-void mid_gpu_dump(const mid_gpu *m, FILE *out)
+void solve_gpu_dump(const solve_gpu *m, FILE *out)
 {
     for (int gi = 0; gi < G_COUNT; gi++) {
         fprintf(out, "%s:\n", k_graphs[gi].name);

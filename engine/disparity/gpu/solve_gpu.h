@@ -21,17 +21,17 @@
 #include "graph/graph.h"
 #include "disparity/mid_solver.h"
 
-typedef struct mid_gpu_desc {
+typedef struct solve_gpu_desc {
     int nx, ny;            /* coarse grid */
     int max_keyframes;     /* capacity of a window (at most MID_MAX_KEYFRAMES) */
     bool host_visible;     /* arena in host-visible memory (tests read and write it) */
     VkBuffer store;        /* keyframe store ring (mid.window's gather); may be null */
     VkBuffer published;    /* published ratios (the publish step); may be null */
     VkDeviceSize store_size, published_size;
-} mid_gpu_desc;
+} solve_gpu_desc;
 
 /* One solve. Zero = defaults (the CPU reference's: Gauss-Newton 4 x 8, lines). */
-typedef struct mid_gpu_solve {
+typedef struct solve_gpu_params {
     int keyframes;                  /* n_t of this window */
     float range_lo, range_hi;       /* target range, arcmin */
     bool range_hull;                /* widen the range to hold g (operator none) */
@@ -50,43 +50,43 @@ typedef struct mid_gpu_solve {
     int prev_keyframes;             /* n_t of the last solution */
     bool publish;                   /* end with the publish step */
     int publish_from;               /* first window keyframe whose ratio is published */
-} mid_gpu_solve;
+} solve_gpu_params;
 
-typedef struct mid_gpu mid_gpu;
+typedef struct solve_gpu solve_gpu;
 
-vg_status mid_gpu_create(gpu *g, const mid_gpu_desc *desc, mid_gpu **out);
-void mid_gpu_destroy(mid_gpu *m);
+vg_status solve_gpu_create(gpu *g, const solve_gpu_desc *desc, solve_gpu **out);
+void solve_gpu_destroy(solve_gpu *m);
 
 /* Starts a program for one window (no GPU work). The program it replaces
  * stays recordable as the previous one: a frame that skipped the frames its
  * last items were due in records them before the new window's build. */
-void mid_gpu_begin(mid_gpu *m, const mid_gpu_solve *solve);
+void solve_gpu_begin(solve_gpu *m, const solve_gpu_params *solve);
 /* Items of the current (previous) program and their estimated cost (element traversals). */
-int mid_gpu_item_count(const mid_gpu *m);
-int mid_gpu_previous_item_count(const mid_gpu *m);
-double mid_gpu_item_cost(const mid_gpu *m, int item);
+int solve_gpu_item_count(const solve_gpu *m);
+int solve_gpu_previous_item_count(const solve_gpu *m);
+double solve_gpu_item_cost(const solve_gpu *m, int item);
 /* Records items [first, last) of the current (previous) program into cmd
  * (outside any render pass); slot picks the timestamp queries of the frame
  * in flight. */
-void mid_gpu_record(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
-void mid_gpu_record_previous(mid_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
+void solve_gpu_record(solve_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
+void solve_gpu_record_previous(solve_gpu *m, VkCommandBuffer cmd, uint32_t slot, int first, int last);
 
 /* The arena and the dispatch-size buffer, for the frame graph's declarations. */
-VkBuffer mid_gpu_arena(const mid_gpu *m);
-VkDeviceSize mid_gpu_arena_size(const mid_gpu *m);
-VkBuffer mid_gpu_args(const mid_gpu *m);
+VkBuffer solve_gpu_arena(const solve_gpu *m);
+VkDeviceSize solve_gpu_arena_size(const solve_gpu *m);
+VkBuffer solve_gpu_args(const solve_gpu *m);
 /* Host pointer to an array of the arena (MID_B_*), host_visible arenas only;
  * its byte size in *bytes. */
-void *mid_gpu_host(const mid_gpu *m, int binding, VkDeviceSize *bytes);
+void *solve_gpu_host(const solve_gpu *m, int binding, VkDeviceSize *bytes);
 /* Element capacity (array stride) and CSR entries per direction. */
-uint32_t mid_gpu_capacity(const mid_gpu *m);
-uint32_t mid_gpu_adj_capacity(const mid_gpu *m);
+uint32_t solve_gpu_capacity(const solve_gpu *m);
+uint32_t solve_gpu_adj_capacity(const solve_gpu *m);
 
-/* GPU ms of each step of step graph `graph` (0 .. mid_gpu_graph_count() - 1)
+/* GPU ms of each step of step graph `graph` (0 .. solve_gpu_graph_count() - 1)
  * at its last execution in the given slot; returns the steps written. */
-int mid_gpu_graph_count(void);
-const char *mid_gpu_graph_name(int graph);
-uint32_t mid_gpu_step_timings(const mid_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap);
+int solve_gpu_graph_count(void);
+const char *solve_gpu_graph_name(int graph);
+uint32_t solve_gpu_step_timings(const solve_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap);
 
 /* The step graphs, for the documentation's dumps. */
-void mid_gpu_dump(const mid_gpu *m, FILE *out);
+void solve_gpu_dump(const solve_gpu *m, FILE *out);

@@ -12,17 +12,17 @@
 
 enum { P_TIME, P_SPACE, P_COUNT };
 
-struct ups_gpu {
+struct upsample_gpu {
     gpu *gpu;
     VkDescriptorSetLayout set[P_COUNT];
     VkPipelineLayout layout[P_COUNT];
     VkPipeline pipe[P_COUNT];
 };
 
-vg_status ups_gpu_create(gpu *g, ups_gpu **out)
+vg_status upsample_gpu_create(gpu *g, upsample_gpu **out)
 {
     *out = NULL;
-    ups_gpu *u = calloc(1, sizeof *u);
+    upsample_gpu *u = calloc(1, sizeof *u);
     if (!u)
         return VG_ERR_NOMEM;
     u->gpu = g;
@@ -47,14 +47,14 @@ vg_status ups_gpu_create(gpu *g, ups_gpu **out)
             vkDestroyShaderModule(g->device, m, NULL);
     }
     if (st != VG_OK) {
-        ups_gpu_destroy(u);
+        upsample_gpu_destroy(u);
         return st;
     }
     *out = u;
     return VG_OK;
 }
 
-void ups_gpu_destroy(ups_gpu *u)
+void upsample_gpu_destroy(upsample_gpu *u)
 {
     if (!u)
         return;
@@ -70,7 +70,7 @@ void ups_gpu_destroy(ups_gpu *u)
     free(u);
 }
 
-static disp_upsample_push push_of(const ups_gpu_frame *f)
+static disp_upsample_push push_of(const upsample_gpu_frame *f)
 {
     uint32_t s = f->stride ? f->stride : MID_COARSE_STRIDE;
     float tol = f->occlusion_tolerance > 0 ? f->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
@@ -92,7 +92,7 @@ typedef struct binding {
     VkBuffer buffer;
 } binding;
 
-static void record(ups_gpu *u, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_upsample_push *pc)
+static void record(upsample_gpu *u, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_upsample_push *pc)
 {
     VkWriteDescriptorSet w[5];
     VkDescriptorBufferInfo bufs[5];
@@ -113,7 +113,7 @@ static void record(ups_gpu *u, VkCommandBuffer cmd, int p, const binding *b, uin
 #define IMG(info) {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (info), VK_NULL_HANDLE}
 #define BUF(buf) {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf)}
 
-void ups_gpu_record_time(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *depth,
+void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, VkBuffer store, VkBuffer published, VkBuffer ratio)
 {
     disp_upsample_push pc = push_of(f);
@@ -122,7 +122,7 @@ void ups_gpu_record_time(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f
     vkCmdDispatch(cmd, (pc.nx * pc.ny + 63) / 64, 1, 1);
 }
 
-void ups_gpu_record_space(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *h,
+void upsample_gpu_record_space(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *h,
                           VkBuffer published, VkBuffer ratio, const VkDescriptorImageInfo *out)
 {
     disp_upsample_push pc = push_of(f);

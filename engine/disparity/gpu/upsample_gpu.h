@@ -10,10 +10,10 @@
 
 #include "gpu/gpu.h"
 
-typedef struct ups_gpu ups_gpu;
+typedef struct upsample_gpu upsample_gpu;
 
 /* Where this frame is between its keyframes, and where they are stored. */
-typedef struct ups_gpu_frame {
+typedef struct upsample_gpu_frame {
     uint32_t width, height, stride;  /* full resolution; the coarse grid's stride */
     float tau;                       /* (t - t0) / (t1 - t0) */
     bool at_key;                     /* t is keyframe k0 itself */
@@ -23,17 +23,17 @@ typedef struct ups_gpu_frame {
     float span;                      /* seconds from k0 to k1 */
     float occlusion_tolerance;       /* relative depth, 0 = MID_OCCLUSION_TOLERANCE */
     float sigma_spatial, sigma_range;/* 0 = MID_SIGMA_SPATIAL, MID_SIGMA_RANGE */
-} ups_gpu_frame;
+} upsample_gpu_frame;
 
-vg_status ups_gpu_create(gpu *g, ups_gpu **out);
-void ups_gpu_destroy(ups_gpu *u);
+vg_status upsample_gpu_create(gpu *g, upsample_gpu **out);
+void upsample_gpu_destroy(upsample_gpu *u);
 
 /* Coarse ratio of the frame (nx * ny floats in ratio) from depth, motion
  * (RGBA32F: px to the previous keyframe xy, to the next zw), the keyframe
  * store and the published ratios and slopes (mid_published, then
  * slots x nx x ny ratios, then as many slopes per second). */
-void ups_gpu_record_time(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *depth,
+void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, VkBuffer store, VkBuffer published, VkBuffer ratio);
 /* Full-resolution f from h and the coarse ratio, clamped to the published range. */
-void ups_gpu_record_space(ups_gpu *u, VkCommandBuffer cmd, const ups_gpu_frame *f, const VkDescriptorImageInfo *h,
+void upsample_gpu_record_space(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *h,
                           VkBuffer published, VkBuffer ratio, const VkDescriptorImageInfo *out);
