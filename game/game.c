@@ -1,7 +1,7 @@
 /* vergence — the hit-prediction game's rules (paper Sec. 5, Fig. 6). */
 #include "game.h"
 
-#include "output/compose_gpu.h"
+#include "render/frame_types.h"
 
 #include <math.h>
 #include <string.h>
@@ -114,7 +114,7 @@ bool game_click_to_image(frame_compose compose, uint32_t width, uint32_t height,
                          double x, double y, double *u, double *v)
 {
     uint32_t sw, sh;
-    compose_size(compose, width, height, &sw, &sh);
+    frame_compose_size(compose, width, height, &sw, &sh);
     /* The picture is fitted into the window keeping its aspect, centred
      * (warp/present_gpu.c place_picture). */
     double s = fmin((double)win_w / sw, (double)win_h / sh);

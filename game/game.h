@@ -16,7 +16,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "frame/frame.h"
+#include "render/frame_types.h"
 #include "scene/scene.h"
 
 #define GAME_BALL_RADIUS 0.15   /* metres: the arena's `ball` node (docs/content.md) */

@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #include "gpu/gpu.h"
-#include "frame/frame.h"
+#include "render/frame_types.h"
 
 typedef struct picture picture;
 

@@ -14,7 +14,6 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
-#include "output/present_gpu.h"
 #include "window.h"
 
 #define READY_S 1.0      /* the ball rests at its launch point before a throw */
@@ -54,7 +53,7 @@ typedef struct session {
     double picked_m, landed_m;   /* feedback: ground distances of the click and of the landing spot */
     /* display */
     frame_hud hud;
-    char notice[PRESENT_HUD_LINE];
+    char notice[FRAME_HUD_LINE];
     double notice_until, fps;
     bool replay_done_said;
 } session;
@@ -319,11 +318,11 @@ static vg_status handle(session *ss, const window_event *ev)
 static void hud_add(session *ss, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void hud_add(session *ss, const char *fmt, ...)
 {
-    if (ss->hud.line_count >= PRESENT_HUD_MAX_LINES)
+    if (ss->hud.line_count >= FRAME_HUD_MAX_LINES)
         return;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(ss->hud.lines[ss->hud.line_count++], PRESENT_HUD_LINE, fmt, ap);
+    vsnprintf(ss->hud.lines[ss->hud.line_count++], FRAME_HUD_LINE, fmt, ap);
     va_end(ap);
 }
 
@@ -362,7 +361,7 @@ static void hud_build(session *ss, frame *f)
         for (uint32_t i = 0; i < n; i++)
             total += ms[i];
         hud_add(ss, "fps %.1f   GPU %.1f ms", ss->fps, total);
-        char line[PRESENT_HUD_LINE] = "";
+        char line[FRAME_HUD_LINE] = "";
         int small = 0;
         for (uint32_t i = 0; i < n; i++) {
             char item[48];

@@ -4,6 +4,7 @@
 #include <math.h>
 
 #include "core/log.h"
+#include "frame/frame.h"
 #include "game.h"
 
 frame_desc pref_clip_frame_desc(const gpu *g, const pref_clip_desc *d)

@@ -7,7 +7,7 @@
 #include <stdbool.h>
 
 #include "disparity/disp_operator.h"
-#include "frame/frame.h"
+#include "render/frame_types.h"
 #include "scene/scene.h"
 
 #define PREF_CLIP_STEP 2        /* clips hold every 2nd frame: 30 Hz, each shown twice at 60 Hz */

@@ -54,34 +54,6 @@ struct frame {
     bool profile;                    /* VERGENCE_PROFILE_PASSES: each pass alone, wall-clock ms */
 };
 
-const char *const frame_compose_names[] = {"sbs", "sbs", "sbs-half", "tb", "rows", "columns", "checker",
-                                          "anaglyph", "anaglyph-plain", "left", "right", NULL};
-const char *const frame_stereo_names[] = {"off", "warp", "cameras", "imagewarp", NULL};
-const char *const frame_mode_names[] = {"optimized", "original", "manipulated", "optimized", NULL};
-
-/* ------------------------------------------------------------------------- */
-/* Times                                                                     */
-/* ------------------------------------------------------------------------- */
-
-static long floor_div(long a, long b)
-{
-    long q = a / b;
-    return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
-}
-
-frame_times frame_times_at(long index, double fps, int stride)
-{
-    /* Neighbouring keyframes strictly before and after: on a keyframe these
-     * are the keyframes one stride away, as the keyframe window needs. */
-    long prev = floor_div(index - 1, stride) * stride;
-    long next = prev + stride;
-    if (next <= index)
-        next += stride;
-    return (frame_times){
-        .index = index, .prev_key = prev, .next_key = next,
-        .t = (double)index / fps, .t_prev = (double)prev / fps, .t_next = (double)next / fps,
-    };
-}
 
 /* ------------------------------------------------------------------------- */
 /* Readback                                                                  */
@@ -157,7 +129,7 @@ static vg_status build_graph(frame *f)
         }
         warp_gpu_add(f->warp, g, res, target);
         compose_gpu_add(f->compose, g, res);
-        compose_size(fc->desc.compose, w, h, &sw, &sh);
+        frame_compose_size(fc->desc.compose, w, h, &sw, &sh);
     }
 
     if (fc->desc.readback) {

@@ -22,7 +22,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "frame.h"
+#include "render/frame_types.h"
 
 typedef struct warp_metrics {
     /* accumulated */

@@ -20,12 +20,6 @@ struct compose_gpu {
 _Static_assert(FRAME_COMPOSE_SBS - 1 == VG_COMPOSE_SBS && FRAME_COMPOSE_RIGHT - 1 == VG_COMPOSE_RIGHT,
                "compose mode numbering differs between C and GLSL");
 
-void compose_size(frame_compose mode, uint32_t w, uint32_t h, uint32_t *out_w, uint32_t *out_h)
-{
-    *out_w = mode == FRAME_COMPOSE_SBS || mode == FRAME_COMPOSE_DEFAULT ? 2 * w : w;
-    *out_h = mode == FRAME_COMPOSE_TB ? 2 * h : h;
-}
-
 static void compose_execute(const rg_context *ctx, void *user)
 {
     compose_gpu *c = user;
@@ -58,7 +52,7 @@ void compose_gpu_add(compose_gpu *c, rg_graph *g, frame_resources *res)
 {
     c->res = res;
     const frame_desc *d = &c->fc->desc;
-    compose_size(d->compose, d->width, d->height, &c->out_w, &c->out_h);
+    frame_compose_size(d->compose, d->width, d->height, &c->out_w, &c->out_h);
     res->stereo = rg_image(g, &(rg_image_desc){"stereo", VK_FORMAT_R8G8B8A8_UNORM, c->out_w, c->out_h, 1});
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "compose", .type = RG_PASS_COMPUTE,
                                                .execute = compose_execute, .user = c});

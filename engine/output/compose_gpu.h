@@ -8,5 +8,3 @@ vg_status compose_gpu_create(frame_ctx *fc, compose_gpu **out);
 void compose_gpu_destroy(compose_gpu *c);
 /* Reads res->left and res->right; fills res->stereo. */
 void compose_gpu_add(compose_gpu *c, rg_graph *g, frame_resources *res);
-/* Output size of a mode for eyes of width x height. */
-void compose_size(frame_compose mode, uint32_t width, uint32_t height, uint32_t *out_w, uint32_t *out_h);

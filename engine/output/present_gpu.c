@@ -61,7 +61,7 @@ static uint32_t add_text(hud_vertex *v, uint32_t n, float x, float y, const char
 {
     if (n >= HUD_MAX_QUADS)
         return n;
-    char buf[PRESENT_HUD_LINE];
+    char buf[FRAME_HUD_LINE];
     snprintf(buf, sizeof buf, "%s", text);
     unsigned char color[4] = {c[0], c[1], c[2], c[3]};
     return n + (uint32_t)stb_easy_font_print(x, y, buf, color, v + 4 * n,
@@ -90,7 +90,7 @@ void present_gpu_update(present_gpu *p, const frame_hud *hud)
         /* Font units: about 6 wide and 12 tall per character line at scale 1. */
         float width = 0;
         for (int i = 0; i < hud->line_count; i++) {
-            char buf[PRESENT_HUD_LINE];
+            char buf[FRAME_HUD_LINE];
             snprintf(buf, sizeof buf, "%s", hud->lines[i]);
             float w = (float)stb_easy_font_width(buf);
             width = w > width ? w : width;
@@ -100,7 +100,7 @@ void present_gpu_update(present_gpu *p, const frame_hud *hud)
             n = add_text(v, n, 8, 7 + 12.0f * (float)i, hud->lines[i], i == 0 ? title : text);
     }
     if (hud && hud->banner[0]) {
-        char buf[PRESENT_HUD_LINE];
+        char buf[FRAME_HUD_LINE];
         snprintf(buf, sizeof buf, "%s", hud->banner);
         float w = (float)stb_easy_font_width(buf);
         float cx = (float)p->extent.width / p->scale * 0.5f, cy = (float)p->extent.height / p->scale * 0.5f;
@@ -120,7 +120,7 @@ static VkExtent2D source_size(const present_gpu *p)
     const frame_desc *d = &p->fc->desc;
     VkExtent2D e = {d->width, d->height};
     if (d->stereo != FRAME_STEREO_OFF)
-        compose_size(d->compose, d->width, d->height, &e.width, &e.height);
+        frame_compose_size(d->compose, d->width, d->height, &e.width, &e.height);
     return e;
 }
 

@@ -10,19 +10,6 @@
 #pragma once
 #include "render/frame_ctx.h"
 
-#define PRESENT_HUD_MAX_LINES 24
-#define PRESENT_HUD_LINE 96
-
-/* Text on top of the picture; lines[0] is the title line. */
-typedef struct frame_hud {
-    bool visible;
-    int line_count;
-    char lines[PRESENT_HUD_MAX_LINES][PRESENT_HUD_LINE];
-    float scale;                 /* 0 = 2 (font pixels per output pixel) */
-    /* A banner in the middle of the picture (pause, feedback), empty for none. */
-    char banner[PRESENT_HUD_LINE];
-} frame_hud;
-
 typedef struct present_gpu present_gpu;
 
 vg_status present_gpu_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_gpu **out);

@@ -6,7 +6,7 @@
  * execute callbacks read per-frame state (slot, times, cameras) from the
  * frame_ctx, which lives as long as the frame. */
 #pragma once
-#include "frame/frame.h"
+#include "frame_types.h"
 #include "gpu/gpu.h"
 #include "graph/graph.h"
 #include "scene_gpu.h"

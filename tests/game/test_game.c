@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "../test.h"
+#include "frame/frame.h"
 #include "game.h"
 #include "observer.h"
 #include "pref_clip.h"

@@ -68,12 +68,6 @@ uint32_t disparity_gpu_grid_stride(uint32_t width, uint32_t height, int coarse_s
     return s;
 }
 
-static long floor_div(long a, long b)
-{
-    long q = a / b;
-    return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
-}
-
 static uint32_t ring_slot(const disparity_gpu *d, long kf)
 {
     long r = kf % d->ring;
@@ -315,7 +309,7 @@ static void slices_plan(disparity_gpu *d)
 vg_status disparity_gpu_prepare(disparity_gpu *d)
 {
     const frame_times *t = &d->fc->times;
-    long k = floor_div(t->index, d->interval);
+    long k = frame_keyframe_of(t->index, d->interval);
     int phase = (int)(t->index - k * d->interval);
     d->build = false;
     d->rec_first = d->rec_last = 0;

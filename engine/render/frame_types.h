@@ -1,0 +1,144 @@
+/* vergence — the frame's types, shared by the frame (frame/frame.h) and
+ * every pass module (the pass kit, render/frame_ctx.h): what a frame is asked
+ * to render (frame_desc and its enums), its times, what it hands back
+ * (frame_outputs) and the HUD a windowed frame draws. Pure data, and pure
+ * functions over it (frame_types.c). */
+#pragma once
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "disparity/disp_operator.h"
+#include "disparity/mid_solver.h"
+#include "gpu/gpu.h"
+#include "stereo/stereo_display.h"
+
+/* How the stereo pair is made (issue 5, paper 4.6). */
+typedef enum frame_stereo {
+    FRAME_STEREO_OFF = 0,        /* centre eye only (G-buffer) */
+    FRAME_STEREO_WARP,           /* tessellated 3D vertex warping to the target disparity */
+    FRAME_STEREO_CAMERAS,        /* two real off-axis cameras (shows g only) */
+    FRAME_STEREO_IMAGEWARP,      /* forward image warping with a z-buffer (disocclusion holes) */
+} frame_stereo;
+
+/* Which disparity the pair shows (paper: g, h, f). */
+typedef enum frame_mode {
+    FRAME_MODE_DEFAULT = 0,      /* = optimized */
+    FRAME_MODE_ORIGINAL,         /* g: the original stereo camera */
+    FRAME_MODE_MANIPULATED,      /* h: the operator's output */
+    FRAME_MODE_OPTIMIZED,        /* f: motion in depth restored */
+} frame_mode;
+
+/* How the two eyes are packed into one output image. */
+typedef enum frame_compose {
+    FRAME_COMPOSE_DEFAULT = 0,   /* = sbs */
+    FRAME_COMPOSE_SBS,           /* side by side, full width each (2W x H) */
+    FRAME_COMPOSE_SBS_HALF,      /* side by side, half width each (W x H) */
+    FRAME_COMPOSE_TB,            /* top-bottom, full height each (W x 2H) */
+    FRAME_COMPOSE_ROWS,          /* row-interleaved: even rows left (passive polarised panels) */
+    FRAME_COMPOSE_COLUMNS,       /* column-interleaved: even columns left */
+    FRAME_COMPOSE_CHECKER,       /* checkerboard: (x + y) even left */
+    FRAME_COMPOSE_ANAGLYPH,      /* red-cyan, Dubois least-squares matrices */
+    FRAME_COMPOSE_ANAGLYPH_PLAIN,/* red from left, green and blue from right */
+    FRAME_COMPOSE_LEFT,
+    FRAME_COMPOSE_RIGHT,
+    FRAME_COMPOSE_COUNT,
+} frame_compose;
+
+/* Names as on the command line ("sbs", "anaglyph-plain", ...), NULL-terminated. */
+extern const char *const frame_compose_names[];
+extern const char *const frame_stereo_names[];
+extern const char *const frame_mode_names[];
+
+typedef struct frame_desc {
+    uint32_t width, height;      /* 0 = 960x540 */
+    double fps;                  /* 0 = 60 */
+    int keyframe_stride;         /* frames between keyframes, 0 = 10 (paper 4.4) */
+    int camera;                  /* camera node index (in node order) */
+    bool readback;               /* copy the G-buffer to the host every frame */
+    uint32_t shadow_size;        /* 0 = 2048 */
+    stereo_display_desc display; /* the display model (zero = paper defaults) */
+    stereo_camera_desc rig;      /* the original stereo camera; zero interaxial/convergence =
+                                    FRAME_DEFAULT_INTERAXIAL / _CONVERGENCE; fov and width follow the render */
+    frame_stereo stereo;
+    frame_mode mode;
+    frame_compose compose;
+    bool swap_eyes;
+    double tess_px;              /* edge length target in pixels (paper: 1); 0 = use tess_error */
+    double tess_error;           /* disparity error tolerance in pixels; 0 with tess_px 0 = 0.025 */
+    uint32_t max_tess_level;     /* 0 = 64 (clamped to the device) */
+    double depth_epsilon;        /* cascade: relative depth difference of one surface, 0 = 0.01 */
+    double halton_radius;        /* cascade: Halton search radius in pixels, 0 = 24 */
+    bool diffuse;                /* no specular: eyes shade identically from any viewpoint */
+    bool reference;              /* also render the two-camera reference (holes, PSNR) */
+    bool measure;                /* eyes compute their disparity error per pixel (aux.z) */
+    VkFormat present_format;     /* windowed: the swapchain format, UNDEFINED = headless */
+    uint32_t present_width, present_height; /* windowed: the swapchain extent */
+    const struct vg_curve *curve; /* a baked global curve instead of the per-frame one (copied) */
+    /* The disparity pipeline (issue 4, DESIGN.md steps 4-7); zero = default. */
+    disp_operator_kind op;       /* h = M(g, saliency), 0 = lang */
+    disp_operator_preset op_preset; /* 0 = comfort (+-60 arcmin) */
+    double target_range;         /* half-width of the target range, arcmin, 0 = the preset's */
+    double window_seconds;       /* MID keyframe window, 0 = 3 s (paper 4.2: several seconds) */
+    double window_future;        /* share of the window ahead of the frame, 0 = 0.5 */
+    int coarse_stride;           /* solver grid stride in pixels, 0 = 5 (paper 4.4); larger frames
+                                    widen it so the grid stays 192 x 108 (paper 4.5: constant time) */
+    mid_solver_kind solver;      /* 0 = Gauss-Newton (the CPU reference's default) */
+    int solver_iterations;       /* outer iterations per window, 0 = the solver's default for the first
+                                    window and MID_GN_WARM_ITERATIONS for each warm-started move */
+} frame_desc;
+
+/* The original rig when the scene gives none: a 25 cm interaxial converged at
+ * 6 m puts the paper's scenes (2-40 m) around the screen with more disparity
+ * than a comfortable display takes, so the operators have work to do. */
+#define FRAME_DEFAULT_INTERAXIAL 0.25
+#define FRAME_DEFAULT_CONVERGENCE 6.0
+
+/* Host copies after frame_render() (readback only; NULL when not rendered). */
+typedef struct frame_outputs {
+    const uint8_t *color;        /* RGBA8 sRGB, alpha = saliency */
+    const float *depth;          /* linear depth, metres; background = far plane */
+    const uint32_t *ids;         /* instance id, 0 = background */
+    const float *motion;         /* 4 floats per pixel: pixels to prev keyframe (xy), to next (zw) */
+    const float *g, *h, *f;      /* vergence maps, arcmin */
+    const uint8_t *left, *right; /* RGBA8 sRGB; alpha 255 geometry, 128 sky, 0 nothing (hole) */
+    const float *left_aux, *right_aux; /* 4 floats: centre-view x (px), view depth (m), disparity error (px), stage */
+    const uint8_t *ref_left, *ref_right; /* the two-camera reference (desc.reference) */
+    const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
+    uint32_t stereo_width, stereo_height;
+    const struct vg_curve *curve; /* the global depth -> vergence curve the warp used */
+} frame_outputs;
+
+/* The times a frame was rendered at. */
+typedef struct frame_times {
+    long index;                  /* absolute frame number */
+    long prev_key, next_key;     /* neighbouring keyframes (frame numbers, strictly before/after) */
+    double t, t_prev, t_next;    /* seconds */
+} frame_times;
+
+/* A windowed frame's target: an acquired swapchain image; wait is signalled
+ * by the acquire, signal is what vkQueuePresentKHR waits on. */
+typedef struct frame_target {
+    VkImage image;
+    VkImageView view;
+    VkSemaphore wait, signal;
+} frame_target;
+
+#define FRAME_HUD_MAX_LINES 24
+#define FRAME_HUD_LINE 96
+
+/* Text a windowed frame draws on top of the picture; lines[0] is the title line. */
+typedef struct frame_hud {
+    bool visible;
+    int line_count;
+    char lines[FRAME_HUD_MAX_LINES][FRAME_HUD_LINE];
+    float scale;                 /* 0 = 2 (font pixels per output pixel) */
+    /* A banner in the middle of the picture (pause, feedback), empty for none. */
+    char banner[FRAME_HUD_LINE];
+} frame_hud;
+
+/* The keyframe interval a frame is in: floor(index / stride), also below 0. */
+long frame_keyframe_of(long index, int stride);
+/* Keyframe times around a frame number. */
+frame_times frame_times_at(long index, double fps, int stride);
+/* Output size of a layout for eyes of width x height. */
+void frame_compose_size(frame_compose mode, uint32_t width, uint32_t height, uint32_t *out_w, uint32_t *out_h);
