@@ -18,12 +18,10 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
-#include "disparity/gpu/disparity_gpu.h"
 #include "frame/science_metrics.h"
 #include "gpu_cli.h"
 #include "frame/frame.h"
 #include "shared.h"
-#include "stereo/stereo_display.h"
 #include "warp/curve_cpu.h"
 #include "frame/warp_metrics.h"
 
@@ -266,8 +264,9 @@ typedef struct capture_log {
     vg_camera *cameras;           /* frames */
     frame_times *times;           /* frames */
     warp_metrics warp;            /* stereo captures */
-    science_metrics *science;         /* MID metrics of h and f (stereo captures) */
+    science_metrics *science;     /* MID metrics of h and f (stereo captures) */
     science_metrics_result result;
+    frame_info info;              /* the frame's grid and target range */
 } capture_log;
 
 static void json_camera(vg_json *j, const vg_camera *c, const frame_times *t)
@@ -330,7 +329,7 @@ static void json_field_metrics(vg_json *j, const char *key, const disp_metrics *
 }
 
 /* The science metrics of h and f, shaped as `vergence optimize`'s metrics.json. */
-static void json_science(vg_json *j, const frame_desc *fd, const science_metrics_result *r)
+static void json_science(vg_json *j, const frame_desc *fd, const frame_info *info, const science_metrics_result *r)
 {
     vg_json_object_begin(j, "metrics");
     json_field_metrics(j, "h", &r->h, r->h_range_violation, &r->h_d2);
@@ -350,7 +349,7 @@ static void json_science(vg_json *j, const frame_desc *fd, const science_metrics
     vg_json_num(j, "range_hi", r->range_hi);
     vg_json_int(j, "keyframes", r->keyframes);
     vg_json_num(j, "window_seconds", fd->window_seconds);
-    vg_json_int(j, "coarse_stride", disparity_gpu_grid_stride(fd->width, fd->height, fd->coarse_stride));
+    vg_json_int(j, "coarse_stride", (long)info->grid_stride);
     vg_json_object_end(j);
 }
 
@@ -436,7 +435,7 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
     if (fd->stereo != FRAME_STEREO_OFF)
         json_stereo(&j, fd, &log->warp);
     if (log->science)
-        json_science(&j, fd, &log->result);
+        json_science(&j, fd, &log->info, &log->result);
     vg_json_int(&j, "validation_messages", gpu_validation_messages());
     vg_json_object_end(&j);
 
@@ -451,27 +450,6 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
 /* ------------------------------------------------------------------------- */
 /* Command                                                                   */
 /* ------------------------------------------------------------------------- */
-
-/* The science metrics over the captured frames, in the target range of the
- * frame's operator (for `none`, which keeps g, the hull of g is added). */
-static vg_status science_create(const frame_desc *d, science_metrics **out)
-{
-    stereo_display disp;
-    stereo_display_init(&disp, &d->display);
-    disp_operator *op;
-    vg_status st = disp_operator_create(&(disp_operator_desc){.kind = d->op, .preset = d->op_preset,
-                                                              .screen_vergence = disp.screen_vergence,
-                                                              .range = d->target_range}, &op);
-    if (st != VG_OK)
-        return st;
-    double lo, hi;
-    disp_operator_range(op, &lo, &hi);
-    disp_operator_destroy(op);
-    return science_metrics_create(&(science_metrics_desc){
-        .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
-        .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride), .range_lo = lo, .range_hi = hi,
-        .hull = d->op == DISP_OPERATOR_NONE}, out);
-}
 
 static vg_status capture(gpu *g, const scene *s)
 {
@@ -512,8 +490,9 @@ static vg_status capture(gpu *g, const scene *s)
         st = VG_ERR_NOMEM;
     long first = lround(o.time * o.fps);
     const frame_desc *d = frame_get_desc(f);
-    if (st == VG_OK && d->stereo != FRAME_STEREO_OFF)
-        st = science_create(d, &log.science);
+    frame_get_info(f, &log.info);
+    if (st == VG_OK && log.info.disparity)
+        st = science_metrics_create_for(f, &log.science);
     for (int i = 0; i < o.frames && st == VG_OK; i++) {
         vg_progress("capture", i, o.frames);
         double t0 = vg_now_ms();

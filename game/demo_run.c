@@ -12,9 +12,7 @@
 #include "core/log.h"
 #include "demo.h"
 #include "demo_image.h"
-#include "disparity/gpu/disparity_gpu.h"
 #include "frame/science_metrics.h"
-#include "stereo/stereo_display.h"
 
 typedef struct run_ctx {
     gpu *gpu;
@@ -211,28 +209,6 @@ static frame_desc base_desc(const run_ctx *c)
     };
 }
 
-/* The science metrics over the clip (as `vergence capture` computes them),
- * in the target range of the frame's operator; for `none`, which keeps g,
- * the hull of g is added. */
-static vg_status science_create(run_ctx *c, science_metrics **out)
-{
-    const frame_desc *d = frame_get_desc(c->frame);
-    stereo_display disp;
-    stereo_display_init(&disp, &d->display);
-    disp_operator *op;
-    vg_status st = disp_operator_create(&(disp_operator_desc){.kind = d->op, .preset = d->op_preset,
-                                                              .screen_vergence = disp.screen_vergence,
-                                                              .range = d->target_range}, &op);
-    if (st != VG_OK)
-        return st;
-    disp_operator_range(op, &c->r->range_lo, &c->r->range_hi);
-    disp_operator_destroy(op);
-    return science_metrics_create(&(science_metrics_desc){
-        .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
-        .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride),
-        .range_lo = c->r->range_lo, .range_hi = c->r->range_hi, .hull = d->op == DISP_OPERATOR_NONE}, out);
-}
-
 static vg_status science_finish(run_ctx *c)
 {
     science_metrics_result res;
@@ -274,7 +250,7 @@ static vg_status render_clip(run_ctx *c, frame *f)
             if ((st = claim_maps(c, fo)) != VG_OK)
                 break;
             if (r->analysis && fo->h && fo->f)
-                st = science_create(c, &c->science);
+                st = science_metrics_create_for(f, &c->science);
             c->video = video_open(c, fo->stereo_width, fo->stereo_height);
         }
         if (r->analysis)

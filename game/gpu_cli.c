@@ -6,8 +6,8 @@ vg_status gpu_cli_open(const gpu_cli *opts, bool need_swapchain, gpu **out)
 {
     return gpu_create(&(gpu_desc){
         .validate = opts->validate,
+        .use_device = opts->device >= 0,
         .device_index = opts->device,
-        .auto_device = opts->device < 0,
         .need_swapchain = need_swapchain,
     }, out);
 }

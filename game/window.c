@@ -255,7 +255,7 @@ vg_status window_create(const window_desc *d, window **out)
     const char **ext = st == VG_OK ? glfwGetRequiredInstanceExtensions(&ext_count) : NULL;
     if (st == VG_OK)
         st = gpu_create(&(gpu_desc){
-            .validate = d->gpu->validate, .device_index = d->gpu->device, .auto_device = d->gpu->device < 0,
+            .validate = d->gpu->validate, .use_device = d->gpu->device >= 0, .device_index = d->gpu->device,
             .instance_extensions = ext, .instance_extension_count = ext_count, .need_swapchain = true}, &w->gpu);
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     if (st == VG_OK && glfwCreateWindowSurface(w->gpu->instance, w->glfw, NULL, &surface) != VK_SUCCESS) {

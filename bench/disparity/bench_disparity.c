@@ -368,7 +368,7 @@ int main(int argc, char **argv)
     }
     gpu *g;
     scene *s;
-    if (gpu_create(&(gpu_desc){.auto_device = true}, &g) != VG_OK || scene_load(scene_path, &s) != VG_OK)
+    if (gpu_create(&(gpu_desc){0}, &g) != VG_OK || scene_load(scene_path, &s) != VG_OK)
         return 1;
     static const uint32_t sizes[2][2] = {{960, 540}, {1920, 1080}};
     frame_result fr[2] = {0};

@@ -182,7 +182,7 @@ int main(int argc, char **argv)
     if (st != VG_OK)
         return vg_status_exit_code(st);
     gpu *g = NULL;
-    st = gpu_create(&(gpu_desc){.validate = o.validate, .device_index = o.device, .auto_device = o.device < 0}, &g);
+    st = gpu_create(&(gpu_desc){.validate = o.validate, .use_device = o.device >= 0, .device_index = o.device}, &g);
     if (st != VG_OK) {
         scene_destroy(s);
         return vg_status_exit_code(st);

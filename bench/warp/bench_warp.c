@@ -93,7 +93,7 @@ int main(int argc, char **argv)
     gpu *g;
     if (scene_load(path, &s) != VG_OK)
         return 1;
-    if (gpu_create(&(gpu_desc){.auto_device = true}, &g) != VG_OK) {
+    if (gpu_create(&(gpu_desc){0}, &g) != VG_OK) {
         scene_destroy(s);
         return 1;
     }

@@ -304,6 +304,8 @@ static vg_status create_submission(frame *f)
     return VG_OK;
 }
 
+/* Every default of a frame_desc, resolved once: the pass modules read them
+ * from frame_ctx.desc and change nothing. */
 static frame_desc resolve_defaults(const frame_desc *desc)
 {
     frame_desc d = *desc;
@@ -338,6 +340,17 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.rig.interaxial_m = FRAME_DEFAULT_INTERAXIAL;
     if (d.rig.convergence_m <= 0)
         d.rig.convergence_m = FRAME_DEFAULT_CONVERGENCE;
+    /* The disparity pipeline (DESIGN.md steps 4-7). */
+    if (d.op == DISP_OPERATOR_DEFAULT)
+        d.op = DISP_OPERATOR_LANG;
+    if (d.solver == MID_SOLVER_DEFAULT)
+        d.solver = MID_SOLVER_GAUSS_NEWTON;
+    if (!(d.window_seconds > 0))
+        d.window_seconds = 3.0;
+    if (!(d.window_future > 0) || d.window_future >= 1)
+        d.window_future = 0.5;
+    if (d.coarse_stride <= 0)
+        d.coarse_stride = MID_COARSE_STRIDE;
     return d;
 }
 
@@ -672,11 +685,20 @@ void frame_restart(frame *f)
         disparity_gpu_restart(f->disparity);
 }
 
-bool frame_disparity_info(const frame *f, disparity_gpu_info *info)
+void frame_get_info(const frame *f, frame_info *out)
 {
-    if (f->disparity)
-        disparity_gpu_get_info(f->disparity, info);
-    return f->disparity != NULL;
+    *out = (frame_info){.disparity = f->disparity != NULL};
+    if (!f->disparity)
+        return;
+    disparity_gpu_info i;
+    disparity_gpu_get_info(f->disparity, &i);
+    out->grid_stride = i.stride;
+    out->grid_nx = i.nx;
+    out->grid_ny = i.ny;
+    out->window_past = i.past;
+    out->window_future = i.future;
+    out->range_lo = i.range_lo;
+    out->range_hi = i.range_hi;
 }
 
 vg_status frame_solved_keyframe(const frame *f, long keyframe, disparity_gpu_keyframe *out)

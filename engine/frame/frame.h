@@ -45,9 +45,15 @@ vg_status frame_wait_idle(frame *f);
 /* GPU ms of each pass of the last frame; returns the number of passes. */
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap);
 
-/* The disparity pipeline's grid, window and range; false when the frame has none. */
-struct disparity_gpu_info;
-bool frame_disparity_info(const frame *f, struct disparity_gpu_info *info);
+/* What the frame resolved beyond its desc (frame_get_desc: every default
+ * resolved), for reports and metrics. */
+typedef struct frame_info {
+    bool disparity;                          /* the disparity pipeline runs (stereo frames) */
+    uint32_t grid_stride, grid_nx, grid_ny;  /* the solver's coarse grid */
+    int window_past, window_future;          /* keyframes of the window behind and ahead */
+    double range_lo, range_hi;               /* target range, arcmin (f stays inside) */
+} frame_info;
+void frame_get_info(const frame *f, frame_info *out);
 /* A keyframe as the solve sees it (readback frames; disparity_gpu_keyframe_read). */
 struct disparity_gpu_keyframe;
 vg_status frame_solved_keyframe(const frame *f, long keyframe, struct disparity_gpu_keyframe *out);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "frame.h"
 #include "disparity/disp_upsample.h"
 #include "disparity/mid_window.h"
 
@@ -63,6 +64,22 @@ vg_status science_metrics_create(const science_metrics_desc *desc, science_metri
     }
     *out = m;
     return VG_OK;
+}
+
+vg_status science_metrics_create_for(const frame *f, science_metrics **out)
+{
+    const frame_desc *d = frame_get_desc(f);
+    frame_info info;
+    frame_get_info(f, &info);
+    if (!info.disparity) {
+        *out = NULL;
+        vg_error("the science metrics need a frame with the disparity pipeline (a stereo frame)");
+        return VG_ERR_ARG;
+    }
+    return science_metrics_create(&(science_metrics_desc){
+        .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
+        .stride = info.grid_stride, .range_lo = info.range_lo, .range_hi = info.range_hi,
+        .hull = d->op == DISP_OPERATOR_NONE}, out);
 }
 
 void science_metrics_destroy(science_metrics *m)

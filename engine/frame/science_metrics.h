@@ -46,6 +46,11 @@ typedef struct science_metrics_result {
 typedef struct science_metrics science_metrics;
 
 vg_status science_metrics_create(const science_metrics_desc *desc, science_metrics **out);
+/* The metrics of a frame's outputs: its size, keyframes, grid and target
+ * range (for `none`, which keeps g, the range also holds each frame's g).
+ * VG_ERR_ARG for a frame without the disparity pipeline. */
+struct frame;
+vg_status science_metrics_create_for(const struct frame *f, science_metrics **out);
 void science_metrics_destroy(science_metrics *m);
 /* One frame (absolute index). motion: 4 floats per pixel (px to the previous
  * keyframe, to the next). Frames may skip indices: second differences come

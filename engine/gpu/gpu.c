@@ -279,8 +279,8 @@ static vg_status pick_device(gpu *g, const gpu_desc *desc)
     n = n > 16 ? 16 : n;
     VK_TRY(vkEnumeratePhysicalDevices(g->instance, &n, devs));
 
-    bool forced = !desc->auto_device && desc->device_index >= 0;
-    if (forced && (uint32_t)desc->device_index >= n) {
+    bool forced = desc->use_device;
+    if (forced && (desc->device_index < 0 || (uint32_t)desc->device_index >= n)) {
         vg_error("--gpu %d: there are only %u Vulkan devices (see 'vergence info')", desc->device_index, n);
         return VG_ERR_ARG;
     }

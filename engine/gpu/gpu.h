@@ -18,8 +18,9 @@
 typedef struct gpu_desc {
     bool validate;          /* Khronos validation layer (also env VERGENCE_VALIDATE=1), with
                                synchronization validation (env VERGENCE_SYNC_VALIDATION=0: without) */
-    int device_index;       /* -1 or unset-with-auto_device: automatic choice */
-    bool auto_device;       /* ignore device_index (zero-initialised desc = auto) */
+    bool use_device;        /* use Vulkan device device_index; false (zero) = pick one: a
+                               discrete GPU if present, else the best other */
+    int device_index;
     const char *const *instance_extensions; /* e.g. from glfwGetRequiredInstanceExtensions */
     uint32_t instance_extension_count;
     bool need_swapchain;    /* enable VK_KHR_swapchain on the device */

@@ -317,7 +317,7 @@ static int pref_clip(void)
     gpu *g;
     scene *s;
     frame *f;
-    CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &g) == VG_OK, "gpu_create");
+    CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
     CHECK(scene_load("content/balloon.gltf", &s) == VG_OK, "scene_load");
     frame_desc fd = pref_clip_frame_desc(g, &(pref_clip_desc){.width = 320, .height = 180,
                                                               .mode = FRAME_MODE_OPTIMIZED,

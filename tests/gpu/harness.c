@@ -7,7 +7,7 @@
 int harness_open(harness *h)
 {
     memset(h, 0, sizeof *h);
-    if (gpu_create(&(gpu_desc){.auto_device = true}, &h->gpu) != VG_OK) {
+    if (gpu_create(&(gpu_desc){0}, &h->gpu) != VG_OK) {
         fprintf(stderr, "gpu_create failed\n");
         return 1;
     }

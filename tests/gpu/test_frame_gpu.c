@@ -8,10 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "disparity/gpu/disparity_gpu.h"
 #include "frame/science_metrics.h"
 #include "frame/frame.h"
-#include "stereo/stereo_display.h"
 #include "test.h"
 
 #define FRAMES 240
@@ -33,26 +31,12 @@ static int run(const char *scene_path, frame_desc fd, long frames, bool measure,
     gpu *g;
     scene *s;
     frame *f;
-    CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &g) == VG_OK, "gpu_create");
+    CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
     CHECK(scene_load(scene_path, &s) == VG_OK, "scene_load(%s)", scene_path);
     CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
-    const frame_desc *d = frame_get_desc(f);
     science_metrics *gm = NULL;
-    if (measure) {
-        stereo_display disp;
-        stereo_display_init(&disp, &d->display);
-        disp_operator *op;
-        CHECK(disp_operator_create(&(disp_operator_desc){.kind = d->op, .preset = d->op_preset,
-                                                         .screen_vergence = disp.screen_vergence,
-                                                         .range = d->target_range}, &op) == VG_OK, "operator");
-        double lo, hi;
-        disp_operator_range(op, &lo, &hi);
-        disp_operator_destroy(op);
-        CHECK(science_metrics_create(&(science_metrics_desc){
-                  .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
-                  .stride = disparity_gpu_grid_stride(d->width, d->height, d->coarse_stride),
-                  .range_lo = lo, .range_hi = hi}, &gm) == VG_OK, "metrics");
-    }
+    if (measure)
+        CHECK(science_metrics_create_for(f, &gm) == VG_OK, "metrics");
     for (long t = 0; t < frames; t++) {
         CHECK(frame_render(f, t) == VG_OK, "frame %ld", t);
         const frame_outputs *o = frame_get_outputs(f);

@@ -27,7 +27,7 @@ static int open_window(gpu_window *c, synth_motion motion)
     memset(c, 0, sizeof *c);
     c->w = synth_window(&(synth_desc){.motion = motion, .op = DISP_OPERATOR_LANG, .salient_ball = true});
     CHECK(c->w, "synthetic window");
-    CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &c->gpu) == VG_OK, "gpu_create");
+    CHECK(gpu_create(&(gpu_desc){0}, &c->gpu) == VG_OK, "gpu_create");
     const mid_window *w = c->w;
     CHECK(gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "mid.published",
                                                        .size = sizeof(mid_published) + 2 * (size_t)w->n * sizeof(float),

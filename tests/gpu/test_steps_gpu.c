@@ -76,18 +76,6 @@ static frame_desc steps_desc(disp_operator_kind op)
                         .shadow_size = 512, .mode = FRAME_MODE_OPTIMIZED, .op = op};
 }
 
-static int metrics_open(const frame *f, science_metrics **out)
-{
-    const frame_desc *d = frame_get_desc(f);
-    disparity_gpu_info info;
-    CHECK(frame_disparity_info(f, &info), "the frame has a disparity pipeline");
-    CHECK(science_metrics_create(&(science_metrics_desc){
-              .width = d->width, .height = d->height, .keyframe_stride = d->keyframe_stride, .fps = d->fps,
-              .stride = info.stride, .range_lo = info.range_lo, .range_hi = info.range_hi}, out) == VG_OK,
-          "metrics");
-    return 0;
-}
-
 static int run(const char *scene_path, disp_operator_kind op, const sequence *seq, run_out *out)
 {
     memset(out, 0, sizeof *out);
@@ -95,14 +83,14 @@ static int run(const char *scene_path, disp_operator_kind op, const sequence *se
     scene *s;
     frame *f;
     frame_desc fd = steps_desc(op);
-    CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &g) == VG_OK, "gpu_create");
+    CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
     CHECK(scene_load(scene_path, &s) == VG_OK, "scene_load(%s)", scene_path);
     CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
     const frame_desc *d = frame_get_desc(f);
     size_t np = (size_t)d->width * d->height;
     science_metrics *frames_m, *solve_m;
-    if (metrics_open(f, &frames_m) || metrics_open(f, &solve_m))
-        return 1;
+    CHECK(science_metrics_create_for(f, &frames_m) == VG_OK && science_metrics_create_for(f, &solve_m) == VG_OK,
+          "metrics");
     out->f = calloc(STEPS_FRAMES, sizeof *out->f);
     CHECK(out->f, "memory");
     int keyframes_seen = 0;
@@ -226,7 +214,7 @@ static int seek(void)
     scene *s;
     frame *a, *b;
     frame_desc fd = steps_desc(DISP_OPERATOR_LANG_SMOOTHED);
-    CHECK(gpu_create(&(gpu_desc){.auto_device = true}, &g) == VG_OK, "gpu_create");
+    CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
     CHECK(scene_load("content/balloon.gltf", &s) == VG_OK, "scene_load");
     CHECK(frame_create(g, s, &fd, &a) == VG_OK, "frame_create");
     size_t np = (size_t)WIDTH * HEIGHT;

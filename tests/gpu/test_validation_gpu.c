@@ -13,7 +13,7 @@
 static int counter(void)
 {
     gpu *g;
-    CHECK(gpu_create(&(gpu_desc){.validate = true, .auto_device = true}, &g) == VG_OK, "gpu_create");
+    CHECK(gpu_create(&(gpu_desc){.validate = true}, &g) == VG_OK, "gpu_create");
     CHECK(g->validation, "validation is off");
     int before = gpu_validation_messages();
     VkBuffer b = VK_NULL_HANDLE;
@@ -35,7 +35,7 @@ static int counter(void)
 static int hazard(void)
 {
     gpu *g;
-    if (gpu_create(&(gpu_desc){.validate = true, .auto_device = true}, &g) != VG_OK)
+    if (gpu_create(&(gpu_desc){.validate = true}, &g) != VG_OK)
         return -1;
     int before = gpu_validation_messages();
     gpu_buffer b;

@@ -389,26 +389,10 @@ void disparity_gpu_restart(disparity_gpu *d) { d->started = false; }
 /* Lifetime                                                                  */
 /* ------------------------------------------------------------------------- */
 
-static void resolve_defaults(frame_ctx *fc)
-{
-    frame_desc *fd = &fc->desc;
-    if (fd->op == DISP_OPERATOR_DEFAULT)
-        fd->op = DISP_OPERATOR_LANG;
-    if (fd->solver == MID_SOLVER_DEFAULT)
-        fd->solver = MID_SOLVER_GAUSS_NEWTON;
-    if (!(fd->window_seconds > 0))
-        fd->window_seconds = 3.0;
-    if (!(fd->window_future > 0) || fd->window_future >= 1)
-        fd->window_future = 0.5;
-    if (fd->coarse_stride <= 0)
-        fd->coarse_stride = MID_COARSE_STRIDE;
-}
-
 vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
 {
     *out = NULL;
-    resolve_defaults(fc);
-    const frame_desc *fd = &fc->desc;
+    const frame_desc *fd = &fc->desc; /* defaults resolved by the frame */
     disparity_gpu *d = calloc(1, sizeof *d);
     if (!d)
         return VG_ERR_NOMEM;

@@ -21,7 +21,7 @@
 
 typedef struct disparity_gpu disparity_gpu;
 
-/* Resolves the frame_desc fields of the disparity pipeline in fc->desc. */
+/* fc->desc has its defaults resolved (the frame does it). */
 vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out);
 void disparity_gpu_destroy(disparity_gpu *d);
 void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res);
