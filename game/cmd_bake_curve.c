@@ -2,7 +2,7 @@
  * offline from a capture: for every captured frame, Embree tests which scene
  * vertices the centre camera sees (occlusion rays), the pixel of each visible
  * vertex gives a (depth, disparity) pair from the captured maps, and the pairs of
- * all frames make one curve (warp/curve_cpu.h) that `--curve FILE` loads
+ * all frames make one curve (disparity/disp_curve.h) that `--curve FILE` loads
  * instead of the per-frame one. */
 #include <math.h>
 #include <stdio.h>
@@ -16,7 +16,7 @@
 #include "core/json_read.h"
 #include "core/log.h"
 #include "scene/scene.h"
-#include "warp/curve_cpu.h"
+#include "disparity/disp_curve.h"
 
 static struct {
     const char *scene, *capture, *out, *map, *frames;
@@ -241,10 +241,10 @@ static int run(int argc, char **argv)
     }
     if (st == VG_OK) {
         vg_progress("bake-curve", b - a + 1, b - a + 1);
-        st = curve_cpu_build(p.depth, p.vergence, p.count, &curve);
+        st = disp_curve_build(p.depth, p.vergence, p.count, &curve);
     }
     if (st == VG_OK)
-        st = curve_file_write(o.out, &curve);
+        st = disp_curve_write(o.out, &curve);
     if (st == VG_OK)
         vg_info("baked %s from %zu visible vertices of %d frame(s) (map %s), depth %.2f..%.2f m", o.out, visible,
                 b - a + 1, map, 1.0 / curve.inv_depth_near, 1.0 / curve.inv_depth_far);

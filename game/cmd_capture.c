@@ -22,7 +22,7 @@
 #include "gpu_cli.h"
 #include "frame/frame.h"
 #include "shared.h"
-#include "warp/curve_cpu.h"
+#include "disparity/disp_curve.h"
 #include "frame/warp_metrics.h"
 
 typedef struct capture_opts {
@@ -167,7 +167,7 @@ static vg_status write_stereo(const char *dir, int n, const frame_outputs *fo, u
             return st;
     }
     snprintf(name, sizeof name, "frame_%04d_curve.bin", n);
-    if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = curve_file_write(path, fo->curve)))
+    if ((st = vg_path_join(path, sizeof path, dir, name)) || (st = disp_curve_write(path, fo->curve)))
         return st;
     return VG_OK;
 }
@@ -455,7 +455,7 @@ static vg_status capture(gpu *g, const scene *s)
 {
     vg_curve baked;
     if (o.curve) {
-        vg_status cs = curve_file_read(o.curve, &baked);
+        vg_status cs = disp_curve_read(o.curve, &baked);
         if (cs != VG_OK)
             return cs;
     }

@@ -271,32 +271,6 @@ MID_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, floa
 }
 
 /* ------------------------------------------------------------------------- */
-/* Global depth -> disparity curve (Sec. 4.6)                                */
-/* ------------------------------------------------------------------------- */
-
-/* Bins of the curve, uniform in inverse depth (where vergence is nearly linear). */
-#define DISP_CURVE_BINS 256
-
-/* Header of the curve buffer (std430, 16 bytes), followed by DISP_CURVE_BINS
- * floats: the disparity (arcmin) at each bin centre. */
-struct disp_curve_header {
-    float inv_depth_lo; /* 1 / farthest depth */
-    float inv_depth_hi; /* 1 / nearest depth */
-    uint bins;
-    uint populated;     /* bins that held at least one pair */
-};
-#if defined(__STDC__) || defined(__cplusplus)
-typedef struct disp_curve_header disp_curve_header;
-#endif
-
-/* Continuous bin coordinate of a depth: bin centres at 0 .. bins-1. */
-MID_FN float disp_curve_coord(float depth, float inv_lo, float inv_hi, uint bins)
-{
-    float u = (1.0f / depth - inv_lo) / (inv_hi - inv_lo);
-    return u * MID_FLOAT(bins) - 0.5f;
-}
-
-/* ------------------------------------------------------------------------- */
 /* GPU passes (docs/method.md "GPU passes")                                  */
 /* ------------------------------------------------------------------------- */
 
@@ -490,7 +464,6 @@ _Static_assert(sizeof(mid_params) == 48 && offsetof(mid_params, w_data) == 16 &&
                    offsetof(mid_params, range_lo) == 32, "mid_params layout");
 _Static_assert(sizeof(mid_link) == 16 && offsetof(mid_link, mask) == 12, "mid_link layout");
 _Static_assert(sizeof(mid_adj_entry) == 8, "mid_adj_entry layout");
-_Static_assert(sizeof(disp_curve_header) == 16, "disp_curve_header layout");
 _Static_assert(sizeof(mid_push) == 112 && offsetof(mid_push, w_data) == 32 &&
                    offsetof(mid_push, publish_from) == 96, "mid_push layout");
 _Static_assert(sizeof(mid_solve_state) == 96 && offsetof(mid_solve_state, running) == 48,

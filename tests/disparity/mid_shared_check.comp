@@ -8,7 +8,6 @@ layout(std430, binding = 1) readonly buffer Field { float f[]; };
 layout(std430, binding = 2) writeonly buffer Out { float o[]; };
 layout(std430, binding = 3) readonly buffer Params { mid_params params; };
 layout(std430, binding = 4) readonly buffer Adj { mid_adj_entry adj[]; };
-layout(std430, binding = 5) readonly buffer Curve { disp_curve_header curve; float curve_value[]; };
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
@@ -17,6 +16,5 @@ void main()
     uint b = l.base;
     float fa = mid_link_apply(t, f[b], f[b + 1u], f[b + params.nx], f[b + params.nx + 1u]);
     mid_pixel r = mid_pixel_eval(f[i], fa, fa, 6.0f, 6.0f, 1.0f, 1.0f, 0.0f, 0.0f);
-    float s = disp_curve_coord(2.0f, curve.inv_depth_lo, curve.inv_depth_hi, curve.bins);
-    o[i] = r.r_t + r.r_a + r.q_f + r.q_b + mid_edge_weight(0.1f) + mid_dp(fa) + s + adj[i].w + MID_UINT(adj[i].src);
+    o[i] = r.r_t + r.r_a + r.q_f + r.q_b + mid_edge_weight(0.1f) + mid_dp(fa) + adj[i].w + MID_UINT(adj[i].src);
 }
