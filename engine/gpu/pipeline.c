@@ -168,3 +168,80 @@ vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorTyp
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, *layout, "%s layout", name);
     return VG_OK;
 }
+
+vg_status gpu_compute_kit_create(gpu *g, const gpu_compute_kit_desc *d, gpu_compute_kit *out)
+{
+    *out = (gpu_compute_kit){.push_size = d->push_size};
+    vg_status st = gpu_push_layout_create(g, d->name, d->types, d->count, VK_SHADER_STAGE_COMPUTE_BIT, d->push_size,
+                                          &out->set_layout, &out->layout);
+    for (int i = 0; i < GPU_KIT_MAX_KERNELS && st == VG_OK && d->kernels[i].code; i++) {
+        VkShaderModule m = VK_NULL_HANDLE;
+        st = gpu_shader_create(g, d->kernels[i].code, d->kernels[i].size, d->kernels[i].name, &m);
+        if (st == VG_OK)
+            st = gpu_compute_pipeline_create(g, out->layout, m, d->kernels[i].name, &out->pipeline[i]);
+        if (m)
+            vkDestroyShaderModule(g->device, m, NULL);
+    }
+    if (st != VG_OK)
+        gpu_compute_kit_destroy(g, out);
+    return st;
+}
+
+void gpu_compute_kit_destroy(gpu *g, gpu_compute_kit *k)
+{
+    if (!k)
+        return;
+    for (int i = 0; i < GPU_KIT_MAX_KERNELS; i++)
+        if (k->pipeline[i])
+            vkDestroyPipeline(g->device, k->pipeline[i], NULL);
+    if (k->layout)
+        vkDestroyPipelineLayout(g->device, k->layout, NULL);
+    if (k->set_layout)
+        vkDestroyDescriptorSetLayout(g->device, k->set_layout, NULL);
+    *k = (gpu_compute_kit){0};
+}
+
+void gpu_compute_kit_bind(const gpu *g, VkCommandBuffer cmd, const gpu_compute_kit *k, uint32_t kernel,
+                          const VkWriteDescriptorSet *writes, uint32_t count, const void *push)
+{
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, k->pipeline[kernel]);
+    g->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, k->layout, 0, count, writes);
+    if (k->push_size && push)
+        vkCmdPushConstants(cmd, k->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, k->push_size, push);
+}
+
+void gpu_compute_kit_bind_list(const gpu *g, VkCommandBuffer cmd, const gpu_compute_kit *k, uint32_t kernel,
+                               const gpu_binding *b, uint32_t count, const void *push)
+{
+    VkWriteDescriptorSet w[GPU_MAX_BINDINGS];
+    VkDescriptorBufferInfo bufs[GPU_MAX_BINDINGS];
+    count = count < GPU_MAX_BINDINGS ? count : GPU_MAX_BINDINGS;
+    for (uint32_t i = 0; i < count; i++) {
+        bufs[i] = (VkDescriptorBufferInfo){b[i].buffer, 0, VK_WHOLE_SIZE};
+        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
+                                      .descriptorCount = 1, .descriptorType = b[i].type};
+        if (b[i].image)
+            w[i].pImageInfo = b[i].image;
+        else
+            w[i].pBufferInfo = &bufs[i];
+    }
+    gpu_compute_kit_bind(g, cmd, k, kernel, w, count, push);
+}
+
+void gpu_pipelines_destroy(gpu *g, VkPipeline *p, uint32_t count)
+{
+    for (uint32_t i = 0; i < count; i++)
+        if (p[i]) {
+            vkDestroyPipeline(g->device, p[i], NULL);
+            p[i] = VK_NULL_HANDLE;
+        }
+}
+
+void gpu_shaders_destroy(gpu *g, VkShaderModule *m, uint32_t count)
+{
+    for (uint32_t i = 0; i < count; i++)
+        if (m[i]) {
+            vkDestroyShaderModule(g->device, m[i], NULL);
+            m[i] = VK_NULL_HANDLE;
+        }
+}

@@ -10,9 +10,7 @@
 
 struct compose_gpu {
     frame_ctx *fc;
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout layout;
-    VkPipeline pipeline;
+    gpu_compute_kit kit;
     frame_resources *res;
     uint32_t out_w, out_h;
 };
@@ -29,11 +27,6 @@ static void compose_execute(const rg_context *ctx, void *user)
         {.imageView = rg_ctx_view(ctx, r->right), .imageLayout = rg_ctx_layout(ctx, r->right)},
         {.imageView = rg_ctx_view(ctx, r->stereo), .imageLayout = rg_ctx_layout(ctx, r->stereo)},
     };
-    VkWriteDescriptorSet w[3];
-    for (uint32_t i = 0; i < 3; i++)
-        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
-                                      .descriptorCount = 1, .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                      .pImageInfo = &img[i]};
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     const frame_desc *d = &c->fc->desc;
     vg_compose_push push = {
@@ -42,9 +35,8 @@ static void compose_execute(const rg_context *ctx, void *user)
         .width = d->width,
         .height = d->height,
     };
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->pipeline);
-    c->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, c->layout, 0, 3, w);
-    vkCmdPushConstants(cmd, c->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    gpu_binding b[3] = {GPU_STORAGE_IMAGE(&img[0]), GPU_STORAGE_IMAGE(&img[1]), GPU_STORAGE_IMAGE(&img[2])};
+    gpu_compute_kit_bind_list(c->fc->gpu, cmd, &c->kit, 0, b, 3, &push);
     vkCmdDispatch(cmd, (c->out_w + 7) / 8, (c->out_h + 7) / 8, 1);
 }
 
@@ -70,15 +62,9 @@ vg_status compose_gpu_create(frame_ctx *fc, compose_gpu **out)
     gpu *g = fc->gpu;
     static const VkDescriptorType types[3] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-    vg_status st = gpu_push_layout_create(g, "compose", types, 3, VK_SHADER_STAGE_COMPUTE_BIT,
-                                          sizeof(vg_compose_push), &c->set_layout, &c->layout);
-    VkShaderModule m = VK_NULL_HANDLE;
-    if (st == VG_OK)
-        st = GPU_SHADER(g, spv_compose_comp, &m);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, c->layout, m, "compose", &c->pipeline);
-    if (m)
-        vkDestroyShaderModule(g->device, m, NULL);
+    vg_status st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+        .name = "compose", .types = types, .count = 3, .push_size = sizeof(vg_compose_push),
+        .kernels = {GPU_KERNEL(spv_compose_comp, "compose")}}, &c->kit);
     if (st != VG_OK) {
         compose_gpu_destroy(c);
         return st;
@@ -91,12 +77,6 @@ void compose_gpu_destroy(compose_gpu *c)
 {
     if (!c)
         return;
-    VkDevice dev = c->fc->gpu->device;
-    if (c->pipeline)
-        vkDestroyPipeline(dev, c->pipeline, NULL);
-    if (c->layout)
-        vkDestroyPipelineLayout(dev, c->layout, NULL);
-    if (c->set_layout)
-        vkDestroyDescriptorSetLayout(dev, c->set_layout, NULL);
+    gpu_compute_kit_destroy(c->fc->gpu, &c->kit);
     free(c);
 }

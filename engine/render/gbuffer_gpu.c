@@ -1,6 +1,7 @@
 /* vergence — shadow, sky and G-buffer passes. */
 #include "gbuffer_gpu.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "gpu/pipeline.h"
@@ -58,11 +59,8 @@ void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
 {
     uint32_t w = p->fc->desc.width, h = p->fc->desc.height, sz = p->fc->desc.shadow_size;
     res->shadow = p->shadow_map = rg_image(g, &(rg_image_desc){"shadow.map", GBUFFER_DEPTH_FORMAT, sz, sz, 1});
-    res->color = rg_image(g, &(rg_image_desc){"gbuffer.color", gbuffer_formats[VG_GBUFFER_COLOR], w, h, 1});
-    res->depth = rg_image(g, &(rg_image_desc){"gbuffer.depth", gbuffer_formats[VG_GBUFFER_DEPTH], w, h, 1});
-    res->ids = rg_image(g, &(rg_image_desc){"gbuffer.ids", gbuffer_formats[VG_GBUFFER_ID], w, h, 1});
-    res->motion = rg_image(g, &(rg_image_desc){"gbuffer.motion", gbuffer_formats[VG_GBUFFER_MOTION], w, h, 1});
-    res->zbuffer = rg_image(g, &(rg_image_desc){"gbuffer.zbuffer", GBUFFER_DEPTH_FORMAT, w, h, 1});
+    gbuffer_targets t = gbuffer_gpu_targets(g, "gbuffer", w, h);
+    res->color = t.color, res->depth = t.depth, res->ids = t.ids, res->motion = t.motion, res->zbuffer = t.zbuffer;
 
     rg_pass shadow = rg_pass_add(g, &(rg_pass_desc){.name = "shadow", .type = RG_PASS_GRAPHICS,
                                                     .execute = shadow_execute, .user = p});
@@ -78,13 +76,33 @@ void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
     rg_use(g, gbuf, res->statics, RG_VERTEX);
     rg_use(g, gbuf, res->indices, RG_INDEX);
     rg_use(g, gbuf, res->shadow, RG_SAMPLED);
+    gbuffer_gpu_targets_write(g, gbuf, &t);
+}
+
+gbuffer_targets gbuffer_gpu_targets(rg_graph *g, const char *prefix, uint32_t w, uint32_t h)
+{
+    static const char *const what[5] = {"color", "depth", "ids", "motion", "zbuffer"};
+    const VkFormat formats[5] = {gbuffer_formats[VG_GBUFFER_COLOR], gbuffer_formats[VG_GBUFFER_DEPTH],
+                                 gbuffer_formats[VG_GBUFFER_ID], gbuffer_formats[VG_GBUFFER_MOTION],
+                                 GBUFFER_DEPTH_FORMAT};
+    rg_res r[5];
+    for (int i = 0; i < 5; i++) {
+        char name[64]; /* the graph copies names */
+        snprintf(name, sizeof name, "%s.%s", prefix, what[i]);
+        r[i] = rg_image(g, &(rg_image_desc){name, formats[i], w, h, 1});
+    }
+    return (gbuffer_targets){r[0], r[1], r[2], r[3], r[4]};
+}
+
+void gbuffer_gpu_targets_write(rg_graph *g, rg_pass p, const gbuffer_targets *t)
+{
     /* Attachment order = shader output locations (shared.h); the sky covers
      * every pixel first, so the colour targets need no clear. */
-    rg_use(g, gbuf, res->color, RG_COLOR_WRITE);
-    rg_use(g, gbuf, res->depth, RG_COLOR_WRITE);
-    rg_use(g, gbuf, res->ids, RG_COLOR_WRITE);
-    rg_use(g, gbuf, res->motion, RG_COLOR_WRITE);
-    rg_use_clear(g, gbuf, res->zbuffer, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
+    rg_use(g, p, t->color, RG_COLOR_WRITE);
+    rg_use(g, p, t->depth, RG_COLOR_WRITE);
+    rg_use(g, p, t->ids, RG_COLOR_WRITE);
+    rg_use(g, p, t->motion, RG_COLOR_WRITE);
+    rg_use_clear(g, p, t->zbuffer, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
 }
 
 /* ------------------------------------------------------------------------- */
@@ -98,46 +116,26 @@ vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out)
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
-    VkShaderModule gvert = 0, gfrag = 0, svert = 0, skyv = 0, skyf = 0;
     /* The lit centre colour is only looked at in captures, mono frames and
      * the image-warping baseline; a warped stereo frame shades its eyes. */
     const frame_desc *d = &fc->desc;
     bool lit = d->readback || d->stereo == FRAME_STEREO_OFF || d->stereo == FRAME_STEREO_IMAGEWARP;
-    vg_status st = GPU_SHADER(g, spv_gbuffer_vert, &gvert);
-    if (st == VG_OK)
-        st = lit ? GPU_SHADER(g, spv_gbuffer_frag, &gfrag) : GPU_SHADER(g, spv_gbuffer_unlit_frag, &gfrag);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_shadow_vert, &svert);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &skyv);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_frag, &skyf);
-
-    VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
-    VkVertexInputAttributeDescription va[8];
-    uint32_t nb, na;
+    VkShaderModule svert = 0;
+    vg_status st = GPU_SHADER(g, spv_shadow_vert, &svert);
     if (st == VG_OK) {
+        VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
+        VkVertexInputAttributeDescription va[8];
+        uint32_t nb, na;
         scene_gpu_vertex_input(SCENE_INPUT_POSITIONS, vb, &nb, va, &na);
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
             .name = "shadow", .layout = fc->scene_layout, .vert = svert, .bindings = vb,
             .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true,
             .depth_write = true, .depth_bias = true, .depth_format = GBUFFER_DEPTH_FORMAT}, &p->shadow);
     }
+    if (svert)
+        vkDestroyShaderModule(g->device, svert, NULL);
     if (st == VG_OK)
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "sky", .layout = fc->scene_layout, .vert = skyv, .frag = skyf,
-            .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, &p->sky);
-    if (st == VG_OK) {
-        scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
-        /* No culling: single-sided glTF surfaces seen from behind flip their
-         * normal in the shader instead of leaving holes in depth and ids. */
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "gbuffer", .layout = fc->scene_layout, .vert = gvert, .frag = gfrag, .bindings = vb,
-            .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true,
-            .depth_write = true, .color_formats = gbuffer_formats, .color_count = 4,
-            .depth_format = GBUFFER_DEPTH_FORMAT}, &p->gbuffer);
-    }
-    VkShaderModule mods[] = {gvert, gfrag, svert, skyv, skyf};
-    for (size_t i = 0; i < sizeof mods / sizeof mods[0]; i++)
-        if (mods[i])
-            vkDestroyShaderModule(g->device, mods[i], NULL);
+        st = gbuffer_gpu_pipelines_create(fc, "gbuffer", lit, &p->sky, &p->gbuffer);
     if (st != VG_OK) {
         gbuffer_gpu_destroy(p);
         return st;
@@ -150,10 +148,39 @@ void gbuffer_gpu_destroy(gbuffer_gpu *p)
 {
     if (!p)
         return;
-    VkDevice dev = p->fc->gpu->device;
-    VkPipeline pipes[] = {p->shadow, p->sky, p->gbuffer};
-    for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
-        if (pipes[i])
-            vkDestroyPipeline(dev, pipes[i], NULL);
+    gpu_pipelines_destroy(p->fc->gpu, (VkPipeline[]){p->shadow, p->sky, p->gbuffer}, 3);
     free(p);
+}
+
+vg_status gbuffer_gpu_pipelines_create(frame_ctx *fc, const char *name, bool lit, VkPipeline *sky, VkPipeline *scene)
+{
+    gpu *g = fc->gpu;
+    VkShaderModule vert = 0, frag = 0, skyv = 0, skyf = 0;
+    vg_status st = GPU_SHADER(g, spv_gbuffer_vert, &vert);
+    if (st == VG_OK)
+        st = lit ? GPU_SHADER(g, spv_gbuffer_frag, &frag) : GPU_SHADER(g, spv_gbuffer_unlit_frag, &frag);
+    if (st == VG_OK)
+        st = GPU_SHADER(g, spv_sky_vert, &skyv);
+    if (st == VG_OK)
+        st = GPU_SHADER(g, spv_sky_frag, &skyf);
+    char label[64];
+    snprintf(label, sizeof label, "%s sky", name);
+    if (st == VG_OK)
+        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
+            .name = label, .layout = fc->scene_layout, .vert = skyv, .frag = skyf,
+            .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, sky);
+    VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
+    VkVertexInputAttributeDescription va[8];
+    uint32_t nb, na;
+    scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
+    /* No culling: single-sided glTF surfaces seen from behind flip their
+     * normal in the shader instead of leaving holes in depth and ids. */
+    if (st == VG_OK)
+        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
+            .name = name, .layout = fc->scene_layout, .vert = vert, .frag = frag, .bindings = vb,
+            .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true,
+            .depth_write = true, .color_formats = gbuffer_formats, .color_count = 4,
+            .depth_format = GBUFFER_DEPTH_FORMAT}, scene);
+    gpu_shaders_destroy(g, (VkShaderModule[]){vert, frag, skyv, skyf}, 4);
+    return st;
 }

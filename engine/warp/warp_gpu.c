@@ -47,19 +47,15 @@ typedef struct eye_pass {
 
 struct warp_gpu {
     frame_ctx *fc;
-    VkPipeline warp, warp_flat, cameras, imagewarp, sky, classify, compact, fill;
-    VkDescriptorSetLayout fill_set;
-    VkPipelineLayout fill_layout;
-    VkDescriptorSetLayout classify_set;
-    VkPipelineLayout classify_layout;
+    VkPipeline warp, warp_flat, cameras, imagewarp, sky;
+    gpu_compute_kit classify;    /* K_CLASSIFY, K_COMPACT */
+    gpu_compute_kit fill;
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
     gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
     gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
     uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
-    VkDescriptorSetLayout curve_set;
-    VkPipelineLayout curve_layout;
-    VkPipeline curve_range, curve_bins, curve_resolve;
+    gpu_compute_kit curve;       /* K_RANGE, K_BINS, K_RESOLVE */
     uint32_t tiles_x, tiles_y;
     uint32_t patches_per_draw;
     eye_pass eyes[6];
@@ -75,12 +71,16 @@ struct warp_gpu {
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
+enum { K_RANGE, K_BINS, K_RESOLVE };  /* kernels of the curve kit */
+enum { K_CLASSIFY, K_COMPACT };       /* of the classify kit */
+
 /* ------------------------------------------------------------------------- */
 /* Curve                                                                     */
 /* ------------------------------------------------------------------------- */
 
-static void push_curve(const warp_gpu *w, const rg_context *ctx, bool images)
+static void bind_curve(const warp_gpu *w, const rg_context *ctx, uint32_t kernel)
 {
+    bool images = kernel != K_RESOLVE; /* the resolve pass reads no images */
     const frame_resources *r = w->res;
     VkDescriptorImageInfo depth = {.imageView = rg_ctx_view(ctx, r->depth), .imageLayout = rg_ctx_layout(ctx, r->depth)};
     VkDescriptorImageInfo target = {.imageView = rg_ctx_view(ctx, w->target), .imageLayout = rg_ctx_layout(ctx, w->target)};
@@ -102,35 +102,28 @@ static void push_curve(const warp_gpu *w, const rg_context *ctx, bool images)
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 5, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &offset},
     };
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    /* The resolve pass reads no images. */
-    w->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_layout, 0, images ? 6 : 4,
-                                        images ? wr : wr + 2);
     curve_push pc = {w->fc->cam.zfar, w->tiles_x, w->tiles_y, 0};
-    vkCmdPushConstants(cmd, w->curve_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+    gpu_compute_kit_bind(w->fc->gpu, rg_ctx_cmd(ctx), &w->curve, kernel, images ? wr : wr + 2, images ? 6 : 4, &pc);
 }
 
 static void curve_range_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
-    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_range);
-    push_curve(w, ctx, true);
+    bind_curve(w, ctx, K_RANGE);
     vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
 }
 
 static void curve_bins_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
-    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_bins);
-    push_curve(w, ctx, true);
+    bind_curve(w, ctx, K_BINS);
     vkCmdDispatch(rg_ctx_cmd(ctx), w->tiles_x, w->tiles_y, 1);
 }
 
 static void curve_resolve_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
-    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->curve_resolve);
-    push_curve(w, ctx, false);
+    bind_curve(w, ctx, K_RESOLVE);
     vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
 }
 
@@ -138,7 +131,7 @@ static void curve_resolve_execute(const rg_context *ctx, void *user)
 /* Classify                                                                  */
 /* ------------------------------------------------------------------------- */
 
-static void push_classify(warp_gpu *w, const rg_context *ctx)
+static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
 {
     const frame_ctx *fc = w->fc;
     const frame_resources *r = w->res;
@@ -176,26 +169,22 @@ static void push_classify(warp_gpu *w, const rg_context *ctx)
                                            .dstBinding = buffer_bindings[i], .descriptorCount = 1,
                                            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                            .pBufferInfo = &bufs[i]};
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->classify_layout, 0, 3 + NB, wr);
     vg_classify_push push = {(uint32_t)fc->scene->instance_count, w->patches_per_draw, w->chunk_count,
                              w->tess_slots};
-    vkCmdPushConstants(cmd, w->classify_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    gpu_compute_kit_bind(fc->gpu, rg_ctx_cmd(ctx), &w->classify, kernel, wr, 3 + NB, &push);
 }
 
 static void classify_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
-    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->classify);
-    push_classify(w, ctx);
+    bind_classify(w, ctx, K_CLASSIFY);
     vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count, 1, 1);
 }
 
 static void compact_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
-    vkCmdBindPipeline(rg_ctx_cmd(ctx), VK_PIPELINE_BIND_POINT_COMPUTE, w->compact);
-    push_classify(w, ctx);
+    bind_classify(w, ctx, K_COMPACT);
     vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count, 1, 1);
 }
 
@@ -318,17 +307,14 @@ static void fill_execute(const rg_context *ctx, void *user)
     warp_gpu *w = f->w;
     const rg_res images[5] = {f->raw_color, f->raw_aux, w->res->ids, f->color, f->aux};
     VkDescriptorImageInfo info[5];
-    VkWriteDescriptorSet wr[5];
+    gpu_binding b[5];
     for (uint32_t i = 0; i < 5; i++) {
         info[i] = (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, images[i]),
                                           .imageLayout = rg_ctx_layout(ctx, images[i])};
-        wr[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
-                                       .descriptorCount = 1, .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                       .pImageInfo = &info[i]};
+        b[i] = GPU_STORAGE_IMAGE(&info[i]);
     }
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->fill);
-    w->fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, w->fill_layout, 0, 5, wr);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, 0, b, 5, NULL);
     vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
 }
 
@@ -503,17 +489,14 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
 /* ------------------------------------------------------------------------- */
 
 typedef struct shader_set {
-    VkShaderModule warp_vert, warp_flat_vert, warp_classify, warp_compact, warp_fill, warp_tesc, warp_tese, eye_frag, eye_measure_frag, cameras_vert, sky_vert, eye_sky_frag,
-        imagewarp_vert, imagewarp_frag, curve_range, curve_bins, curve_resolve;
+    VkShaderModule warp_vert, warp_flat_vert, warp_tesc, warp_tese, eye_frag, eye_measure_frag, cameras_vert, sky_vert,
+        eye_sky_frag, imagewarp_vert, imagewarp_frag;
 } shader_set;
 
 static vg_status load_shaders(gpu *g, shader_set *s)
 {
     vg_status st = GPU_SHADER(g, spv_warp_vert, &s->warp_vert);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_flat_vert, &s->warp_flat_vert);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_classify_comp, &s->warp_classify);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_compact_comp, &s->warp_compact);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_warp_fill_comp, &s->warp_fill);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tesc, &s->warp_tesc);
     if (st == VG_OK) st = GPU_SHADER(g, spv_warp_tese, &s->warp_tese);
     if (st == VG_OK) st = GPU_SHADER(g, spv_eye_frag, &s->eye_frag);
@@ -523,18 +506,12 @@ static vg_status load_shaders(gpu *g, shader_set *s)
     if (st == VG_OK) st = GPU_SHADER(g, spv_eye_sky_frag, &s->eye_sky_frag);
     if (st == VG_OK) st = GPU_SHADER(g, spv_imagewarp_vert, &s->imagewarp_vert);
     if (st == VG_OK) st = GPU_SHADER(g, spv_imagewarp_frag, &s->imagewarp_frag);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_curve_range_comp, &s->curve_range);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_curve_bins_comp, &s->curve_bins);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_curve_resolve_comp, &s->curve_resolve);
     return st;
 }
 
 static void free_shaders(gpu *g, shader_set *s)
 {
-    VkShaderModule *m = (VkShaderModule *)s;
-    for (size_t i = 0; i < sizeof *s / sizeof *m; i++)
-        if (m[i])
-            vkDestroyShaderModule(g->device, m[i], NULL);
+    gpu_shaders_destroy(g, (VkShaderModule *)s, sizeof *s / sizeof(VkShaderModule));
 }
 
 static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
@@ -589,10 +566,11 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     if (st == VG_OK)
-        st = gpu_push_layout_create(g, "warp.curve", types, 6, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(curve_push),
-                                    &w->curve_set, &w->curve_layout);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_range, "warp.curve.range", &w->curve_range);
+        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+            .name = "warp.curve", .types = types, .count = 6, .push_size = sizeof(curve_push),
+            .kernels = {[K_RANGE] = GPU_KERNEL(spv_curve_range_comp, "warp.curve.range"),
+                        [K_BINS] = GPU_KERNEL(spv_curve_bins_comp, "warp.curve.bins"),
+                        [K_RESOLVE] = GPU_KERNEL(spv_curve_resolve_comp, "warp.curve.resolve")}}, &w->curve);
     /* warp.classify: the scene bindings of set 0 plus its own buffers; the
      * frame constants as a storage buffer (shaders/common.glsl,
      * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
@@ -602,25 +580,18 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     if (st == VG_OK)
-        st = gpu_push_layout_create(g, "warp.classify", ctypes, VG_BINDING_TESS_LEVELS + 1, VK_SHADER_STAGE_COMPUTE_BIT,
-                                    sizeof(vg_classify_push), &w->classify_set, &w->classify_layout);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_classify, "warp.classify", &w->classify);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, w->classify_layout, s->warp_compact, "warp.compact", &w->compact);
+        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_TESS_LEVELS + 1,
+            .push_size = sizeof(vg_classify_push),
+            .kernels = {[K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
+                        [K_COMPACT] = GPU_KERNEL(spv_warp_compact_comp, "warp.compact")}}, &w->classify);
     static const VkDescriptorType ftypes[5] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                                VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                                VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
     if (st == VG_OK)
-        st = gpu_push_layout_create(g, "warp.fill", ftypes, 5, VK_SHADER_STAGE_COMPUTE_BIT, 0, &w->fill_set,
-                                    &w->fill_layout);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, w->fill_layout, s->warp_fill, "warp.fill", &w->fill);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_bins, "warp.curve.bins", &w->curve_bins);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, w->curve_layout, s->curve_resolve, "warp.curve.resolve",
-                                         &w->curve_resolve);
+        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+            .name = "warp.fill", .types = ftypes, .count = 5,
+            .kernels = {GPU_KERNEL(spv_warp_fill_comp, "warp.fill")}}, &w->fill);
     return st;
 }
 
@@ -721,24 +692,10 @@ void warp_gpu_destroy(warp_gpu *w)
 {
     if (!w)
         return;
-    VkDevice dev = w->fc->gpu->device;
-    VkPipeline pipes[] = {w->warp, w->warp_flat, w->cameras, w->imagewarp, w->sky, w->classify, w->compact, w->fill,
-                          w->curve_range, w->curve_bins, w->curve_resolve};
-    for (size_t i = 0; i < sizeof pipes / sizeof pipes[0]; i++)
-        if (pipes[i])
-            vkDestroyPipeline(dev, pipes[i], NULL);
-    if (w->curve_layout)
-        vkDestroyPipelineLayout(dev, w->curve_layout, NULL);
-    if (w->curve_set)
-        vkDestroyDescriptorSetLayout(dev, w->curve_set, NULL);
-    if (w->classify_layout)
-        vkDestroyPipelineLayout(dev, w->classify_layout, NULL);
-    if (w->classify_set)
-        vkDestroyDescriptorSetLayout(dev, w->classify_set, NULL);
-    if (w->fill_layout)
-        vkDestroyPipelineLayout(dev, w->fill_layout, NULL);
-    if (w->fill_set)
-        vkDestroyDescriptorSetLayout(dev, w->fill_set, NULL);
+    gpu_pipelines_destroy(w->fc->gpu, (VkPipeline[]){w->warp, w->warp_flat, w->cameras, w->imagewarp, w->sky}, 5);
+    gpu_compute_kit_destroy(w->fc->gpu, &w->curve);
+    gpu_compute_kit_destroy(w->fc->gpu, &w->classify);
+    gpu_compute_kit_destroy(w->fc->gpu, &w->fill);
     gpu_buffer_destroy(w->fc->gpu, &w->instances);
     gpu_buffer_destroy(w->fc->gpu, &w->chunks);
     gpu_buffer_destroy(w->fc->gpu, &w->baked);

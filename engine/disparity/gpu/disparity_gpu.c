@@ -24,9 +24,7 @@
 
 struct disparity_gpu {
     frame_ctx *fc;
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout layout;
-    VkPipeline original;
+    gpu_compute_kit original;         /* disparity.original */
     operator_gpu *op;
     keyframe_gpu *kf;
     solve_gpu *mid;
@@ -88,18 +86,9 @@ static void original_execute(const rg_context *ctx, void *user)
     disparity_gpu *d = user;
     const frame_ctx *fc = d->fc;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
     VkDescriptorImageInfo src = image_of(ctx, d->depth), dst = image_of(ctx, d->g);
-    VkWriteDescriptorSet w[3] = {
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &src},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 2, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &dst},
-    };
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->original);
-    fc->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, d->layout, 0, 3, w);
+    gpu_binding b[3] = {GPU_UNIFORM_BUFFER(fc->ubo[fc->slot].buffer), GPU_STORAGE_IMAGE(&src), GPU_STORAGE_IMAGE(&dst)};
+    gpu_compute_kit_bind_list(fc->gpu, cmd, &d->original, 0, b, 3, NULL);
     vkCmdDispatch(cmd, (fc->desc.width + 7) / 8, (fc->desc.height + 7) / 8, 1);
 }
 
@@ -419,14 +408,9 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
                                              VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
     vg_status st = d->slice ? VG_OK : VG_ERR_NOMEM;
     if (st == VG_OK)
-        st = gpu_push_layout_create(g, "disparity", types, 3, VK_SHADER_STAGE_COMPUTE_BIT, 0, &d->set_layout, &d->layout);
-    VkShaderModule m = VK_NULL_HANDLE;
-    if (st == VG_OK)
-        st = GPU_SHADER(g, spv_disparity_original_comp, &m);
-    if (st == VG_OK)
-        st = gpu_compute_pipeline_create(g, d->layout, m, "disparity.original", &d->original);
-    if (m)
-        vkDestroyShaderModule(g->device, m, NULL);
+        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+            .name = "disparity.original", .types = types, .count = 3,
+            .kernels = {GPU_KERNEL(spv_disparity_original_comp, "disparity.original")}}, &d->original);
     if (st == VG_OK)
         st = operator_gpu_create(g, &(operator_gpu_desc){
             .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fc->display.screen_vergence,
@@ -474,12 +458,7 @@ void disparity_gpu_destroy(disparity_gpu *d)
     operator_gpu_destroy(d->op);
     gpu_buffer_destroy(g, &d->store);
     gpu_buffer_destroy(g, &d->published);
-    if (d->original)
-        vkDestroyPipeline(g->device, d->original, NULL);
-    if (d->layout)
-        vkDestroyPipelineLayout(g->device, d->layout, NULL);
-    if (d->set_layout)
-        vkDestroyDescriptorSetLayout(g->device, d->set_layout, NULL);
+    gpu_compute_kit_destroy(g, &d->original);
     free(d->slice);
     free(d);
 }

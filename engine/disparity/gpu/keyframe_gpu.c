@@ -13,10 +13,6 @@
 #include "render/gbuffer_gpu.h"
 #include "shared.h"
 
-#include "gbuffer_unlit_frag.h"
-#include "gbuffer_vert.h"
-#include "sky_frag.h"
-#include "sky_vert.h"
 
 #define UBO_STRIDE ((sizeof(vg_frame_ubo) + 255) & ~(size_t)255)
 
@@ -32,35 +28,6 @@ struct keyframe_gpu {
     rg_res r_vertices, r_ubo;
     int tiles;                                /* this frame */
 };
-
-static vg_status pipelines_create(keyframe_gpu *k)
-{
-    frame_ctx *fc = k->fc;
-    gpu *g = fc->gpu;
-    VkShaderModule vert = 0, frag = 0, skyv = 0, skyf = 0;
-    vg_status st = GPU_SHADER(g, spv_gbuffer_vert, &vert);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_gbuffer_unlit_frag, &frag);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_vert, &skyv);
-    if (st == VG_OK) st = GPU_SHADER(g, spv_sky_frag, &skyf);
-    if (st == VG_OK)
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "mid.keyframes sky", .layout = fc->scene_layout, .vert = skyv, .frag = skyf,
-            .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, &k->sky);
-    VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
-    VkVertexInputAttributeDescription va[8];
-    uint32_t nb, na;
-    scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
-    if (st == VG_OK)
-        st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
-            .name = "mid.keyframes", .layout = fc->scene_layout, .vert = vert, .frag = frag, .bindings = vb,
-            .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true, .depth_write = true,
-            .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, &k->scene);
-    VkShaderModule mods[] = {vert, frag, skyv, skyf};
-    for (size_t i = 0; i < sizeof mods / sizeof mods[0]; i++)
-        if (mods[i])
-            vkDestroyShaderModule(g->device, mods[i], NULL);
-    return st;
-}
 
 vg_status keyframe_gpu_create(frame_ctx *fc, const keyframe_gpu_desc *desc, keyframe_gpu **out)
 {
@@ -88,7 +55,7 @@ vg_status keyframe_gpu_create(frame_ctx *fc, const keyframe_gpu_desc *desc, keyf
                                                                 .host_visible = true}, &k->ubo[i]);
     }
     if (st == VG_OK)
-        st = pipelines_create(k);
+        st = gbuffer_gpu_pipelines_create(fc, "mid.keyframes", false, &k->sky, &k->scene);
     if (st != VG_OK) {
         keyframe_gpu_destroy(k);
         return st;
@@ -102,10 +69,7 @@ void keyframe_gpu_destroy(keyframe_gpu *k)
     if (!k)
         return;
     gpu *g = k->fc->gpu;
-    if (k->sky)
-        vkDestroyPipeline(g->device, k->sky, NULL);
-    if (k->scene)
-        vkDestroyPipeline(g->device, k->scene, NULL);
+    gpu_pipelines_destroy(g, (VkPipeline[]){k->sky, k->scene}, 2);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         gpu_buffer_destroy(g, &k->vertices[i]);
         gpu_buffer_destroy(g, &k->ubo[i]);
@@ -238,22 +202,14 @@ void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, 
                                      &(rg_import_desc){.initial = RG_VERTEX});
     k->r_ubo = rg_import_buffer(g, &(rg_buffer_desc){"mid.keyframes.ubo", k->ubo[0].size},
                                 &(rg_import_desc){.initial = RG_UNIFORM});
-    a->color = rg_image(g, &(rg_image_desc){"mid.keyframes.color", gbuffer_formats[VG_GBUFFER_COLOR], w, h, 1});
-    a->depth = rg_image(g, &(rg_image_desc){"mid.keyframes.depth", gbuffer_formats[VG_GBUFFER_DEPTH], w, h, 1});
-    a->ids = rg_image(g, &(rg_image_desc){"mid.keyframes.ids", gbuffer_formats[VG_GBUFFER_ID], w, h, 1});
-    a->motion = rg_image(g, &(rg_image_desc){"mid.keyframes.motion", gbuffer_formats[VG_GBUFFER_MOTION], w, h, 1});
-    a->zbuffer = rg_image(g, &(rg_image_desc){"mid.keyframes.zbuffer", GBUFFER_DEPTH_FORMAT, w, h, 1});
+    gbuffer_targets t = gbuffer_gpu_targets(g, "mid.keyframes", w, h);
+    a->color = t.color, a->depth = t.depth, a->ids = t.ids, a->motion = t.motion, a->zbuffer = t.zbuffer;
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "mid.keyframes", .type = RG_PASS_GRAPHICS,
                                                .execute = keyframes_execute, .user = k});
     rg_use(g, p, k->r_ubo, RG_UNIFORM);
     rg_use(g, p, k->r_vertices, RG_VERTEX);
     rg_use(g, p, res->statics, RG_VERTEX);
     rg_use(g, p, res->indices, RG_INDEX);
-    /* Attachment order = shader output locations; each rendered tile is
-     * covered by its sky first, the others are never read. */
-    rg_use(g, p, a->color, RG_COLOR_WRITE);
-    rg_use(g, p, a->depth, RG_COLOR_WRITE);
-    rg_use(g, p, a->ids, RG_COLOR_WRITE);
-    rg_use(g, p, a->motion, RG_COLOR_WRITE);
-    rg_use_clear(g, p, a->zbuffer, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
+    /* Each rendered tile is covered by its sky first, the others are never read. */
+    gbuffer_gpu_targets_write(g, p, &t);
 }

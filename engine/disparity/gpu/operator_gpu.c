@@ -25,9 +25,7 @@ struct operator_gpu {
     double frame_s, tau;   /* lang-smoothed: a frame's seconds, the time constant */
     bool reset_frame, reset_tiles;
     gpu_buffer state;
-    VkDescriptorSetLayout set[P_COUNT];
-    VkPipelineLayout layout[P_COUNT];
-    VkPipeline pipe[P_COUNT];
+    gpu_compute_kit kit[P_COUNT];
 };
 
 vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gpu **out)
@@ -99,25 +97,16 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
         [P_FIT] = {IMG, IMG, BUF}, [P_MAP] = {IMG, BUF, IMG},
         [P_TILES_FIT] = {UBO, IMG, IMG, BUF}, [P_TILES_STORE] = {UBO, IMG, IMG, BUF, BUF, IMG}};
     static const uint32_t counts[P_COUNT] = {3, 3, 4, 6};
-    static const char *const names[P_COUNT] = {"disparity.operator.fit", "disparity.operator",
-                                               "mid.keyframes.fit", "mid.keyframes.store"};
-    const struct { const uint32_t *code; size_t size; } spv[P_COUNT] = {
-        {spv_disparity_fit_comp, sizeof spv_disparity_fit_comp},
-        {spv_disparity_map_comp, sizeof spv_disparity_map_comp},
-        {spv_mid_keyframe_fit_comp, sizeof spv_mid_keyframe_fit_comp},
-        {spv_mid_keyframe_store_comp, sizeof spv_mid_keyframe_store_comp},
+    const gpu_kernel_code kernels[P_COUNT] = {
+        GPU_KERNEL(spv_disparity_fit_comp, "disparity.operator.fit"),
+        GPU_KERNEL(spv_disparity_map_comp, "disparity.operator"),
+        GPU_KERNEL(spv_mid_keyframe_fit_comp, "mid.keyframes.fit"),
+        GPU_KERNEL(spv_mid_keyframe_store_comp, "mid.keyframes.store"),
     };
-    for (int p = 0; p < P_COUNT && st == VG_OK; p++) {
-        VkShaderModule m = VK_NULL_HANDLE;
-        st = gpu_push_layout_create(g, names[p], types[p], counts[p], VK_SHADER_STAGE_COMPUTE_BIT,
-                                    sizeof(disp_op_push), &o->set[p], &o->layout[p]);
-        if (st == VG_OK)
-            st = gpu_shader_create(g, spv[p].code, spv[p].size, names[p], &m);
-        if (st == VG_OK)
-            st = gpu_compute_pipeline_create(g, o->layout[p], m, names[p], &o->pipe[p]);
-        if (m)
-            vkDestroyShaderModule(g->device, m, NULL);
-    }
+    for (int p = 0; p < P_COUNT && st == VG_OK; p++)
+        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){.name = kernels[p].name, .types = types[p],
+                                                               .count = counts[p], .push_size = sizeof(disp_op_push),
+                                                               .kernels = {kernels[p]}}, &o->kit[p]);
     if (st != VG_OK) {
         operator_gpu_destroy(o);
         return st;
@@ -130,15 +119,8 @@ void operator_gpu_destroy(operator_gpu *o)
 {
     if (!o)
         return;
-    VkDevice dev = o->gpu->device;
-    for (int p = 0; p < P_COUNT; p++) {
-        if (o->pipe[p])
-            vkDestroyPipeline(dev, o->pipe[p], NULL);
-        if (o->layout[p])
-            vkDestroyPipelineLayout(dev, o->layout[p], NULL);
-        if (o->set[p])
-            vkDestroyDescriptorSetLayout(dev, o->set[p], NULL);
-    }
+    for (int p = 0; p < P_COUNT; p++)
+        gpu_compute_kit_destroy(o->gpu, &o->kit[p]);
     gpu_buffer_destroy(o->gpu, &o->state);
     free(o);
 }
@@ -170,33 +152,9 @@ VkDeviceSize operator_gpu_state_size(const operator_gpu *o) { return o->state.si
 /* Recording                                                                 */
 /* ------------------------------------------------------------------------- */
 
-typedef struct binding {
-    VkDescriptorType type;
-    const VkDescriptorImageInfo *image;
-    VkBuffer buffer;
-} binding;
-
-static void push(operator_gpu *o, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_op_push *pc)
-{
-    VkWriteDescriptorSet w[6];
-    VkDescriptorBufferInfo bufs[6];
-    for (uint32_t i = 0; i < n; i++) {
-        bufs[i] = (VkDescriptorBufferInfo){b[i].buffer, 0, VK_WHOLE_SIZE};
-        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
-                                      .descriptorCount = 1, .descriptorType = b[i].type};
-        if (b[i].image)
-            w[i].pImageInfo = b[i].image;
-        else
-            w[i].pBufferInfo = &bufs[i];
-    }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, o->pipe[p]);
-    o->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, o->layout[p], 0, n, w);
-    vkCmdPushConstants(cmd, o->layout[p], VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
-}
-
-#define IMG(info) {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (info), VK_NULL_HANDLE}
-#define BUF(buf) {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf)}
-#define UBO(buf) {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, (buf)}
+#define IMG GPU_STORAGE_IMAGE
+#define BUF GPU_STORAGE_BUFFER
+#define UBO GPU_UNIFORM_BUFFER
 
 void operator_gpu_record_fit(operator_gpu *o, VkCommandBuffer cmd, const VkDescriptorImageInfo *g,
                        const VkDescriptorImageInfo *color, uint32_t width, uint32_t height)
@@ -208,8 +166,8 @@ void operator_gpu_record_fit(operator_gpu *o, VkCommandBuffer cmd, const VkDescr
     if (o->reset_frame)
         pc.flags |= DISP_OP_FLAG_RESET;
     o->reset_frame = false;
-    binding b[3] = {IMG(g), IMG(color), BUF(o->state.buffer)};
-    push(o, cmd, P_FIT, b, 3, &pc);
+    gpu_binding b[3] = {IMG(g), IMG(color), BUF(o->state.buffer)};
+    gpu_compute_kit_bind_list(o->gpu, cmd, &o->kit[P_FIT], 0, b, 3, &pc);
     vkCmdDispatch(cmd, 1, 1, 1);
 }
 
@@ -220,8 +178,8 @@ void operator_gpu_record_map(operator_gpu *o, VkCommandBuffer cmd, const VkDescr
     pc.width = width;
     pc.height = height;
     pc.entry = DISP_OP_ENTRY_FRAME;
-    binding b[3] = {IMG(g), BUF(o->state.buffer), IMG(h)};
-    push(o, cmd, P_MAP, b, 3, &pc);
+    gpu_binding b[3] = {IMG(g), BUF(o->state.buffer), IMG(h)};
+    gpu_compute_kit_bind_list(o->gpu, cmd, &o->kit[P_MAP], 0, b, 3, &pc);
     vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
 }
 
@@ -245,15 +203,15 @@ void operator_gpu_record_tiles_fit(operator_gpu *o, VkCommandBuffer cmd, const o
     if (o->reset_tiles)
         pc.flags |= DISP_OP_FLAG_RESET;
     o->reset_tiles = false;
-    binding b[4] = {UBO(t->ubo), IMG(t->depth), IMG(t->color), BUF(o->state.buffer)};
-    push(o, cmd, P_TILES_FIT, b, 4, &pc);
+    gpu_binding b[4] = {UBO(t->ubo), IMG(t->depth), IMG(t->color), BUF(o->state.buffer)};
+    gpu_compute_kit_bind_list(o->gpu, cmd, &o->kit[P_TILES_FIT], 0, b, 4, &pc);
     vkCmdDispatch(cmd, 1, 1, 1);
 }
 
 void operator_gpu_record_tiles_store(operator_gpu *o, VkCommandBuffer cmd, const operator_gpu_tiles *t)
 {
     disp_op_push pc = tiles_push(o, t);
-    binding b[6] = {UBO(t->ubo), IMG(t->depth), IMG(t->motion), BUF(o->state.buffer), BUF(t->store), IMG(t->ids)};
-    push(o, cmd, P_TILES_STORE, b, 6, &pc);
+    gpu_binding b[6] = {UBO(t->ubo), IMG(t->depth), IMG(t->motion), BUF(o->state.buffer), BUF(t->store), IMG(t->ids)};
+    gpu_compute_kit_bind_list(o->gpu, cmd, &o->kit[P_TILES_STORE], 0, b, 6, &pc);
     vkCmdDispatch(cmd, (t->tile_w + 7) / 8, (t->tile_h * t->tiles + 7) / 8, 1);
 }

@@ -14,9 +14,7 @@ enum { P_TIME, P_SPACE, P_COUNT };
 
 struct upsample_gpu {
     gpu *gpu;
-    VkDescriptorSetLayout set[P_COUNT];
-    VkPipelineLayout layout[P_COUNT];
-    VkPipeline pipe[P_COUNT];
+    gpu_compute_kit kit[P_COUNT];
 };
 
 vg_status upsample_gpu_create(gpu *g, upsample_gpu **out)
@@ -27,25 +25,14 @@ vg_status upsample_gpu_create(gpu *g, upsample_gpu **out)
         return VG_ERR_NOMEM;
     u->gpu = g;
     static const VkDescriptorType IMG = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, BUF = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    static const VkDescriptorType types[P_COUNT][5] = {{IMG, IMG, BUF, BUF, BUF}, {IMG, BUF, BUF, IMG}};
-    static const uint32_t counts[P_COUNT] = {5, 4};
-    static const char *const names[P_COUNT] = {"mid.upsample.time", "mid.upsample.space"};
-    const struct { const uint32_t *code; size_t size; } spv[P_COUNT] = {
-        {spv_mid_upsample_time_comp, sizeof spv_mid_upsample_time_comp},
-        {spv_mid_upsample_space_comp, sizeof spv_mid_upsample_space_comp},
-    };
-    vg_status st = VG_OK;
-    for (int p = 0; p < P_COUNT && st == VG_OK; p++) {
-        VkShaderModule m = VK_NULL_HANDLE;
-        st = gpu_push_layout_create(g, names[p], types[p], counts[p], VK_SHADER_STAGE_COMPUTE_BIT,
-                                    sizeof(disp_upsample_push), &u->set[p], &u->layout[p]);
-        if (st == VG_OK)
-            st = gpu_shader_create(g, spv[p].code, spv[p].size, names[p], &m);
-        if (st == VG_OK)
-            st = gpu_compute_pipeline_create(g, u->layout[p], m, names[p], &u->pipe[p]);
-        if (m)
-            vkDestroyShaderModule(g->device, m, NULL);
-    }
+    static const VkDescriptorType time_types[] = {IMG, IMG, BUF, BUF, BUF}, space_types[] = {IMG, BUF, BUF, IMG};
+    vg_status st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+        .name = "mid.upsample.time", .types = time_types, .count = 5, .push_size = sizeof(disp_upsample_push),
+        .kernels = {GPU_KERNEL(spv_mid_upsample_time_comp, "mid.upsample.time")}}, &u->kit[P_TIME]);
+    if (st == VG_OK)
+        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
+            .name = "mid.upsample.space", .types = space_types, .count = 4, .push_size = sizeof(disp_upsample_push),
+            .kernels = {GPU_KERNEL(spv_mid_upsample_space_comp, "mid.upsample.space")}}, &u->kit[P_SPACE]);
     if (st != VG_OK) {
         upsample_gpu_destroy(u);
         return st;
@@ -58,15 +45,8 @@ void upsample_gpu_destroy(upsample_gpu *u)
 {
     if (!u)
         return;
-    VkDevice dev = u->gpu->device;
-    for (int p = 0; p < P_COUNT; p++) {
-        if (u->pipe[p])
-            vkDestroyPipeline(dev, u->pipe[p], NULL);
-        if (u->layout[p])
-            vkDestroyPipelineLayout(dev, u->layout[p], NULL);
-        if (u->set[p])
-            vkDestroyDescriptorSetLayout(dev, u->set[p], NULL);
-    }
+    for (int p = 0; p < P_COUNT; p++)
+        gpu_compute_kit_destroy(u->gpu, &u->kit[p]);
     free(u);
 }
 
@@ -86,39 +66,13 @@ static disp_upsample_push push_of(const upsample_gpu_frame *f)
     };
 }
 
-typedef struct binding {
-    VkDescriptorType type;
-    const VkDescriptorImageInfo *image;
-    VkBuffer buffer;
-} binding;
-
-static void record(upsample_gpu *u, VkCommandBuffer cmd, int p, const binding *b, uint32_t n, const disp_upsample_push *pc)
-{
-    VkWriteDescriptorSet w[5];
-    VkDescriptorBufferInfo bufs[5];
-    for (uint32_t i = 0; i < n; i++) {
-        bufs[i] = (VkDescriptorBufferInfo){b[i].buffer, 0, VK_WHOLE_SIZE};
-        w[i] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = i,
-                                      .descriptorCount = 1, .descriptorType = b[i].type};
-        if (b[i].image)
-            w[i].pImageInfo = b[i].image;
-        else
-            w[i].pBufferInfo = &bufs[i];
-    }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, u->pipe[p]);
-    u->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, u->layout[p], 0, n, w);
-    vkCmdPushConstants(cmd, u->layout[p], VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof *pc, pc);
-}
-
-#define IMG(info) {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (info), VK_NULL_HANDLE}
-#define BUF(buf) {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf)}
-
 void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, VkBuffer store, VkBuffer published, VkBuffer ratio)
 {
     disp_upsample_push pc = push_of(f);
-    binding b[5] = {IMG(depth), IMG(motion), BUF(store), BUF(published), BUF(ratio)};
-    record(u, cmd, P_TIME, b, 5, &pc);
+    gpu_binding b[5] = {GPU_STORAGE_IMAGE(depth), GPU_STORAGE_IMAGE(motion), GPU_STORAGE_BUFFER(store),
+                        GPU_STORAGE_BUFFER(published), GPU_STORAGE_BUFFER(ratio)};
+    gpu_compute_kit_bind_list(u->gpu, cmd, &u->kit[P_TIME], 0, b, 5, &pc);
     vkCmdDispatch(cmd, (pc.nx * pc.ny + 63) / 64, 1, 1);
 }
 
@@ -126,7 +80,8 @@ void upsample_gpu_record_space(upsample_gpu *u, VkCommandBuffer cmd, const upsam
                           VkBuffer published, VkBuffer ratio, const VkDescriptorImageInfo *out)
 {
     disp_upsample_push pc = push_of(f);
-    binding b[4] = {IMG(h), BUF(published), BUF(ratio), IMG(out)};
-    record(u, cmd, P_SPACE, b, 4, &pc);
+    gpu_binding b[4] = {GPU_STORAGE_IMAGE(h), GPU_STORAGE_BUFFER(published), GPU_STORAGE_BUFFER(ratio),
+                        GPU_STORAGE_IMAGE(out)};
+    gpu_compute_kit_bind_list(u->gpu, cmd, &u->kit[P_SPACE], 0, b, 4, &pc);
     vkCmdDispatch(cmd, (f->width + 7) / 8, (f->height + 7) / 8, 1);
 }
