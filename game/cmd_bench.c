@@ -23,6 +23,7 @@
 #include "core/io.h"
 #include "core/log.h"
 #include "core/parallel.h"
+#include "core/stats.h"
 #include "disparity/mid_solver.h"
 #include "disparity/mid_synth.h"
 #include "gpu_cli.h"
@@ -76,26 +77,6 @@ static int group_of(const char *pass)
         if (!strncmp(pass, k[i].prefix, strlen(k[i].prefix)))
             return k[i].group;
     return G_OTHER;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(const double *v, int n)
-{
-    if (n <= 0)
-        return NAN;
-    double *t = malloc((size_t)n * sizeof *t);
-    if (!t)
-        return NAN;
-    memcpy(t, v, (size_t)n * sizeof *t);
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-    free(t);
-    return m;
 }
 
 /* Per frame: GPU ms of each group, of all passes, of the eyes, wall ms. */
@@ -178,14 +159,14 @@ static vg_status render_one(frame *f, long index, samples *s)
 
 static figures summarise(const samples *s, double device_mb)
 {
-    figures r = {.gpu = median(s->gpu, s->n), .eyes = median(s->eyes, s->n), .wall = median(s->wall, s->n),
+    figures r = {.gpu = vg_median(s->gpu, (size_t)s->n, 1), .eyes = vg_median(s->eyes, (size_t)s->n, 1), .wall = vg_median(s->wall, (size_t)s->n, 1),
                  .device_mb = device_mb};
     for (int g = 0; g < G_COUNT; g++)
-        r.group[g] = median(s->group[g], s->n);
+        r.group[g] = vg_median(s->group[g], (size_t)s->n, 1);
     r.passes = s->passes;
     for (int p = 0; p < s->passes; p++) {
         memcpy(r.pass_name[p], s->pass_name[p], sizeof r.pass_name[p]);
-        r.pass[p] = median(s->pass_ms[p], s->n);
+        r.pass[p] = vg_median(s->pass_ms[p], (size_t)s->n, 1);
     }
     for (int i = 0; i < s->n; i++)
         r.solve_mean += s->solve[i] / s->n;
@@ -458,7 +439,7 @@ static vg_status bench_solver(report *r)
     vg_pool_destroy(pool);
     if (st != VG_OK)
         return st;
-    double m = median(ms, 5), gbs = stats.bytes / (m * 1e6);
+    double m = vg_median(ms, 5, 1), gbs = stats.bytes / (m * 1e6);
     char cells[4][32], label[96];
     heading(r, "Solver bandwidth");
     snprintf(cells[0], sizeof cells[0], "ms");

@@ -18,6 +18,7 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "frame/science_metrics.h"
 #include "gpu_cli.h"
 #include "frame/frame.h"
@@ -241,20 +242,6 @@ done:
 /* capture.json                                                              */
 /* ------------------------------------------------------------------------- */
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    if (n <= 0)
-        return NAN;
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 typedef struct capture_log {
     int frames;
     uint32_t pass_count;
@@ -415,23 +402,18 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
 
     /* Timings differ from run to run; everything above does not. */
     vg_json_array_begin(&j, "passes");
-    double *tmp = malloc(sizeof(double) * (size_t)log->frames);
-    for (uint32_t p = 0; p < log->pass_count && tmp; p++) {
+    for (uint32_t p = 0; p < log->pass_count; p++) {
         double sum = 0;
         for (int i = 0; i < log->frames; i++)
-            sum += tmp[i] = log->pass_ms[i * RG_MAX_PASSES + p];
+            sum += log->pass_ms[i * RG_MAX_PASSES + p];
         vg_json_object_begin(&j, NULL);
         vg_json_str(&j, "name", log->pass_names[p]);
-        vg_json_num(&j, "ms_median", median(tmp, log->frames));
+        vg_json_num(&j, "ms_median", vg_median(log->pass_ms + p, (size_t)log->frames, RG_MAX_PASSES));
         vg_json_num(&j, "ms_mean", sum / log->frames);
         vg_json_object_end(&j);
     }
     vg_json_array_end(&j);
-    if (tmp) {
-        memcpy(tmp, log->cpu_ms, sizeof(double) * (size_t)log->frames);
-        vg_json_num(&j, "frame_ms_median", median(tmp, log->frames));
-    }
-    free(tmp);
+    vg_json_num(&j, "frame_ms_median", vg_median(log->cpu_ms, (size_t)log->frames, 1));
     if (fd->stereo != FRAME_STEREO_OFF)
         json_stereo(&j, fd, &log->warp);
     if (log->science)

@@ -10,6 +10,7 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "demo.h"
 #include "demo_image.h"
 #include "frame/science_metrics.h"
@@ -42,29 +43,6 @@ void demo_run_free(demo_run *r)
 {
     warp_metrics_free(&r->warp);
     warp_metrics_free(&r->imagewarp);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Median of the finite values among n with the given stride. */
-static double median_of(const double *v, int n, int stride)
-{
-    double *tmp = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
-    int k = 0;
-    for (int i = 0; tmp && i < n; i++)
-        if (isfinite(v[(size_t)i * (size_t)stride]))
-            tmp[k++] = v[(size_t)i * (size_t)stride];
-    double m = NAN;
-    if (k) {
-        qsort(tmp, (size_t)k, sizeof *tmp, cmp_double);
-        m = k % 2 ? tmp[k / 2] : 0.5 * (tmp[k / 2 - 1] + tmp[k / 2]);
-    }
-    free(tmp);
-    return m;
 }
 
 /* ------------------------------------------------------------------------- */
@@ -366,9 +344,9 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
     }
     r->available = st == VG_OK;
     for (uint32_t p = 0; st == VG_OK && p < r->pass_count; p++)
-        r->pass_ms[p] = median_of(c.pass_samples + p, r->frames, RG_MAX_PASSES);
+        r->pass_ms[p] = vg_median(c.pass_samples + p, (size_t)r->frames, (size_t)RG_MAX_PASSES);
     if (st == VG_OK) {
-        r->frame_ms = median_of(c.cpu_ms, r->frames, 1);
+        r->frame_ms = vg_median(c.cpu_ms, (size_t)r->frames, (size_t)(1));
         if (c.science)
             st = science_finish(&c);
     }

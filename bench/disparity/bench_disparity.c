@@ -24,28 +24,13 @@
 
 #include "core/clock.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "disparity/gpu/disparity_gpu.h"
 #include "disparity/mid_shared.h"
 #include "disparity/gpu/operator_gpu.h"
 #include "disparity/gpu/upsample_gpu.h"
 #include "frame/frame.h"
 #include "stereo/stereo_display.h"
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(const double *v, int n)
-{
-    double *t = malloc((size_t)n * sizeof *t);
-    memcpy(t, v, (size_t)n * sizeof *t);
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    double m = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-    free(t);
-    return m;
-}
 
 static double mean(const double *v, int n)
 {
@@ -119,8 +104,8 @@ static double median_of_runs(const double *v, int runs, int frames)
 {
     double *per_run = malloc((size_t)runs * sizeof *per_run);
     for (int r = 0; r < runs; r++)
-        per_run[r] = median(v + (size_t)r * frames, frames);
-    double m = median(per_run, runs);
+        per_run[r] = vg_median(v + (size_t)r * frames, (size_t)frames, 1);
+    double m = vg_median(per_run, (size_t)runs, 1);
     free(per_run);
     return m;
 }
@@ -290,7 +275,7 @@ static double graph_ms(gpu *g, rg_graph *graph, int reps)
         if (i >= 2)
             t[i - 2] = vg_now_ms() - t0;
     }
-    double m = median(t, reps);
+    double m = vg_median(t, (size_t)reps, 1);
     free(t);
     return m;
 }
@@ -420,7 +405,7 @@ int main(int argc, char **argv)
     printf("mid.solve over whole keyframe intervals, 1920x1080 / 960x540 side by side in each run:");
     for (int r = 0; r < runs; r++)
         printf(" x%.3f", solve_ratio[r]);
-    double ratio = median(solve_ratio, runs);
+    double ratio = vg_median(solve_ratio, (size_t)runs, 1);
     printf("; median x%.3f (%+.1f %%)\n", ratio, 100.0 * (ratio - 1.0));
     double up0 = ar[0].time_ms + ar[0].space_ms, up1 = ar[1].time_ms + ar[1].space_ms;
     printf("upsampling (time + space): %.2f vs %.2f ms: x%.2f for x4 pixels\n", up0, up1, up1 / up0);

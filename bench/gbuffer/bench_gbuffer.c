@@ -15,6 +15,7 @@
 
 #include "core/clock.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "frame/frame.h"
 
 typedef struct bench_opts {
@@ -92,20 +93,6 @@ static int parse(int argc, char **argv, bench_opts *o)
 /* Measuring                                                                 */
 /* ------------------------------------------------------------------------- */
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    if (n <= 0)
-        return NAN;
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 typedef struct bench_result {
     uint32_t pass_count;
     char names[RG_MAX_PASSES][32];   /* copies: the graph dies with the frame */
@@ -149,9 +136,9 @@ static vg_status bench_size(gpu *g, const scene *s, const bench_opts *o, uint32_
     }
     if (st == VG_OK) {
         for (uint32_t p = 0; p < r->pass_count; p++)
-            r->pass_ms[p] = median(samples + (size_t)p * n, n);
-        r->gpu_ms = median(sum, n);
-        r->wall_ms = median(wall, n);
+            r->pass_ms[p] = vg_median(samples + (size_t)p * n, (size_t)n, 1);
+        r->gpu_ms = vg_median(sum, (size_t)n, 1);
+        r->wall_ms = vg_median(wall, (size_t)n, 1);
     }
     free(samples);
     frame_destroy(f);

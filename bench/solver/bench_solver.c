@@ -17,6 +17,7 @@
 
 #include "core/bandwidth.h"
 #include "core/parallel.h"
+#include "core/stats.h"
 #include "disparity/disp_metrics.h"
 #include "disparity/mid_solver.h"
 #include "disparity/mid_synth.h"
@@ -24,18 +25,6 @@
 #define NX MID_SYNTH_NX
 #define NY MID_SYNTH_NY
 #define NT MID_SYNTH_NT
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* ------------------------------------------------------------------------- */
 /* Runs                                                                      */
@@ -86,7 +75,7 @@ int main(int argc, char **argv)
                 mid_solve(w, &configs[c].desc, f, &st);
                 ms[r] = st.ms;
             }
-            double m = median(ms, runs), gbs = st.bytes / (m * 1e6);
+            double m = vg_median(ms, (size_t)runs, 1), gbs = st.bytes / (m * 1e6);
             printf("%-34s %8d %7d %9.1f %9.2f %7.0f%%\n", configs[c].name, thread_counts[p], st.passes, m, gbs,
                    100 * gbs / triad[p]);
         }

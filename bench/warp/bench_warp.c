@@ -15,19 +15,8 @@
 
 #include "core/clock.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "frame/frame.h"
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 typedef struct result {
     double frame_ms;   /* wall clock of a frame that waits for completion (lavapipe's
@@ -59,7 +48,7 @@ static vg_status run(gpu *g, const scene *s, const frame_desc *d, int frames, re
         }
     }
     if (st == VG_OK)
-        *out = (result){median(total, frames), median(eyes, frames)};
+        *out = (result){vg_median(total, (size_t)frames, 1), vg_median(eyes, (size_t)frames, 1)};
     free(total);
     free(eyes);
     frame_destroy(f);
