@@ -394,16 +394,36 @@ static void png_sink_write(void *ctx, void *data, int size)
     s->size += (size_t)size;
 }
 
-vg_status vg_png_write(const char *path, int width, int height, int comp, const uint8_t *pixels)
+vg_status vg_png_encode(int width, int height, int comp, const uint8_t *pixels, uint8_t **png, size_t *size)
 {
+    /* stb's defaults, pinned here: other code in the process must not be able
+     * to change the bytes (committed textures, captures) through these globals. */
+    stbi_write_png_compression_level = 8;
+    stbi_write_force_png_filter = -1;
     png_sink sink = {0};
     int ok = stbi_write_png_to_func(png_sink_write, &sink, width, height, comp, pixels, width * comp);
-    vg_status st = VG_ERR_NOMEM;
-    if (ok && !sink.failed)
-        st = vg_file_write_atomic(path, sink.data, sink.size);
+    *png = NULL;
+    *size = 0;
+    if (!ok || sink.failed) {
+        free(sink.data);
+        vg_error("PNG encoding of a %dx%d image failed", width, height);
+        return VG_ERR_NOMEM;
+    }
+    *png = sink.data;
+    *size = sink.size;
+    return VG_OK;
+}
+
+vg_status vg_png_write(const char *path, int width, int height, int comp, const uint8_t *pixels)
+{
+    uint8_t *png;
+    size_t size;
+    vg_status st = vg_png_encode(width, height, comp, pixels, &png, &size);
+    if (st == VG_OK)
+        st = vg_file_write_atomic(path, png, size);
     else
-        vg_error("%s: PNG encoding failed", path);
-    free(sink.data);
+        vg_error("%s: not written", path);
+    free(png);
     return st;
 }
 

@@ -41,4 +41,6 @@ vg_status vg_flo_write(const char *path, const vg_imagef *img);
 /* 8-bit PNG (1 grey, 2 grey+alpha, 3 RGB, 4 RGBA). The pixel buffer from
  * vg_png_read is freed with free(). */
 vg_status vg_png_write(const char *path, int width, int height, int comp, const uint8_t *pixels);
+/* The same into memory (*png freed with free()), with stb's defaults pinned. */
+vg_status vg_png_encode(int width, int height, int comp, const uint8_t *pixels, uint8_t **png, size_t *size);
 vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels);

@@ -4,6 +4,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "core/io.h"
+
 /* ------------------------------------------------------------------------- */
 /* Objects                                                                   */
 /* ------------------------------------------------------------------------- */
@@ -107,7 +109,7 @@ int ground_material(gltf *g, texture_kind kind)
     size_t png_size = 0;
     if (texture_make(&tex, kind, 256) != VG_OK)
         return 0;
-    vg_status st = texture_encode_png(&tex, &png, &png_size);
+    vg_status st = vg_png_encode(tex.width, tex.height, 3, tex.rgb, &png, &png_size);
     texture_free(&tex);
     if (st != VG_OK)
         return 0;

@@ -4,7 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <stb_image_write.h>
 
 #include "core/log.h"
 
@@ -193,47 +192,3 @@ void texture_free(texture *t)
     *t = (texture){0};
 }
 
-typedef struct png_sink {
-    uint8_t *data;
-    size_t size, cap;
-    bool failed;
-} png_sink;
-
-static void png_sink_write(void *ctx, void *data, int size)
-{
-    png_sink *s = ctx;
-    if (s->failed || size <= 0)
-        return;
-    if (s->size + (size_t)size > s->cap) {
-        size_t cap = s->cap ? s->cap * 2 : 65536;
-        while (cap < s->size + (size_t)size)
-            cap *= 2;
-        uint8_t *p = realloc(s->data, cap);
-        if (!p) {
-            s->failed = true;
-            return;
-        }
-        s->data = p;
-        s->cap = cap;
-    }
-    memcpy(s->data + s->size, data, (size_t)size);
-    s->size += (size_t)size;
-}
-
-vg_status texture_encode_png(const texture *t, uint8_t **png, size_t *size)
-{
-    /* stb's defaults, pinned here: other code in the process must not be able
-     * to change the committed bytes by touching these globals. */
-    stbi_write_png_compression_level = 8;
-    stbi_write_force_png_filter = -1;
-    png_sink sink = {0};
-    int ok = stbi_write_png_to_func(png_sink_write, &sink, t->width, t->height, 3, t->rgb, t->width * 3);
-    if (!ok || sink.failed) {
-        free(sink.data);
-        vg_error("PNG encoding of a %dx%d texture failed", t->width, t->height);
-        return VG_ERR_NOMEM;
-    }
-    *png = sink.data;
-    *size = sink.size;
-    return VG_OK;
-}

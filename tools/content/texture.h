@@ -26,6 +26,3 @@ typedef enum texture_kind {
 vg_status texture_make(texture *t, texture_kind kind, int size);
 void texture_free(texture *t);
 
-/* Encodes as PNG (stb, fixed settings: the bytes only depend on the pixels).
- * *png is freed with free(). */
-vg_status texture_encode_png(const texture *t, uint8_t **png, size_t *size);
