@@ -41,13 +41,11 @@ typedef struct capture_opts {
 
 static capture_opts o = {
     .frames = 1, .fps = 60, .stride = 10, .size = {960, 540}, .gpu = {.device = -1},
-    .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED - 1, .compose = FRAME_COMPOSE_SBS - 1,
-    .op = DISP_OPERATOR_LANG - 1,
+    .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED, .compose = FRAME_COMPOSE_SBS,
+    .op = DISP_OPERATOR_LANG,
 };
 
 /* disp_operator_kind minus one. */
-static const char *const k_operator_names[] = {"none", "linear", "lang", "lang-smoothed", NULL};
-
 static const vg_opt k_opts[] = {
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF 2.0 scene (.gltf or .glb)", NULL, 0, 0},
     {"--out", VG_OPT_STRING, &o.out, "DIR", "output folder (created if missing)", NULL, 0, 0},
@@ -59,9 +57,9 @@ static const vg_opt k_opts[] = {
     {"--keyframe-stride", VG_OPT_INT, &o.stride, "S", "frames between keyframes (default 10, paper 4.4)", NULL, 1, 1000},
     {"--solver-iterations", VG_OPT_INT, &o.solver_iterations, "N", "outer solver iterations each time the keyframe window moves (default: the frame's)", NULL, 1, 64},
     {"--stereo-render", VG_OPT_CHOICE, &o.stereo, "HOW", "how the stereo pair is made (default warp)", frame_stereo_names, 0, 0},
-    {"--mode", VG_OPT_CHOICE, &o.mode, "MODE", "disparity shown: g, h or f (default optimized)", frame_mode_names + 1, 0, 0},
-    {"--output", VG_OPT_CHOICE, &o.compose, "LAYOUT", "how frame_NNNN_stereo.png packs the eyes (default sbs)", frame_compose_names + 1, 0, 0},
-    {"--operator", VG_OPT_CHOICE, &o.op, "NAME", "disparity operator h = M(g, saliency) (default lang)", k_operator_names, 0, 0},
+    {"--mode", VG_OPT_ENUM, &o.mode, "MODE", "disparity shown: g, h or f (default optimized)", frame_mode_names, 0, 0},
+    {"--output", VG_OPT_ENUM, &o.compose, "LAYOUT", "how frame_NNNN_stereo.png packs the eyes (default sbs)", frame_compose_names, 0, 0},
+    {"--operator", VG_OPT_ENUM, &o.op, "NAME", "disparity operator h = M(g, saliency) (default lang)", disp_operator_names, 0, 0},
     {"--target-range", VG_OPT_FLOAT, &o.target_range, "ARCMIN", "half-width of the target range around the screen (default 60)", NULL, 1, 600},
     {"--swap-eyes", VG_OPT_FLAG, &o.swap_eyes, NULL, "exchange left and right in the composed output", NULL, 0, 0},
     {"--tess-px", VG_OPT_FLOAT, &o.tess_px, "PX", "tessellate edges down to PX pixels (paper: 1); default: error-driven", NULL, 0.05, 1000},
@@ -444,13 +442,13 @@ static vg_status capture(gpu *g, const scene *s)
     frame_desc fd = {
         .width = (uint32_t)o.size[0], .height = (uint32_t)o.size[1], .fps = o.fps,
         .keyframe_stride = o.stride, .camera = o.camera, .readback = true,
-        .stereo = (frame_stereo)o.stereo, .mode = (frame_mode)(o.mode + 1),
-        .compose = (frame_compose)(o.compose + 1), .swap_eyes = o.swap_eyes, .tess_px = o.tess_px,
+        .stereo = (frame_stereo)o.stereo, .mode = (frame_mode)o.mode,
+        .compose = (frame_compose)o.compose, .swap_eyes = o.swap_eyes, .tess_px = o.tess_px,
         .tess_error = o.tess_error, .diffuse = o.diffuse,
         .reference = !o.no_reference && o.stereo != FRAME_STEREO_CAMERAS,
         .measure = true,
         .curve = o.curve ? &baked : NULL,
-        .op = (disp_operator_kind)(o.op + 1), .target_range = o.target_range,
+        .op = (disp_operator_kind)o.op, .target_range = o.target_range,
         .solver_iterations = o.solver_iterations,
     };
     frame *f;

@@ -40,13 +40,11 @@ typedef struct demo_cli {
 
 static demo_cli o = {
     .out = "out/demo", .scenes = DEMO_DEFAULT_SCENES, .content = "content", .size = {400, 225},
-    .op = DISP_OPERATOR_LANG - 1, .step = 2, .analysis_step = 1, .stills = 3, .stride = 5, .fps = 30, .tess_error = 0.1,
+    .op = DISP_OPERATOR_LANG, .step = 2, .analysis_step = 1, .stills = 3, .stride = 5, .fps = 30, .tess_error = 0.1,
     .gpu = {.device = -1},
 };
 
 /* disp_operator_kind minus one, as on `vergence capture`. */
-static const char *const k_operator_names[] = {"none", "linear", "lang", "lang-smoothed", NULL};
-
 static const vg_opt k_opts[] = {
     {"--out", VG_OPT_STRING, &o.out, "DIR", "report folder (default out/demo; created if missing)", NULL, 0, 0},
     {"--scenes", VG_OPT_STRING, &o.scenes, "LIST", "comma-separated scene names (default " DEMO_DEFAULT_SCENES ")", NULL, 0, 0},
@@ -61,7 +59,7 @@ static const vg_opt k_opts[] = {
     {"--keyframe-stride", VG_OPT_INT, &o.stride, "S", "frames between keyframes (default 5: 1/6 s at 30 Hz, as the paper's 10 at 60 Hz)", NULL, 1, 1000},
     {"--tess-error", VG_OPT_FLOAT, &o.tess_error, "PX", "the warp's tessellation tolerance (default 0.1: a quarter of "
      "the time of capture's 0.025 px, p99 disparity error about 0.1 px, within the 0.25 px the warp must hold)", NULL, 0.001, 100},
-    {"--operator", VG_OPT_CHOICE, &o.op, "NAME", "disparity operator h = M(g, saliency) (default lang)", k_operator_names, 0, 0},
+    {"--operator", VG_OPT_ENUM, &o.op, "NAME", "disparity operator h = M(g, saliency) (default lang)", disp_operator_names, 0, 0},
     {"--no-video", VG_OPT_FLAG, &o.no_video, NULL, "do not write videos even when ffmpeg is installed", NULL, 0, 0},
     GPU_CLI_OPTIONS(o.gpu),
 };
@@ -228,7 +226,7 @@ static int run(int argc, char **argv)
     demo_opts d = {
         .out = o.out, .width = o.size[0], .height = o.size[1], .step = o.step, .analysis_step = o.analysis_step,
         .fps = o.fps, .stills = o.stills,
-        .seconds = o.seconds, .video = !o.no_video, .op = (disp_operator_kind)(o.op + 1), .keyframe_stride = o.stride,
+        .seconds = o.seconds, .video = !o.no_video, .op = (disp_operator_kind)o.op, .keyframe_stride = o.stride,
         .tess_error = o.tess_error,
     };
     d.ffmpeg = d.video ? find_ffmpeg(ffmpeg_buf, sizeof ffmpeg_buf) : NULL;

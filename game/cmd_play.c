@@ -22,14 +22,14 @@ typedef struct play_opts {
 } play_opts;
 
 static play_opts o = {
-    .mode = FRAME_MODE_ORIGINAL - 1, .op = GAME_OPERATOR_DEFAULT,
-    .win = {.size = {1280, 720}, .compose = FRAME_COMPOSE_ANAGLYPH - 1, .seed = -1, .gpu = {.device = -1}},
+    .mode = FRAME_MODE_ORIGINAL, .op = DISP_OPERATOR_LANG,
+    .win = {.size = {1280, 720}, .compose = FRAME_COMPOSE_ANAGLYPH, .seed = -1, .gpu = {.device = -1}},
 };
 
 static const vg_opt k_opts[] = {
-    {"--mode", VG_OPT_CHOICE, &o.mode, "MODE", "disparity shown first: original (g), manipulated (h) or "
-     "optimized (f); default original", frame_mode_names + 1, 0, 0},
-    {"--operator", VG_OPT_CHOICE, &o.op, "OP", "the manipulation h (default lang)", game_operator_names, 0, 0},
+    {"--mode", VG_OPT_ENUM, &o.mode, "MODE", "disparity shown first: original (g), manipulated (h) or "
+     "optimized (f); default original", frame_mode_names, 0, 0},
+    {"--operator", VG_OPT_ENUM, &o.op, "OP", "the manipulation h (default lang)", disp_operator_names, 0, 0},
     {"--visible", VG_OPT_FLOAT, &o.visible_s, "S", "seconds the ball is shown after launch (default 0.6)",
      NULL, 0.1, 3},
     {"--seed", VG_OPT_INT, &o.win.seed, "S", "seed of the throws (default: the clock)", NULL, 0, 2147483647},
@@ -52,8 +52,8 @@ static int run(int argc, char **argv)
         return vg_status_exit_code(VG_ERR_IO);
     uint64_t seed = o.win.seed >= 0 ? (uint64_t)o.win.seed : (uint64_t)time(NULL);
     vg_status st = play_session_run(&(play_session_desc){
-        .win = &o.win, .scene_path = scene_path, .mode = (frame_mode)(o.mode + 1),
-        .op = (disp_operator_kind)(o.op + 1), .display = game_display_desc(&o.display),
+        .win = &o.win, .scene_path = scene_path, .mode = (frame_mode)o.mode,
+        .op = (disp_operator_kind)o.op, .display = game_display_desc(&o.display),
         .visible_s = o.visible_s, .seed = seed,
     });
     return vg_status_exit_code(st);

@@ -28,8 +28,8 @@
 /* ------------------------------------------------------------------------- */
 
 static study_opts o = {
-    .trials = -1, .seed = -1, .op = GAME_OPERATOR_DEFAULT, .weber_k = 0,
-    .win = {.size = {1280, 720}, .compose = FRAME_COMPOSE_ANAGLYPH - 1, .gpu = {.device = -1}},
+    .trials = -1, .seed = -1, .op = DISP_OPERATOR_LANG, .weber_k = 0,
+    .win = {.size = {1280, 720}, .compose = FRAME_COMPOSE_ANAGLYPH, .gpu = {.device = -1}},
 };
 
 static const char *const k_observer_names[] = {"human", "model", NULL};
@@ -44,8 +44,8 @@ static const char *const k_observer_names[] = {"human", "model", NULL};
     {"--resume", VG_OPT_FLAG, &o.resume, NULL, "continue FILE.csv after its last finished trial", NULL, 0, 0}, \
     {"--observer", VG_OPT_CHOICE, &o.observer, "WHO", "human (a window) or model (the simulated "       \
      "observer, headless)", k_observer_names, 0, 0},                                                    \
-    {"--operator", VG_OPT_CHOICE, &o.op, "OP", "the manipulation h (default lang, study preset)",        \
-     game_operator_names, 0, 0},                                                                        \
+    {"--operator", VG_OPT_ENUM, &o.op, "OP", "the manipulation h (default lang, study preset)",        \
+     disp_operator_names, 0, 0},                                                                        \
     {"--weber-k", VG_OPT_FLOAT, &o.weber_k, "K", "model: Weber fraction of its velocity noise "          \
      "(default 0.08; negative = no noise)", NULL, -1, 1},                                               \
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "the arena (default content/arena.gltf)", NULL, 0, 0},  \

@@ -9,8 +9,6 @@
 
 #include "core/log.h"
 
-const char *const game_operator_names[] = {"none", "linear", "lang", "lang-smoothed", NULL};
-
 stereo_display_desc game_display_desc(const game_display_cli *d)
 {
     stereo_display_desc s = {.distance_m = d->distance_m, .ipd_m = d->ipd_m};

@@ -24,9 +24,6 @@ typedef struct game_display_cli {
 /* The display model of the flags (panel aspect 16:9 and 1920x1080 kept). */
 stereo_display_desc game_display_desc(const game_display_cli *d);
 
-/* Operator names for VG_OPT_CHOICE: index + 1 = disp_operator_kind. */
-extern const char *const game_operator_names[];
-#define GAME_OPERATOR_DEFAULT 2 /* lang: the paper's study operator (Sec. 5) */
 
 /* The scene to play in: `given`, else content/arena.gltf in the working
  * folder or beside the executable's build tree. Returns NULL (with one

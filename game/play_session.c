@@ -133,7 +133,7 @@ static vg_status on_click(session *ss, double x, double y)
         return VG_OK;
     }
     if (ss->ph != PHASE_AIM || ss->paused ||
-        !game_click_to_image((frame_compose)(ss->d->win->compose + 1), ss->rw, ss->rh, e.width, e.height, x, y, &u, &v))
+        !game_click_to_image((frame_compose)ss->d->win->compose, ss->rw, ss->rh, e.width, e.height, x, y, &u, &v))
         return VG_OK;
     double err = game_click_error(&ss->cam, u, v, ss->th.ground);
     vg_info("play: click at (%.3f, %.3f) of the picture: missed by %.2f m (%s, %s, %s)", u, v, err,
@@ -197,7 +197,7 @@ static void frames_drop(session *ss)
 static void choose_render_size(session *ss, bool announce)
 {
     const play_window_cli *w = ss->d->win;
-    frame_compose c = (frame_compose)(w->compose + 1);
+    frame_compose c = (frame_compose)w->compose;
     VkExtent2D e = window_extent(ss->win);
     double ew = e.width, eh = e.height;
     if (c == FRAME_COMPOSE_SBS)
@@ -242,7 +242,7 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     frame_desc fd = {
         .width = ss->rw, .height = ss->rh, .fps = 60, .keyframe_stride = 10, .camera = 0,
         .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = mode,
-        .compose = (frame_compose)(d->win->compose + 1),
+        .compose = (frame_compose)d->win->compose,
         .present_format = window_format(ss->win), .present_width = e.width, .present_height = e.height,
         /* A study compresses as the paper's did (more than the display needs); play for comfort. */
         .op = d->op, .op_preset = ss->study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
@@ -354,7 +354,7 @@ static void hud_build(session *ss, frame *f)
     if (ss->hud_tech) {
         hud_add(ss, "mode: %s%s", k_mode_text[ss->mode], ss->study ? "   (set by the study)" : "   M cycles, 1-3 pick");
         hud_add(ss, "operator: %s   output: %s %ux%u", disp_operator_kind_name(ss->d->op),
-                frame_compose_names[ss->d->win->compose + 1], ss->rw, ss->rh);
+                frame_compose_names[ss->d->win->compose], ss->rw, ss->rh);
         const char *names[RG_MAX_PASSES];
         double ms[RG_MAX_PASSES], total = 0;
         uint32_t n = frame_pass_timings(f, names, ms, RG_MAX_PASSES);

@@ -25,7 +25,7 @@ typedef struct play_window_cli {
     int size[2];                 /* window, default 1280x720 */
     int render[2];               /* eye image; 0 = from the window (smaller on a CPU device) */
     bool fullscreen;
-    int compose;                 /* index into frame_compose_names + 1 */
+    int compose;                 /* frame_compose */
     const char *replay, *record;
     int ticks;                   /* quit after this many ticks (1/60 s), 0 = never */
     int frame_ticks;             /* replay: ticks per frame (tests: a device at 60 / N fps), 0 = 1 */
@@ -36,8 +36,8 @@ typedef struct play_window_cli {
 } play_window_cli;
 
 #define PLAY_WINDOW_OPTIONS(w)                                                                          \
-    {"--output", VG_OPT_CHOICE, &(w).compose, "LAYOUT", "how the eyes are shown (default anaglyph; "      \
-     "rows for passive polarised panels)", frame_compose_names + 1, 0, 0},                              \
+    {"--output", VG_OPT_ENUM, &(w).compose, "LAYOUT", "how the eyes are shown (default anaglyph; "      \
+     "rows for passive polarised panels)", frame_compose_names, 0, 0},                              \
     {"--size", VG_OPT_SIZE, (w).size, "WxH", "window size (default 1280x720)", NULL, 0, 0},             \
     {"--render-size", VG_OPT_SIZE, (w).render, "WxH", "eye image size (default: fit the window; "      \
      "at most 480 wide on a CPU device)", NULL, 0, 0},                                                  \

@@ -42,7 +42,7 @@ static void layout_make(pref *p)
 {
     layout *l = &p->lay;
     VkExtent2D e = window_extent(p->win);
-    l->compose = (frame_compose)(p->d->win->compose + 1);
+    l->compose = (frame_compose)p->d->win->compose;
     l->ew = (int)e.width, l->eh = (int)e.height;
     if (l->compose == FRAME_COMPOSE_SBS)
         l->ew /= 2;

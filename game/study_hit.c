@@ -52,7 +52,7 @@ static vg_status log_trial(hit_run *r, const play_trial *t)
     snprintf(buf[4], 64, "%s", frame_mode_names[t->mode]);
     snprintf(buf[5], 64, "%s", game_direction_names[th->direction]);
     snprintf(buf[6], 64, "%s", game_path_names[th->path]);
-    snprintf(buf[7], 64, "%s", game_operator_names[r->o->op]);
+    snprintf(buf[7], 64, "%s", disp_operator_kind_name((disp_operator_kind)r->o->op));
     snprintf(buf[8], 64, "%s", r->who);
     snprintf(buf[9], 64, "%.3f", th->visible_s);
     for (int k = 0; k < 3; k++) {
@@ -153,7 +153,7 @@ static vg_status run_model(hit_run *r, const char *scene_path)
     if (st == VG_OK)
         st = observer_create(&(observer_desc){
             .view = {.scene = s, .moving_node = ball, .display = game_display_desc(&o->display),
-                     .op = (disp_operator_kind)(o->op + 1), .preset = DISP_PRESET_STUDY},
+                     .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
             .weber_k = o->weber_k}, &obs);
     for (int i = r->log.rows; i < r->trials && st == VG_OK; i++) {
         game_cell c = game_hit_cell(r->cells[i]);
@@ -201,7 +201,7 @@ vg_status study_hit_run(const study_opts *o)
             st = run_model(&r, scene_path);
         else
             st = play_session_run(&(play_session_desc){
-                .win = &o->win, .scene_path = scene_path, .op = (disp_operator_kind)(o->op + 1),
+                .win = &o->win, .scene_path = scene_path, .op = (disp_operator_kind)o->op,
                 .display = game_display_desc(&o->display), .visible_s = o->visible_s, .seed = r.seed,
                 .cells = r.cells, .first_trial = r.log.rows, .trial_count = r.trials, .on_trial = on_trial,
                 .user = &r});

@@ -107,7 +107,7 @@ static vg_status model_scene_load(const study_opts *o, const char *arena, int in
     scene_state_free(&ss);
     return observer_create(&(observer_desc){
         .view = {.scene = m->scene, .moving_node = moving, .display = game_display_desc(&o->display),
-                 .op = (disp_operator_kind)(o->op + 1), .preset = DISP_PRESET_STUDY},
+                 .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
         .weber_k = o->weber_k}, &m->obs);
 }
 
@@ -144,7 +144,7 @@ static vg_status log_choice(void *user, int trial, int choice_right, double resp
     snprintf(buf[4], 64, "%s", pref_scene_names[c.scene]);
     snprintf(buf[5], 64, "%s", pref_saliency_names[c.saliency]);
     snprintf(buf[6], 64, "%s", k_sides[c.optimized_right]);
-    snprintf(buf[7], 64, "%s", game_operator_names[r->o->op]);
+    snprintf(buf[7], 64, "%s", disp_operator_kind_name((disp_operator_kind)r->o->op));
     snprintf(buf[8], 64, "%s", r->o->observer ? "model" : "human");
     snprintf(buf[9], 64, "%s", k_sides[choice_right]);
     snprintf(buf[10], 64, "%d", choice_right == c.optimized_right);
@@ -227,7 +227,7 @@ vg_status study_preference_run(const study_opts *o)
     if (st == VG_OK && r.log.rows < r.trials)
         st = o->observer ? run_model(&r, arena)
                          : pref_window_run(&(pref_window_desc){
-                               .win = &o->win, .arena_path = arena, .op = (disp_operator_kind)(o->op + 1),
+                               .win = &o->win, .arena_path = arena, .op = (disp_operator_kind)o->op,
                                .display = game_display_desc(&o->display), .cells = r.cells,
                                .first_trial = r.log.rows, .trial_count = r.trials, .on_choice = log_choice,
                                .user = &r});

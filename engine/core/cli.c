@@ -26,6 +26,9 @@ static vg_status bad(const vg_cmd *cmd, const vg_opt *o, const char *val, const 
     return VG_ERR_ARG;
 }
 
+/* VG_OPT_ENUM tables name the enum's default at [0]: not a choice of its own. */
+static int first_choice(const vg_opt *o) { return o->kind == VG_OPT_ENUM ? 1 : 0; }
+
 static vg_status set_value(const vg_cmd *cmd, const vg_opt *o, const char *val)
 {
     char *end;
@@ -72,14 +75,15 @@ static vg_status set_value(const vg_cmd *cmd, const vg_opt *o, const char *val)
         return VG_OK;
     }
     case VG_OPT_CHOICE:
-        for (int i = 0; o->choices[i]; i++)
+    case VG_OPT_ENUM:
+        for (int i = first_choice(o); o->choices[i]; i++)
             if (!strcmp(o->choices[i], val)) {
                 *(int *)o->dest = i;
                 return VG_OK;
             }
         {
             char why[256] = "is not one of:";
-            for (int i = 0; o->choices[i]; i++) {
+            for (int i = first_choice(o); o->choices[i]; i++) {
                 strncat(why, " ", sizeof why - strlen(why) - 1);
                 strncat(why, o->choices[i], sizeof why - strlen(why) - 1);
             }
@@ -150,10 +154,10 @@ void vg_cli_print_help(const vg_cmd *cmd, FILE *out)
         char left[64];
         snprintf(left, sizeof left, "%s%s%s", o->name, o->metavar ? " " : "", o->metavar ? o->metavar : "");
         fprintf(out, "  %-24s %s", left, o->help);
-        if (o->kind == VG_OPT_CHOICE) {
+        if (o->kind == VG_OPT_CHOICE || o->kind == VG_OPT_ENUM) {
             fprintf(out, " (");
-            for (int c = 0; o->choices[c]; c++)
-                fprintf(out, "%s%s", c ? ", " : "", o->choices[c]);
+            for (int c = first_choice(o); o->choices[c]; c++)
+                fprintf(out, "%s%s", c > first_choice(o) ? ", " : "", o->choices[c]);
             fprintf(out, ")");
         }
         fputc('\n', out);

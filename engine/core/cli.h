@@ -17,6 +17,8 @@ typedef enum vg_opt_kind {
     VG_OPT_STRING, /* const char **dest */
     VG_OPT_SIZE,   /* int dest[2]: "WxH" */
     VG_OPT_CHOICE, /* int *dest: index into choices */
+    VG_OPT_ENUM,   /* int *dest: an enum value v named choices[v]; choices[0] names what the
+                      enum's 0 (its default) stands for and is not offered itself */
 } vg_opt_kind;
 
 typedef struct vg_opt {
@@ -25,7 +27,7 @@ typedef struct vg_opt {
     void *dest;
     const char *metavar;             /* "N" in the help text */
     const char *help;
-    const char *const *choices;      /* NULL-terminated, for VG_OPT_CHOICE */
+    const char *const *choices;      /* NULL-terminated, for VG_OPT_CHOICE: dest gets the index */
     double min, max;                 /* accepted range when min < max */
 } vg_opt;
 

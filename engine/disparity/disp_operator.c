@@ -22,7 +22,7 @@ struct disp_operator {
     int partial_blocks;
 };
 
-static const char *const g_names[] = {"lang", "none", "linear", "lang", "lang-smoothed"};
+const char *const disp_operator_names[] = {"lang", "none", "linear", "lang", "lang-smoothed", NULL};
 _Static_assert(DISP_OPERATOR_NONE == DISP_OP_NONE && DISP_OPERATOR_LINEAR == DISP_OP_LINEAR &&
                    DISP_OPERATOR_LANG == DISP_OP_LANG && DISP_OPERATOR_LANG_SMOOTHED == DISP_OP_LANG_SMOOTHED,
                "operator kinds shared with the GPU passes");
@@ -30,14 +30,14 @@ _Static_assert(DISP_OPERATOR_NONE == DISP_OP_NONE && DISP_OPERATOR_LINEAR == DIS
 disp_operator_kind disp_operator_kind_parse(const char *name)
 {
     for (int k = DISP_OPERATOR_NONE; k <= DISP_OPERATOR_LANG_SMOOTHED; k++)
-        if (!strcmp(name, g_names[k]))
+        if (!strcmp(name, disp_operator_names[k]))
             return (disp_operator_kind)k;
     return DISP_OPERATOR_DEFAULT;
 }
 
 const char *disp_operator_kind_name(disp_operator_kind kind)
 {
-    return kind >= DISP_OPERATOR_DEFAULT && kind <= DISP_OPERATOR_LANG_SMOOTHED ? g_names[kind] : "?";
+    return kind >= DISP_OPERATOR_DEFAULT && kind <= DISP_OPERATOR_LANG_SMOOTHED ? disp_operator_names[kind] : "?";
 }
 
 vg_status disp_operator_create(const disp_operator_desc *desc, disp_operator **out)

@@ -57,6 +57,9 @@ void disp_operator_apply(disp_operator *op, const float *g, const float *salienc
 void disp_operator_range(const disp_operator *op, double *lo, double *hi);
 /* The mapping of the last applied frame at vergence x (for tests and plots). */
 double disp_operator_map(const disp_operator *op, double x);
+/* Names by kind: [0] names what DISP_OPERATOR_DEFAULT stands for ("lang"),
+ * then "none", "linear", "lang", "lang-smoothed"; NULL-terminated. */
+extern const char *const disp_operator_names[];
 /* Parses "none", "linear", "lang", "lang-smoothed"; returns DISP_OPERATOR_DEFAULT if unknown. */
 disp_operator_kind disp_operator_kind_parse(const char *name);
 const char *disp_operator_kind_name(disp_operator_kind kind);
