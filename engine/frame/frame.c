@@ -18,11 +18,13 @@
 #include "output/present_gpu.h"
 #include "warp/warp_gpu.h"
 
-/* One image (or buffer: height 0, width = bytes) copied to the host after the frame. */
+/* One image (or buffer: height 0, width = bytes) copied to the host after
+ * the frame, and the frame_outputs field that points at its copy. */
 typedef struct readback_item {
     rg_res res;
     uint32_t width, height, texel;
     VkDeviceSize offset;
+    void *dest;                  /* a pointer field of frame_outputs */
 } readback_item;
 
 #define FRAME_MAX_READBACK 16
@@ -80,7 +82,7 @@ static void readback_execute(const rg_context *ctx, void *user)
     }
 }
 
-static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint32_t texel)
+static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint32_t texel, void *dest)
 {
     VkDeviceSize offset = 0;
     if (f->item_count > 0) {
@@ -88,12 +90,7 @@ static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint
         offset = last->offset + (VkDeviceSize)last->width * (last->height ? last->height * last->texel : 1);
         offset = (offset + 15) & ~(VkDeviceSize)15;
     }
-    f->items[f->item_count++] = (readback_item){res, w, h, texel, offset};
-}
-
-static const void *readback_ptr(const frame *f, int item)
-{
-    return (const uint8_t *)f->readback.mapped + f->items[item].offset;
+    f->items[f->item_count++] = (readback_item){res, w, h, texel, offset, dest};
 }
 
 /* ------------------------------------------------------------------------- */
@@ -133,27 +130,30 @@ static vg_status build_graph(frame *f)
     }
 
     if (fc->desc.readback) {
-        readback_add_item(f, res->color, w, h, 4);
-        readback_add_item(f, res->depth, w, h, 4);
-        readback_add_item(f, res->ids, w, h, 4);
-        readback_add_item(f, res->motion, w, h, 16);
-        int first_map = f->item_count;
+        frame_outputs *o = &f->outputs;
+        *o = (frame_outputs){0};
+        readback_add_item(f, res->color, w, h, 4, &o->color);
+        readback_add_item(f, res->depth, w, h, 4, &o->depth);
+        readback_add_item(f, res->ids, w, h, 4, &o->ids);
+        readback_add_item(f, res->motion, w, h, 16, &o->motion);
         if (stereo) {
-            readback_add_item(f, res->g, w, h, 4);
-            readback_add_item(f, res->left, w, h, 4);
-            readback_add_item(f, res->right, w, h, 4);
-            readback_add_item(f, res->left_aux, w, h, 16);
-            readback_add_item(f, res->right_aux, w, h, 16);
-            readback_add_item(f, res->stereo, sw, sh, 4);
+            readback_add_item(f, res->g, w, h, 4, &o->g);
+            readback_add_item(f, res->left, w, h, 4, &o->left);
+            readback_add_item(f, res->right, w, h, 4, &o->right);
+            readback_add_item(f, res->left_aux, w, h, 16, &o->left_aux);
+            readback_add_item(f, res->right_aux, w, h, 16, &o->right_aux);
+            readback_add_item(f, res->stereo, sw, sh, 4, &o->stereo);
+            o->stereo_width = sw;
+            o->stereo_height = sh;
             if (res->ref_left.id) {
-                readback_add_item(f, res->ref_left, w, h, 4);
-                readback_add_item(f, res->ref_right, w, h, 4);
+                readback_add_item(f, res->ref_left, w, h, 4, &o->ref_left);
+                readback_add_item(f, res->ref_right, w, h, 4, &o->ref_right);
             }
             if (res->h.id)
-                readback_add_item(f, res->h, w, h, 4);
+                readback_add_item(f, res->h, w, h, 4, &o->h);
             if (res->f.id)
-                readback_add_item(f, res->f, w, h, 4);
-            readback_add_item(f, res->curve, sizeof(vg_curve), 0, 0);
+                readback_add_item(f, res->f, w, h, 4, &o->f);
+            readback_add_item(f, res->curve, sizeof(vg_curve), 0, 0, &o->curve);
         }
         const readback_item *last = &f->items[f->item_count - 1];
         VkDeviceSize size = last->offset + (VkDeviceSize)last->width * (last->height ? last->height * last->texel : 1);
@@ -169,31 +169,11 @@ static vg_status build_graph(frame *f)
         for (int i = 0; i < f->item_count; i++)
             rg_use(g, rb, f->items[i].res, RG_TRANSFER_SRC);
         rg_use(g, rb, f->r_readback, RG_TRANSFER_DST);
-        f->outputs = (frame_outputs){
-            .color = readback_ptr(f, 0),
-            .depth = readback_ptr(f, 1),
-            .ids = readback_ptr(f, 2),
-            .motion = readback_ptr(f, 3),
-        };
-        if (stereo) {
-            f->outputs.g = readback_ptr(f, 4);
-            f->outputs.left = readback_ptr(f, 5);
-            f->outputs.right = readback_ptr(f, 6);
-            f->outputs.left_aux = readback_ptr(f, 7);
-            f->outputs.right_aux = readback_ptr(f, 8);
-            f->outputs.stereo = readback_ptr(f, 9);
-            f->outputs.stereo_width = sw;
-            f->outputs.stereo_height = sh;
-            int k = first_map + 6;
-            if (res->ref_left.id) {
-                f->outputs.ref_left = readback_ptr(f, k++);
-                f->outputs.ref_right = readback_ptr(f, k++);
-            }
-            if (res->h.id)
-                f->outputs.h = readback_ptr(f, k++);
-            if (res->f.id)
-                f->outputs.f = readback_ptr(f, k++);
-            f->outputs.curve = readback_ptr(f, k++);
+        /* Each field gets the address of its copy (memcpy: the fields are
+         * pointers of several types). */
+        for (int i = 0; i < f->item_count; i++) {
+            const void *copy = (const uint8_t *)f->readback.mapped + f->items[i].offset;
+            memcpy(f->items[i].dest, &copy, sizeof copy);
         }
     }
     if (f->present)
