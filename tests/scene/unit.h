@@ -13,29 +13,7 @@
 
 #include "scene/scene.h"
 
-extern int unit_failures;
-
-#define CHECK(cond, ...)                                                            \
-    do {                                                                            \
-        if (!(cond)) {                                                              \
-            unit_failures++;                                                        \
-            fprintf(stderr, "%s:%d: FAILED %s: ", __FILE__, __LINE__, #cond);       \
-            fprintf(stderr, __VA_ARGS__);                                           \
-            fputc('\n', stderr);                                                    \
-        }                                                                           \
-    } while (0)
-
-#define CHECK_NEAR(a, b, eps, ...)                                                  \
-    do {                                                                            \
-        double a_ = (a), b_ = (b);                                                  \
-        if (!(fabs(a_ - b_) <= (eps))) {                                            \
-            unit_failures++;                                                        \
-            fprintf(stderr, "%s:%d: FAILED %s = %.7g, expected %.7g (eps %g): ",    \
-                    __FILE__, __LINE__, #a, a_, b_, (double)(eps));                 \
-            fprintf(stderr, __VA_ARGS__);                                           \
-            fputc('\n', stderr);                                                    \
-        }                                                                           \
-    } while (0)
+#include "../test.h"
 
 /* Files */
 const char *unit_asset(const char *rel);          /* ../shared/assets/gltf/<rel> */

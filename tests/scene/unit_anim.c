@@ -34,10 +34,10 @@ void test_interpolation(void)
     uint8_t *bin = unit_read(unit_asset("InterpolationTest/glTF/interpolation.bin"), &size);
     if (!s || !bin)
         return;
-    CHECK(s->animation_count == 9 && s->channel_count == 9, "%d animations, %d channels", s->animation_count,
+    EXPECT(s->animation_count == 9 && s->channel_count == 9, "%d animations, %d channels", s->animation_count,
           s->channel_count);
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     const double times[] = {-1.0, 0.0, 0.0417, 0.2, 0.4167, 0.5, 0.77, 0.875, 1.0, 1.25, 1.4, 1.6667, 1.7, 3.0};
     for (size_t c = 0; c < sizeof k_channels / sizeof k_channels[0]; c++) {
         int comps = k_channels[c].comps, per = k_channels[c].mode == UNIT_CUBIC ? 3 : 1;
@@ -57,22 +57,22 @@ void test_interpolation(void)
                 double d = 0;
                 for (int k = 0; k < 4; k++)
                     d += want[k] * local[3 + k];
-                CHECK_NEAR(fabs(d), 1.0, 2e-5, "%s rotation at t=%g", k_channels[c].name, times[ti]);
+                EXPECT_NEAR(fabs(d), 1.0, 2e-5, "%s rotation at t=%g", k_channels[c].name, times[ti]);
                 /* World x axis = R applied to (1,0,0) (the node has no scale). */
                 double x = want[0], y = want[1], z = want[2], qw = want[3];
                 double ax[3] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * qw), 2 * (x * z - y * qw)};
                 for (int k = 0; k < 3; k++)
-                    CHECK_NEAR(w[k], ax[k], 1e-4, "%s world axis at t=%g", k_channels[c].name, times[ti]);
+                    EXPECT_NEAR(w[k], ax[k], 1e-4, "%s world axis at t=%g", k_channels[c].name, times[ti]);
             } else if (strstr(k_channels[c].name, "Scale")) {
                 for (int k = 0; k < 3; k++) {
-                    CHECK_NEAR(local[7 + k], want[k], 1e-5, "%s at t=%g", k_channels[c].name, times[ti]);
+                    EXPECT_NEAR(local[7 + k], want[k], 1e-5, "%s at t=%g", k_channels[c].name, times[ti]);
                     double len = sqrt(w[k * 4] * w[k * 4] + w[k * 4 + 1] * w[k * 4 + 1] + w[k * 4 + 2] * w[k * 4 + 2]);
-                    CHECK_NEAR(len, fabs(want[k]), 1e-4, "%s world column at t=%g", k_channels[c].name, times[ti]);
+                    EXPECT_NEAR(len, fabs(want[k]), 1e-4, "%s world column at t=%g", k_channels[c].name, times[ti]);
                 }
             } else {
                 for (int k = 0; k < 3; k++) {
-                    CHECK_NEAR(local[k], want[k], 1e-4, "%s at t=%g", k_channels[c].name, times[ti]);
-                    CHECK_NEAR(w[12 + k], want[k], 1e-4, "%s world at t=%g", k_channels[c].name, times[ti]);
+                    EXPECT_NEAR(local[k], want[k], 1e-4, "%s at t=%g", k_channels[c].name, times[ti]);
+                    EXPECT_NEAR(w[12 + k], want[k], 1e-4, "%s world at t=%g", k_channels[c].name, times[ti]);
                 }
             }
         }
@@ -113,12 +113,12 @@ void test_cubic_tangents(void)
     if (!s)
         return;
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     /* Hand value at the middle (u = 0.5, dt = 2): 0.5 v0 + 0.25 b0 + 0.5 v1 - 0.25 a1. */
     scene_evaluate(s, 2.0f, &st);
-    CHECK_NEAR(st.local[0], 4.25, 1e-5, "x at t=2");
-    CHECK_NEAR(st.local[1], -0.75, 1e-5, "y at t=2");
-    CHECK_NEAR(st.local[2], -5.75, 1e-5, "z at t=2");
+    EXPECT_NEAR(st.local[0], 4.25, 1e-5, "x at t=2");
+    EXPECT_NEAR(st.local[1], -0.75, 1e-5, "y at t=2");
+    EXPECT_NEAR(st.local[2], -5.75, 1e-5, "z at t=2");
     const double times[] = {0.0, 1.0, 1.3, 2.0, 2.6, 2.99, 3.0, 9.0};
     for (size_t i = 0; i < sizeof times / sizeof times[0]; i++) {
         double t[3], q[4];
@@ -126,13 +126,13 @@ void test_cubic_tangents(void)
         unit_sample(data, 2, data + 20, 4, UNIT_CUBIC, true, times[i], q);
         scene_evaluate(s, (float)times[i], &st);
         for (int k = 0; k < 3; k++)
-            CHECK_NEAR(st.local[k], t[k], 1e-4, "translation[%d] at t=%g", k, times[i]);
+            EXPECT_NEAR(st.local[k], t[k], 1e-4, "translation[%d] at t=%g", k, times[i]);
         double len = 0;
         for (int k = 0; k < 4; k++) {
-            CHECK_NEAR(st.local[3 + k], q[k], 1e-4, "rotation[%d] at t=%g", k, times[i]);
+            EXPECT_NEAR(st.local[3 + k], q[k], 1e-4, "rotation[%d] at t=%g", k, times[i]);
             len += st.local[3 + k] * st.local[3 + k];
         }
-        CHECK_NEAR(len, 1.0, 1e-5, "rotation is normalised after the spline at t=%g", times[i]);
+        EXPECT_NEAR(len, 1.0, 1e-5, "rotation is normalised after the spline at t=%g", times[i]);
     }
     scene_state_free(&st);
     scene_destroy(s);
@@ -162,7 +162,7 @@ void test_morph(void)
     for (int i = 0; i < 10; i++)
         weights[i] = unit_f32(anim, 20 + 4 * (size_t)i);
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     /* SimpleMorph has no normals: vertices are unwelded through the indices 0 1 2. */
     const double times[] = {0.0, 0.5, 1.3, 2.0, 3.7, 4.0, 6.0};
     for (size_t ti = 0; ti < sizeof times / sizeof times[0]; ti++) {
@@ -170,7 +170,7 @@ void test_morph(void)
         unit_sample(keys, 5, weights, 2, UNIT_LINEAR, false, times[ti], w);
         scene_evaluate(s, (float)times[ti], &st);
         for (int i = 0; i < 9; i++)
-            CHECK_NEAR(st.positions[i], base[i] + w[0] * t0[i] + w[1] * t1[i], 1e-5, "component %d at t=%g", i,
+            EXPECT_NEAR(st.positions[i], base[i] + w[0] * t0[i] + w[1] * t1[i], 1e-5, "component %d at t=%g", i,
                        times[ti]);
     }
     /* Without the animation the mesh's default weights (0.5, 0.5) apply. */
@@ -178,7 +178,7 @@ void test_morph(void)
     still.channel_count = 0;
     scene_evaluate(&still, 1.0f, &st);
     for (int i = 0; i < 9; i++)
-        CHECK_NEAR(st.positions[i], base[i] + 0.5 * t0[i] + 0.5 * t1[i], 1e-5, "default weights, component %d", i);
+        EXPECT_NEAR(st.positions[i], base[i] + 0.5 * t0[i] + 0.5 * t1[i], 1e-5, "default weights, component %d", i);
     scene_state_free(&st);
     free(geo);
     free(anim);
@@ -203,15 +203,15 @@ void test_morph_override(void)
     if (!s)
         return;
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     scene_evaluate(s, 0.0f, &st);
-    CHECK(s->instance_count == 2, "%d instances", s->instance_count);
+    EXPECT(s->instance_count == 2, "%d instances", s->instance_count);
     for (int v = 0; v < 3; v++) {
-        CHECK_NEAR(st.positions[v * 3 + 2], 0.75, 1e-6, "node weights override, vertex %d", v);
-        CHECK_NEAR(st.positions[(3 + v) * 3 + 2], 0.25, 1e-6, "mesh weights, vertex %d", v);
-        CHECK_NEAR(st.positions[(3 + v) * 3 + 0], data[v * 3] + 5.0, 1e-6, "second instance moved, vertex %d", v);
+        EXPECT_NEAR(st.positions[v * 3 + 2], 0.75, 1e-6, "node weights override, vertex %d", v);
+        EXPECT_NEAR(st.positions[(3 + v) * 3 + 2], 0.25, 1e-6, "mesh weights, vertex %d", v);
+        EXPECT_NEAR(st.positions[(3 + v) * 3 + 0], data[v * 3] + 5.0, 1e-6, "second instance moved, vertex %d", v);
     }
-    CHECK(s->animated, "non-zero morph weights count as animated");
+    EXPECT(s->animated, "non-zero morph weights count as animated");
     scene_state_free(&st);
     scene_destroy(s);
 }
@@ -241,7 +241,7 @@ void test_skin(void)
     uint8_t *b[4];
     for (int i = 0; i < 4; i++)
         b[i] = simple_skin_buffer(text, i, &sz[i]);
-    CHECK(sz[0] == 168 && sz[1] == 320 && sz[2] == 128 && sz[3] == 240, "buffer sizes %zu %zu %zu %zu", sz[0], sz[1],
+    EXPECT(sz[0] == 168 && sz[1] == 320 && sz[2] == 128 && sz[3] == 240, "buffer sizes %zu %zu %zu %zu", sz[0], sz[1],
           sz[2], sz[3]);
     float keys[12], rot[48];
     for (int i = 0; i < 12; i++)
@@ -253,7 +253,7 @@ void test_skin(void)
         for (int k = 0; k < 16; k++)
             ibm[j][k] = unit_f32(b[2], (size_t)(j * 16 + k) * 4);
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     const double times[] = {0.0, 0.75, 2.0, 3.3, 5.5, 7.0};
     for (size_t ti = 0; ti < sizeof times / sizeof times[0]; ti++) {
         /* Joints are nodes 1 (translation 0 1 0) and 2 (its child, animated
@@ -284,11 +284,11 @@ void test_skin(void)
                     want[c] += w * o[c];
             }
             for (int c = 0; c < 3; c++)
-                CHECK_NEAR(st.positions[i * 3 + c], want[c], 1e-5, "vertex %d (mesh vertex %d)[%d] at t=%g", i, v, c,
+                EXPECT_NEAR(st.positions[i * 3 + c], want[c], 1e-5, "vertex %d (mesh vertex %d)[%d] at t=%g", i, v, c,
                            times[ti]);
             double len = sqrt(st.normals[i * 3] * st.normals[i * 3] + st.normals[i * 3 + 1] * st.normals[i * 3 + 1] +
                               st.normals[i * 3 + 2] * st.normals[i * 3 + 2]);
-            CHECK_NEAR(len, 1.0, 1e-5, "normal %d is unit length at t=%g", i, times[ti]);
+            EXPECT_NEAR(len, 1.0, 1e-5, "normal %d is unit length at t=%g", i, times[ti]);
         }
     }
     scene_state_free(&st);
@@ -308,11 +308,11 @@ void test_skin_bind_pose(void)
     scene rest = *s;
     rest.channel_count = 0;
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     scene_evaluate(&rest, 0.0f, &st);
     const scene_instance *in = &s->instances[0];
     const scene_primitive *p = &s->primitives[in->primitive];
-    CHECK(s->nodes[in->node].skin >= 0 && p->joints, "the instance is skinned");
+    EXPECT(s->nodes[in->node].skin >= 0 && p->joints, "the instance is skinned");
     double w[16], err = 0;
     unit_mat_from_f(w, st.world + in->node * 16);
     for (uint32_t v = 0; v < p->vertex_count; v++) {
@@ -321,7 +321,7 @@ void test_skin_bind_pose(void)
         for (int c = 0; c < 3; c++)
             err = fmax(err, fabs(st.positions[(in->first_vertex + v) * 3 + c] - o[c]));
     }
-    CHECK_NEAR(err, 0.0, 1e-4, "largest distance to the bind pose");
+    EXPECT_NEAR(err, 0.0, 1e-4, "largest distance to the bind pose");
     /* And the animation really bends it away from the rest pose. */
     size_t n3 = (size_t)s->vertex_count * 3;
     float *at_rest = malloc(n3 * sizeof *at_rest);
@@ -330,7 +330,7 @@ void test_skin_bind_pose(void)
     double moved = 0;
     for (size_t v = 0; v < n3; v++)
         moved = fmax(moved, fabs(st.positions[v] - at_rest[v]));
-    CHECK(moved > 1e-2, "the animation moves vertices (%g)", moved);
+    EXPECT(moved > 1e-2, "the animation moves vertices (%g)", moved);
     free(at_rest);
     scene_state_free(&st);
     scene_destroy(s);
@@ -358,7 +358,7 @@ void test_skin_reference(void)
     if (!s)
         return;
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     double *local = malloc(sizeof(double) * 16 * (size_t)s->node_count);
     const double times[] = {0.0, 0.37, 1.0, 1.61, 2.5};
     for (size_t ti = 0; ti < sizeof times / sizeof times[0]; ti++) {
@@ -405,7 +405,7 @@ void test_skin_reference(void)
             for (int c = 0; c < 3; c++)
                 err = fmax(err, fabs(st.positions[(in->first_vertex + v) * 3 + c] - want[c]));
         }
-        CHECK_NEAR(err, 0.0, 1e-4, "largest skinned vertex error at t=%g", times[ti]);
+        EXPECT_NEAR(err, 0.0, 1e-4, "largest skinned vertex error at t=%g", times[ti]);
         free(jm);
     }
     free(local);
@@ -425,12 +425,12 @@ void test_hierarchy(void)
     if (!s || !bin)
         return;
     /* Scene roots [3, 0]; 0 -> 1 -> 2. Depth-first: node 3 first, then 2. */
-    CHECK(s->instance_count == 2, "%d instances", s->instance_count);
-    CHECK(s->instances[0].node == 3 && s->instances[0].id == 1, "instance 0: node %d id %u", s->instances[0].node,
+    EXPECT(s->instance_count == 2, "%d instances", s->instance_count);
+    EXPECT(s->instances[0].node == 3 && s->instances[0].id == 1, "instance 0: node %d id %u", s->instances[0].node,
           s->instances[0].id);
-    CHECK(s->instances[1].node == 2 && s->instances[1].id == 2, "instance 1: node %d id %u", s->instances[1].node,
+    EXPECT(s->instances[1].node == 2 && s->instances[1].id == 2, "instance 1: node %d id %u", s->instances[1].node,
           s->instances[1].id);
-    CHECK(s->instances[1].first_vertex == 224 && s->instances[1].first_index == 576, "instance 1 at %u/%u",
+    EXPECT(s->instances[1].first_vertex == 224 && s->instances[1].first_index == 576, "instance 1 at %u/%u",
           s->instances[1].first_vertex, s->instances[1].first_index);
     float rkeys[2], rvals[8], tkeys[4], tvals[12];
     for (int i = 0; i < 2; i++)
@@ -442,7 +442,7 @@ void test_hierarchy(void)
     for (int i = 0; i < 12; i++)
         tvals[i] = unit_f32(bin, 32 + 4 * (size_t)i);
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     const double times[] = {0.0, 1.0, 1.5, 2.0, 3.0, 4.0};
     for (size_t ti = 0; ti < sizeof times / sizeof times[0]; ti++) {
         double t[3], q[4], zero[3] = {0, 0, 0}, one[3] = {1, 1, 1}, q0[4] = {-0.0, -0.0, -0.0, -1.0};
@@ -454,7 +454,7 @@ void test_hierarchy(void)
         unit_mat_mul(w, m0, m2); /* node 1 is the identity */
         scene_evaluate(s, (float)times[ti], &st);
         for (int k = 0; k < 16; k++)
-            CHECK_NEAR(st.world[2 * 16 + k], w[k], 1e-5, "world(node 2)[%d] at t=%g", k, times[ti]);
+            EXPECT_NEAR(st.world[2 * 16 + k], w[k], 1e-5, "world(node 2)[%d] at t=%g", k, times[ti]);
         /* Mesh 0 positions: accessor 2, bufferView 1 at 80 + 1152, stride 12. */
         for (int v = 0; v < 96; v += 7) {
             double p[3], o[3];
@@ -462,7 +462,7 @@ void test_hierarchy(void)
                 p[c] = unit_f32(bin, 80 + 1152 + 12 * (size_t)v + 4 * (size_t)c);
             unit_mat_point(w, p, o);
             for (int c = 0; c < 3; c++)
-                CHECK_NEAR(st.positions[(224 + v) * 3 + c], o[c], 1e-5, "vertex %d at t=%g", v, times[ti]);
+                EXPECT_NEAR(st.positions[(224 + v) * 3 + c], o[c], 1e-5, "vertex %d at t=%g", v, times[ti]);
         }
     }
     scene_state_free(&st);

@@ -25,23 +25,23 @@ static void check_clip_space(const vg_camera *c, const char *what)
     double mid = 0.5 * (c->znear + c->zfar);
     ahead(c, mid, 0, 0, p);
     project(c, p, q);
-    CHECK_NEAR(q[0] / q[3], 0, 1e-5, "%s: straight ahead projects to the centre (x)", what);
-    CHECK_NEAR(q[1] / q[3], 0, 1e-5, "%s: straight ahead projects to the centre (y)", what);
+    EXPECT_NEAR(q[0] / q[3], 0, 1e-5, "%s: straight ahead projects to the centre (x)", what);
+    EXPECT_NEAR(q[1] / q[3], 0, 1e-5, "%s: straight ahead projects to the centre (y)", what);
     ahead(c, c->znear, 0, 0, p);
     project(c, p, q);
-    CHECK_NEAR(q[2] / q[3], 0, 1e-4, "%s: near plane maps to depth 0", what);
+    EXPECT_NEAR(q[2] / q[3], 0, 1e-4, "%s: near plane maps to depth 0", what);
     ahead(c, c->zfar, 0, 0, p);
     project(c, p, q);
-    CHECK_NEAR(q[2] / q[3], 1, 1e-4, "%s: far plane maps to depth 1", what);
+    EXPECT_NEAR(q[2] / q[3], 1, 1e-4, "%s: far plane maps to depth 1", what);
     ahead(c, mid, 0.01 * mid, 0, p);
     project(c, p, q);
-    CHECK(q[1] / q[3] < 0, "%s: up in the world is up on screen, negative y in Vulkan (%g)", what, q[1] / q[3]);
+    EXPECT(q[1] / q[3] < 0, "%s: up in the world is up on screen, negative y in Vulkan (%g)", what, q[1] / q[3]);
     ahead(c, mid, 0, 0.01 * mid, p);
     project(c, p, q);
-    CHECK(q[0] / q[3] > 0, "%s: right is +x (%g)", what, q[0] / q[3]);
-    CHECK(c->proj[5] < 0, "%s: proj[1][1] is negative (%g)", what, c->proj[5]);
+    EXPECT(q[0] / q[3] > 0, "%s: right is +x (%g)", what, q[0] / q[3]);
+    EXPECT(c->proj[5] < 0, "%s: proj[1][1] is negative (%g)", what, c->proj[5]);
     double ortho = c->forward[0] * c->up[0] + c->forward[1] * c->up[1] + c->forward[2] * c->up[2];
-    CHECK_NEAR(ortho, 0, 1e-5, "%s: forward and up are orthogonal", what);
+    EXPECT_NEAR(ortho, 0, 1e-5, "%s: forward and up are orthogonal", what);
 }
 
 void test_cameras(void)
@@ -49,41 +49,41 @@ void test_cameras(void)
     scene *s = unit_load(unit_asset("Cameras/glTF/Cameras.gltf"));
     if (!s)
         return;
-    CHECK(s->camera_count == 2, "%d cameras", s->camera_count);
+    EXPECT(s->camera_count == 2, "%d cameras", s->camera_count);
     if (s->camera_count == 2) {
         const scene_camera *p = &s->cameras[0], *o = &s->cameras[1];
-        CHECK(!p->orthographic && fabsf(p->yfov - 0.7f) < 1e-6f && p->aspect == 1.0f, "perspective %g %g", p->yfov,
+        EXPECT(!p->orthographic && fabsf(p->yfov - 0.7f) < 1e-6f && p->aspect == 1.0f, "perspective %g %g", p->yfov,
               p->aspect);
-        CHECK(fabsf(p->znear - 0.01f) < 1e-7f && p->zfar == 100.0f, "perspective near/far %g %g", p->znear, p->zfar);
-        CHECK(o->orthographic && o->xmag == 1.0f && o->ymag == 1.0f && o->zfar == 100.0f, "orthographic %g %g %g",
+        EXPECT(fabsf(p->znear - 0.01f) < 1e-7f && p->zfar == 100.0f, "perspective near/far %g %g", p->znear, p->zfar);
+        EXPECT(o->orthographic && o->xmag == 1.0f && o->ymag == 1.0f && o->zfar == 100.0f, "orthographic %g %g %g",
               o->xmag, o->ymag, o->zfar);
     }
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     scene_evaluate(s, 0.0f, &st);
     vg_camera c;
     scene_camera_resolve(s, &st, 0, 2.0f, &c);
-    CHECK(c.source_node == 1 && !c.orthographic, "camera 0 is node %d", c.source_node);
-    CHECK_NEAR(c.position[0], 0.5, 1e-6, "camera position x");
-    CHECK_NEAR(c.position[1], 0.5, 1e-6, "camera position y");
-    CHECK_NEAR(c.position[2], 3.0, 1e-6, "camera position z");
-    CHECK_NEAR(c.forward[2], -1.0, 1e-6, "glTF cameras look down -Z");
-    CHECK_NEAR(c.yfov, 0.7, 1e-6, "yfov");
-    CHECK_NEAR(c.aspect, 2.0, 1e-6, "the viewport's aspect wins (no stretching)");
-    CHECK_NEAR(c.proj[0], 1.0 / tan(0.35) / 2.0, 1e-4, "proj[0][0]");
-    CHECK_NEAR(c.znear, 0.01, 1e-7, "znear");
-    CHECK_NEAR(c.zfar, 100, 1e-4, "zfar");
+    EXPECT(c.source_node == 1 && !c.orthographic, "camera 0 is node %d", c.source_node);
+    EXPECT_NEAR(c.position[0], 0.5, 1e-6, "camera position x");
+    EXPECT_NEAR(c.position[1], 0.5, 1e-6, "camera position y");
+    EXPECT_NEAR(c.position[2], 3.0, 1e-6, "camera position z");
+    EXPECT_NEAR(c.forward[2], -1.0, 1e-6, "glTF cameras look down -Z");
+    EXPECT_NEAR(c.yfov, 0.7, 1e-6, "yfov");
+    EXPECT_NEAR(c.aspect, 2.0, 1e-6, "the viewport's aspect wins (no stretching)");
+    EXPECT_NEAR(c.proj[0], 1.0 / tan(0.35) / 2.0, 1e-4, "proj[0][0]");
+    EXPECT_NEAR(c.znear, 0.01, 1e-7, "znear");
+    EXPECT_NEAR(c.zfar, 100, 1e-4, "zfar");
     check_clip_space(&c, "perspective camera");
     scene_camera_resolve(s, &st, 0, 0.0f, &c);
-    CHECK_NEAR(c.aspect, 1.0, 1e-6, "aspect 0 falls back to the camera's aspectRatio");
+    EXPECT_NEAR(c.aspect, 1.0, 1e-6, "aspect 0 falls back to the camera's aspectRatio");
     scene_camera_resolve(s, &st, 1, 1.0f, &c);
-    CHECK(c.source_node == 2 && c.orthographic, "camera 1 is node %d, orthographic %d", c.source_node, c.orthographic);
-    CHECK_NEAR(c.proj[5], -1.0, 1e-6, "orthographic ymag 1, y down");
+    EXPECT(c.source_node == 2 && c.orthographic, "camera 1 is node %d, orthographic %d", c.source_node, c.orthographic);
+    EXPECT_NEAR(c.proj[5], -1.0, 1e-6, "orthographic ymag 1, y down");
     check_clip_space(&c, "orthographic camera");
     scene_camera_resolve(s, &st, 7, 1.0f, &c);
-    CHECK(c.source_node == 2, "index past the end clamps to the last camera (%d)", c.source_node);
+    EXPECT(c.source_node == 2, "index past the end clamps to the last camera (%d)", c.source_node);
     scene_camera_resolve(s, &st, -3, 1.0f, &c);
-    CHECK(c.source_node == 1, "negative index clamps to the first camera (%d)", c.source_node);
+    EXPECT(c.source_node == 1, "negative index clamps to the first camera (%d)", c.source_node);
     scene_state_free(&st);
     scene_destroy(s);
 }
@@ -96,34 +96,34 @@ void test_camera_resolve(void)
     if (!s || !b)
         return;
     scene_state st;
-    CHECK(scene_state_init(b, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(b, &st) == VG_OK, "state");
     scene_evaluate(b, 0.0f, &st);
     vg_camera c;
     scene_camera_resolve(b, &st, 0, 16.0f / 9.0f, &c);
-    CHECK(c.source_node == -1, "automatic camera (%d)", c.source_node);
-    CHECK_NEAR(c.yfov, 0.785398, 1e-5, "automatic yfov is 45 degrees");
+    EXPECT(c.source_node == -1, "automatic camera (%d)", c.source_node);
+    EXPECT_NEAR(c.yfov, 0.785398, 1e-5, "automatic yfov is 45 degrees");
     check_clip_space(&c, "automatic camera");
     double centre[3], q[4];
     for (int k = 0; k < 3; k++)
         centre[k] = 0.5 * (b->bounds_min[k] + b->bounds_max[k]);
     project(&c, centre, q);
-    CHECK_NEAR(q[0] / q[3], 0, 1e-5, "the bounds centre is at the screen centre (x)");
-    CHECK_NEAR(q[1] / q[3], 0, 1e-5, "the bounds centre is at the screen centre (y)");
-    CHECK(c.position[2] > centre[2] && c.position[1] > centre[1], "seen from +Z, slightly above");
+    EXPECT_NEAR(q[0] / q[3], 0, 1e-5, "the bounds centre is at the screen centre (x)");
+    EXPECT_NEAR(q[1] / q[3], 0, 1e-5, "the bounds centre is at the screen centre (y)");
+    EXPECT(c.position[2] > centre[2] && c.position[1] > centre[1], "seen from +Z, slightly above");
     for (int corner = 0; corner < 8; corner++) {
         double p[3] = {corner & 1 ? b->bounds_max[0] : b->bounds_min[0], corner & 2 ? b->bounds_max[1] : b->bounds_min[1],
                        corner & 4 ? b->bounds_max[2] : b->bounds_min[2]};
         project(&c, p, q);
-        CHECK(fabs(q[0]) <= q[3] && fabs(q[1]) <= q[3] && q[2] >= 0 && q[2] <= q[3],
+        EXPECT(fabs(q[0]) <= q[3] && fabs(q[1]) <= q[3] && q[2] >= 0 && q[2] <= q[3],
               "bounds corner %d is inside the view volume (%g %g %g / %g)", corner, q[0], q[1], q[2], q[3]);
     }
     scene_state_free(&st);
 
     /* Duck has a camera node: index 0 resolves to it. */
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     scene_evaluate(s, 0.0f, &st);
     scene_camera_resolve(s, &st, 0, 1.5f, &c);
-    CHECK(c.source_node >= 0 && s->nodes[c.source_node].camera == 0, "Duck camera node %d", c.source_node);
+    EXPECT(c.source_node >= 0 && s->nodes[c.source_node].camera == 0, "Duck camera node %d", c.source_node);
     check_clip_space(&c, "Duck camera");
     scene_state_free(&st);
     scene_destroy(s);
@@ -146,19 +146,19 @@ void test_camera_infinite(void)
     scene *s = unit_load(unit_write_gltf("infinite.gltf", json, tri, sizeof tri));
     if (!s)
         return;
-    CHECK(s->camera_count == 1 && s->cameras[0].zfar == 0.0f, "zfar absent is stored as 0 (infinite)");
+    EXPECT(s->camera_count == 1 && s->cameras[0].zfar == 0.0f, "zfar absent is stored as 0 (infinite)");
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     scene_evaluate(s, 0.0f, &st);
     vg_camera c;
     scene_camera_resolve(s, &st, 0, 1.0f, &c);
-    CHECK(c.source_node == 1 && isfinite(c.zfar) && c.zfar > c.znear, "finite far %g", c.zfar);
-    CHECK(c.zfar >= 30.0f, "far %g encloses the point 30 units ahead", c.zfar);
+    EXPECT(c.source_node == 1 && isfinite(c.zfar) && c.zfar > c.znear, "finite far %g", c.zfar);
+    EXPECT(c.zfar >= 30.0f, "far %g encloses the point 30 units ahead", c.zfar);
     check_clip_space(&c, "infinite camera with a scaled node");
     for (int v = 0; v < 3; v++) {
         double p[3] = {st.positions[v * 3], st.positions[v * 3 + 1], st.positions[v * 3 + 2]}, q[4];
         project(&c, p, q);
-        CHECK(q[2] >= 0 && q[2] <= q[3], "vertex %d depth %g in 0..1", v, q[2] / q[3]);
+        EXPECT(q[2] >= 0 && q[2] <= q[3], "vertex %d depth %g in 0..1", v, q[2] / q[3]);
     }
     scene_state_free(&st);
     scene_destroy(s);

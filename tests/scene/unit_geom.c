@@ -8,7 +8,7 @@
 static scene_state evaluate(const scene *s, float t)
 {
     scene_state st;
-    CHECK(scene_state_init(s, &st) == VG_OK, "state");
+    EXPECT(scene_state_init(s, &st) == VG_OK, "state");
     scene_evaluate(s, t, &st);
     return st;
 }
@@ -34,17 +34,17 @@ void test_sparse(void)
             pos[v * 3 + c] = f;
         }
     }
-    CHECK(replaced > 0, "the sparse values differ from the base");
+    EXPECT(replaced > 0, "the sparse values differ from the base");
     scene_state st = evaluate(s, 0.0f);
     /* No normals: vertex i of the state is mesh vertex indices[i]. */
-    CHECK(s->vertex_count == 36, "%u vertices", s->vertex_count);
+    EXPECT(s->vertex_count == 36, "%u vertices", s->vertex_count);
     for (int i = 0; i < 36 && s->vertex_count == 36; i++) {
         int v = unit_u16(bin, 2 * (size_t)i);
         for (int c = 0; c < 3; c++)
-            CHECK_NEAR(st.positions[i * 3 + c], pos[v * 3 + c], 0, "vertex %d (mesh vertex %d)", i, v);
+            EXPECT_NEAR(st.positions[i * 3 + c], pos[v * 3 + c], 0, "vertex %d (mesh vertex %d)", i, v);
     }
-    CHECK_NEAR(s->bounds_max[0], 6.0, 0, "max x from the sparse values");
-    CHECK_NEAR(s->bounds_max[1], 4.0, 0, "max y from the sparse values");
+    EXPECT_NEAR(s->bounds_max[0], 6.0, 0, "max x from the sparse values");
+    EXPECT_NEAR(s->bounds_max[1], 4.0, 0, "max y from the sparse values");
     scene_state_free(&st);
     free(bin);
     scene_destroy(s);
@@ -56,15 +56,15 @@ void test_interleaved(void)
     scene *b = unit_load(unit_asset("BoxInterleaved/glTF/BoxInterleaved.gltf"));
     if (!a || !b)
         return;
-    CHECK(a->vertex_count == b->vertex_count && a->index_count == b->index_count, "%u/%u vs %u/%u",
+    EXPECT(a->vertex_count == b->vertex_count && a->index_count == b->index_count, "%u/%u vs %u/%u",
           a->vertex_count, a->index_count, b->vertex_count, b->index_count);
     scene_state sa = evaluate(a, 0.0f), sb = evaluate(b, 0.0f);
     for (uint32_t i = 0; i < a->vertex_count * 3 && a->vertex_count == b->vertex_count; i++) {
-        CHECK_NEAR(sa.positions[i], sb.positions[i], 0, "position component %u", i);
-        CHECK_NEAR(sa.normals[i], sb.normals[i], 0, "normal component %u", i);
+        EXPECT_NEAR(sa.positions[i], sb.positions[i], 0, "position component %u", i);
+        EXPECT_NEAR(sa.normals[i], sb.normals[i], 0, "normal component %u", i);
     }
     for (uint32_t i = 0; i < a->index_count && a->index_count == b->index_count; i++)
-        CHECK(a->indices[i] == b->indices[i], "index %u: %u vs %u", i, a->indices[i], b->indices[i]);
+        EXPECT(a->indices[i] == b->indices[i], "index %u: %u vs %u", i, a->indices[i], b->indices[i]);
     scene_state_free(&sa);
     scene_state_free(&sb);
     scene_destroy(a);
@@ -78,23 +78,23 @@ void test_no_indices(void)
     uint8_t *bin = unit_read(unit_asset("TriangleWithoutIndices/glTF/triangleWithoutIndices.bin"), &n);
     if (!s || !bin)
         return;
-    CHECK(s->index_count == 3 && s->vertex_count == 3, "%u indices, %u vertices", s->index_count, s->vertex_count);
+    EXPECT(s->index_count == 3 && s->vertex_count == 3, "%u indices, %u vertices", s->index_count, s->vertex_count);
     for (uint32_t i = 0; i < s->index_count; i++)
-        CHECK(s->indices[i] == i, "generated index %u is %u", i, s->indices[i]);
+        EXPECT(s->indices[i] == i, "generated index %u is %u", i, s->indices[i]);
     scene_state st = evaluate(s, 0.0f);
     for (int i = 0; i < 9; i++)
-        CHECK_NEAR(st.positions[i], unit_f32(bin, 4 * (size_t)i), 0, "position component %d", i);
+        EXPECT_NEAR(st.positions[i], unit_f32(bin, 4 * (size_t)i), 0, "position component %d", i);
     /* Counter-clockwise (0,0,0) (1,0,0) (0,1,0): the flat normal is +z. */
     for (int v = 0; v < 3; v++) {
-        CHECK_NEAR(st.normals[v * 3 + 0], 0, 1e-6, "normal x of vertex %d", v);
-        CHECK_NEAR(st.normals[v * 3 + 1], 0, 1e-6, "normal y of vertex %d", v);
-        CHECK_NEAR(st.normals[v * 3 + 2], 1, 1e-6, "normal z of vertex %d", v);
+        EXPECT_NEAR(st.normals[v * 3 + 0], 0, 1e-6, "normal x of vertex %d", v);
+        EXPECT_NEAR(st.normals[v * 3 + 1], 0, 1e-6, "normal y of vertex %d", v);
+        EXPECT_NEAR(st.normals[v * 3 + 2], 1, 1e-6, "normal z of vertex %d", v);
     }
     const scene_primitive *p = &s->primitives[0];
     for (int i = 0; i < 3 * 2; i++)
-        CHECK(p->texcoords[i] == 0.0f, "missing texcoords are zero");
+        EXPECT(p->texcoords[i] == 0.0f, "missing texcoords are zero");
     for (int i = 0; i < 3 * 4; i++)
-        CHECK(p->colors[i] == 1.0f, "missing colours are one");
+        EXPECT(p->colors[i] == 1.0f, "missing colours are one");
     scene_state_free(&st);
     free(bin);
     scene_destroy(s);
@@ -123,7 +123,7 @@ void test_topology(void)
     scene *s = unit_load(unit_write_gltf("topology.gltf", json, &data, 76));
     if (!s)
         return;
-    CHECK(s->primitive_count == 3 && s->instance_count == 3, "%d primitives, %d instances (lines skipped)",
+    EXPECT(s->primitive_count == 3 && s->instance_count == 3, "%d primitives, %d instances (lines skipped)",
           s->primitive_count, s->instance_count);
     /* Spec 3.7.2.1: strip i = (i, i+1+i%2, i+2-i%2), fan i = (i+1, i+2, 0).
      * Vertices are unwelded (no normals), so compare the positions drawn. */
@@ -132,18 +132,18 @@ void test_topology(void)
     const uint32_t count[3] = {9, 9, 3};
     for (int k = 0; k < 3 && s->primitive_count == 3; k++) {
         const scene_primitive *p = &s->primitives[k];
-        CHECK(p->index_count == count[k], "primitive %d: %u indices", k, p->index_count);
+        EXPECT(p->index_count == count[k], "primitive %d: %u indices", k, p->index_count);
         for (uint32_t i = 0; i < p->index_count && i < count[k]; i++)
             for (int c = 0; c < 3; c++)
-                CHECK_NEAR(p->positions[p->indices[i] * 3 + c], data.pos[want[k][i] * 3 + c], 0,
+                EXPECT_NEAR(p->positions[p->indices[i] * 3 + c], data.pos[want[k][i] * 3 + c], 0,
                            "primitive %d corner %u", k, i);
         /* All triangles keep the winding: every flat normal points the same way. */
         for (uint32_t v = 0; v < p->vertex_count; v++)
-            CHECK(fabsf(fabsf(p->normals[v * 3 + 2]) - 1.0f) < 1e-6f, "primitive %d normal %u", k, v);
+            EXPECT(fabsf(fabsf(p->normals[v * 3 + 2]) - 1.0f) < 1e-6f, "primitive %d normal %u", k, v);
     }
     const scene_primitive *st = &s->primitives[0];
     for (uint32_t v = 0; v < st->vertex_count; v++)
-        CHECK(st->normals[v * 3 + 2] == st->normals[2], "strip winding is consistent at vertex %u", v);
+        EXPECT(st->normals[v * 3 + 2] == st->normals[2], "strip winding is consistent at vertex %u", v);
     scene_destroy(s);
 }
 
@@ -170,17 +170,17 @@ void test_saliency(void)
     const float want[8] = {0.8f, 0.8f, 0.2f, 0.2f, 0.0f, 1.0f, 0.0f, 0.0f};
     const bool has[8] = {true, false, true, false, false, true, true, false};
     for (int i = 0; i < 8 && s->node_count == 8; i++) {
-        CHECK_NEAR(s->nodes[i].saliency, want[i], 1e-6, "node %d saliency", i);
-        CHECK(s->nodes[i].has_saliency == has[i], "node %d has_saliency", i);
+        EXPECT_NEAR(s->nodes[i].saliency, want[i], 1e-6, "node %d saliency", i);
+        EXPECT(s->nodes[i].has_saliency == has[i], "node %d has_saliency", i);
     }
     /* Instances in depth-first order: nodes 0, 1, 3, 4, 6, 7. */
     const int nodes[6] = {0, 1, 3, 4, 6, 7};
-    CHECK(s->instance_count == 6, "%d instances", s->instance_count);
+    EXPECT(s->instance_count == 6, "%d instances", s->instance_count);
     for (int i = 0; i < 6 && s->instance_count == 6; i++) {
-        CHECK(s->instances[i].node == nodes[i] && s->instances[i].id == (uint32_t)i + 1, "instance %d: node %d id %u",
+        EXPECT(s->instances[i].node == nodes[i] && s->instances[i].id == (uint32_t)i + 1, "instance %d: node %d id %u",
               i, s->instances[i].node, s->instances[i].id);
-        CHECK_NEAR(s->instances[i].saliency, want[nodes[i]], 1e-6, "instance %d saliency", i);
-        CHECK(s->instances[i].first_vertex == (uint32_t)i * 3, "instance %d first vertex %u", i,
+        EXPECT_NEAR(s->instances[i].saliency, want[nodes[i]], 1e-6, "instance %d saliency", i);
+        EXPECT(s->instances[i].first_vertex == (uint32_t)i * 3, "instance %d first vertex %u", i,
               s->instances[i].first_vertex);
     }
     scene_destroy(s);
@@ -192,15 +192,15 @@ void test_textures(void)
     scene *t = unit_load(unit_asset("BoxTextured/glTF/BoxTextured.gltf"));
     if (!s || !t)
         return;
-    CHECK(s->texture_count == 1 && t->texture_count == 1, "%d and %d textures", s->texture_count, t->texture_count);
+    EXPECT(s->texture_count == 1 && t->texture_count == 1, "%d and %d textures", s->texture_count, t->texture_count);
     if (s->texture_count == 1 && t->texture_count == 1) {
         const scene_texture *a = &s->textures[0], *b = &t->textures[0];
-        CHECK(a->width > 0 && a->height > 0 && a->rgba, "%dx%d", a->width, a->height);
+        EXPECT(a->width > 0 && a->height > 0 && a->rgba, "%dx%d", a->width, a->height);
         /* The embedded (bufferView) and external (file) images decode alike. */
-        CHECK(a->width == b->width && a->height == b->height &&
+        EXPECT(a->width == b->width && a->height == b->height &&
                   !memcmp(a->rgba, b->rgba, (size_t)a->width * (size_t)a->height * 4),
               "GLB and .gltf images differ");
-        CHECK(s->materials[0].base_color_texture == 0, "material texture %d", s->materials[0].base_color_texture);
+        EXPECT(s->materials[0].base_color_texture == 0, "material texture %d", s->materials[0].base_color_texture);
     }
     scene_destroy(s);
     scene_destroy(t);
@@ -231,13 +231,13 @@ void test_normals(void)
     for (int i = 0; i < 3 && s->vertex_count == 9; i++)
         for (int v = 0; v < 3; v++)
             for (int c = 0; c < 3; c++)
-                CHECK_NEAR(st.normals[(i * 3 + v) * 3 + c], want[i][c], 1e-6, "instance %d vertex %d normal[%d]", i,
+                EXPECT_NEAR(st.normals[(i * 3 + v) * 3 + c], want[i][c], 1e-6, "instance %d vertex %d normal[%d]", i,
                            v, c);
     /* The normal stays perpendicular to the transformed surface. */
     for (int i = 0; i < 3 && s->vertex_count == 9; i++) {
         const float *p = st.positions + i * 9, *n = st.normals + i * 9;
         double e[3] = {p[3] - p[0], p[4] - p[1], p[5] - p[2]};
-        CHECK_NEAR(e[0] * n[0] + e[1] * n[1] + e[2] * n[2], 0, 1e-6, "instance %d: normal perpendicular", i);
+        EXPECT_NEAR(e[0] * n[0] + e[1] * n[1] + e[2] * n[2], 0, 1e-6, "instance %d: normal perpendicular", i);
     }
     scene_state_free(&st);
     scene_destroy(s);
@@ -280,7 +280,7 @@ void test_colors(void)
     scene *s = unit_load(unit_write_gltf("colors.gltf", json, &d, 124));
     if (!s)
         return;
-    CHECK(s->primitive_count == 3, "%d primitives", s->primitive_count);
+    EXPECT(s->primitive_count == 3, "%d primitives", s->primitive_count);
     if (s->primitive_count != 3) {
         scene_destroy(s);
         return;
@@ -289,16 +289,16 @@ void test_colors(void)
     const scene_primitive *p = s->primitives;
     const float want8[12] = {1, 0, 0.2f, 1, 0, 1, 0, 1, 0.4f, 0.4f, 0.4f, 1};
     for (int i = 0; i < 12; i++)
-        CHECK_NEAR(p[0].colors[i], want8[i], 1e-6, "u8 colour component %d", i);
+        EXPECT_NEAR(p[0].colors[i], want8[i], 1e-6, "u8 colour component %d", i);
     const float want16[12] = {1, 0, 0, 32768.0f / 65535.0f, 0, 1, 0, 1, 0, 0, 1, 0};
     for (int i = 0; i < 12; i++)
-        CHECK_NEAR(p[1].colors[i], want16[i], 1e-6, "u16 colour component %d", i);
+        EXPECT_NEAR(p[1].colors[i], want16[i], 1e-6, "u16 colour component %d", i);
     const float wantf[12] = {0.25f, 0.5f, 0.75f, 1, 1, 1, 1, 1, 0, 0, 0, 1};
     for (int i = 0; i < 12; i++)
-        CHECK_NEAR(p[2].colors[i], wantf[i], 1e-6, "float colour component %d", i);
+        EXPECT_NEAR(p[2].colors[i], wantf[i], 1e-6, "float colour component %d", i);
     const float wantuv[6] = {0, 0, 1, 0, 0, 32768.0f / 65535.0f};
     for (int i = 0; i < 6; i++)
-        CHECK_NEAR(p[0].texcoords[i], wantuv[i], 1e-6, "normalised u16 texcoord %d", i);
+        EXPECT_NEAR(p[0].texcoords[i], wantuv[i], 1e-6, "normalised u16 texcoord %d", i);
     scene_destroy(s);
 }
 
@@ -321,7 +321,7 @@ void test_magic(void)
     if (f)
         fwrite(txt, 1, nt, f), fclose(f);
     scene *s = unit_load(a), *t = unit_load(b);
-    CHECK(s && t && s->vertex_count == 24 && t->vertex_count == 24, "both boxes load with 24 vertices");
+    EXPECT(s && t && s->vertex_count == 24 && t->vertex_count == 24, "both boxes load with 24 vertices");
     scene_destroy(s);
     scene_destroy(t);
     free(glb);

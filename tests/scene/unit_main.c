@@ -6,7 +6,6 @@
 #include "core/io.h"
 #include "unit.h"
 
-int unit_failures;
 
 /* ------------------------------------------------------------------------- */
 /* Files                                                                     */
@@ -25,14 +24,14 @@ scene *unit_load(const char *path)
 {
     scene *s = NULL;
     vg_status st = scene_load(path, &s);
-    CHECK(st == VG_OK && s, "%s does not load (status %d)", path, (int)st);
+    EXPECT(st == VG_OK && s, "%s does not load (status %d)", path, (int)st);
     return st == VG_OK ? s : NULL;
 }
 
 uint8_t *unit_read(const char *path, size_t *size)
 {
     uint8_t *data = NULL;
-    CHECK(vg_file_read(path, &data, size) == VG_OK, "cannot read %s", path);
+    EXPECT(vg_file_read(path, &data, size) == VG_OK, "cannot read %s", path);
     return data;
 }
 
@@ -138,7 +137,7 @@ const char *unit_write_gltf(const char *name, const char *json, const void *data
     }
     text[o] = 0;
     vg_status st = vg_file_write_atomic(path, text, o);
-    CHECK(st == VG_OK, "cannot write %s", path);
+    EXPECT(st == VG_OK, "cannot write %s", path);
     free(uri);
     free(text);
     return path;
@@ -267,8 +266,8 @@ int main(int argc, char **argv)
         if (strcmp(argv[1], tests[i].name))
             continue;
         tests[i].run();
-        printf("%s: %s (%d failed checks)\n", argv[1], unit_failures ? "FAILED" : "ok", unit_failures);
-        return unit_failures ? 1 : 0;
+        printf("%s: %s (%d failed checks)\n", argv[1], vg_test_failures ? "FAILED" : "ok", vg_test_failures);
+        return vg_test_failures ? 1 : 0;
     }
     fprintf(stderr, "scene_unit: unknown test '%s'\n", argv[1]);
     return 2;
