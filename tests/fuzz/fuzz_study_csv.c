@@ -9,7 +9,7 @@
 
 #include "core/log.h"
 #include "fuzz.h"
-#include "study_log.h"
+#include "study/study_log.h"
 
 /* The headers of game/study_hit.c and game/study_pref.c (their k_columns). */
 static const char *const k_hit[] = {

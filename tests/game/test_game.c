@@ -9,10 +9,10 @@
 
 #include "../test.h"
 #include "frame/frame.h"
-#include "game.h"
-#include "observer.h"
-#include "pref_clip.h"
-#include "study_log.h"
+#include "rules/game.h"
+#include "observer/observer.h"
+#include "study/pref_trial.h"
+#include "study/study_log.h"
 
 #define ARENA "content/arena.gltf"
 

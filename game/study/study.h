@@ -3,8 +3,8 @@
 #include <stdint.h>
 
 #include "core/cli.h"
-#include "game_cli.h"
-#include "play_session.h"
+#include "options/game_cli.h"
+#include "play/play_session.h"
 
 typedef struct study_opts {
     const vg_cmd *cmd;

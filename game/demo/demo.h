@@ -14,6 +14,7 @@
 #include "graph/graph.h"
 #include "frame/frame.h"
 #include "scene/scene.h"
+#include "capture/capture_log.h"
 #include "frame/warp_metrics.h"
 
 #define DEMO_MODES 3         /* original, manipulated, optimized */
@@ -94,9 +95,9 @@ extern const char *const demo_map_names[DEMO_MAPS]; /* "g", "h", "f" */
 /* Renders one scene in one mode: video frames, stills, the warp against
  * two cameras, DIR/SCENE/MODE/capture.json. The analysis run (the first
  * mode rendered) renders every analysis_step-th frame and also records the
- * x-t rows, the object tracks and the MID metrics; the MID solver is
- * amortised over the frames of a keyframe interval, so f is only right
- * when no frame is skipped. A mode the frame cannot render is recorded as
+ * x-t rows, the object tracks and the MID metrics (over every keyframe:
+ * analysis_step divides the keyframe stride). A mode the frame cannot
+ * render is recorded as
  * unavailable (with a note on stderr), not as a failure. progress(units)
  * is called after every rendered frame. */
 typedef void (*demo_progress_fn)(void *user, int units);
@@ -122,11 +123,3 @@ vg_status demo_figures_write(const demo_opts *o, demo_scene *sc);
 /* index.html in o->out. */
 vg_status demo_html_write(const demo_opts *o, const demo_scene *scenes, int count, double seconds,
                           const char *device);
-
-/* ------------------------------------------------------------------------- */
-/* Internal                                                                  */
-/* ------------------------------------------------------------------------- */
-
-/* DIR/capture.json of one run, in the shape of `vergence capture`'s. */
-vg_status demo_capture_json(const char *dir, const scene *s, const demo_scene *sc, const demo_run *r,
-                            const demo_opts *o, const char *device_name, const char *device_type);

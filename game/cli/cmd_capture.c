@@ -13,18 +13,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "capture/capture_json.h"
 #include "commands.h"
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
-#include "core/stats.h"
-#include "frame/science_metrics.h"
-#include "gpu_cli.h"
+#include "options/gpu_cli.h"
 #include "frame/frame.h"
 #include "shared.h"
 #include "disparity/disp_curve.h"
-#include "frame/warp_metrics.h"
 
 typedef struct capture_opts {
     const char *scene, *out, *dump_graph;
@@ -45,7 +43,6 @@ static capture_opts o = {
     .op = DISP_OPERATOR_LANG,
 };
 
-/* disp_operator_kind minus one. */
 static const vg_opt k_opts[] = {
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF 2.0 scene (.gltf or .glb)", NULL, 0, 0},
     {"--out", VG_OPT_STRING, &o.out, "DIR", "output folder (created if missing)", NULL, 0, 0},
@@ -240,191 +237,18 @@ done:
 /* capture.json                                                              */
 /* ------------------------------------------------------------------------- */
 
-typedef struct capture_log {
-    int frames;
-    uint32_t pass_count;
-    const char *pass_names[RG_MAX_PASSES];
-    double *pass_ms;              /* frames x RG_MAX_PASSES */
-    double *cpu_ms;               /* frames */
-    vg_camera *cameras;           /* frames */
-    frame_times *times;           /* frames */
-    warp_metrics warp;            /* stereo captures */
-    science_metrics *science;     /* MID metrics of h and f (stereo captures) */
-    science_metrics_result result;
-    frame_info info;              /* the frame's grid and target range */
-} capture_log;
-
-static void json_camera(vg_json *j, const vg_camera *c, const frame_times *t)
-{
-    vg_json_object_begin(j, NULL);
-    vg_json_int(j, "frame", t->index);
-    vg_json_num(j, "time", t->t);
-    vg_json_int(j, "prev_keyframe", t->prev_key);
-    vg_json_int(j, "next_keyframe", t->next_key);
-    vg_json_nums(j, "position", c->position, 3);
-    vg_json_nums(j, "forward", c->forward, 3);
-    vg_json_nums(j, "view", c->view, 16);
-    vg_json_nums(j, "proj", c->proj, 16);
-    vg_json_object_end(j);
-}
-
-static void json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m)
-{
-    vg_json_object_begin(j, "stereo");
-    vg_json_str(j, "render", frame_stereo_names[fd->stereo]);
-    vg_json_str(j, "mode", frame_mode_names[fd->mode]);
-    vg_json_str(j, "output", frame_compose_names[fd->compose]);
-    vg_json_bool(j, "swap_eyes", fd->swap_eyes);
-    vg_json_num(j, "tess_px", fd->tess_px);
-    vg_json_num(j, "tess_error", fd->tess_px > 0 ? 0 : fd->tess_error);
-    vg_json_num(j, "interaxial_m", fd->rig.interaxial_m);
-    vg_json_num(j, "convergence_m", fd->rig.convergence_m);
-    vg_json_object_end(j);
-    static const char *const stages[5] = {"none", "direct", "neighborhood", "halton", "curve"};
-    vg_json_object_begin(j, "cascade");
-    for (int s = 1; s <= VG_STAGE_CURVE; s++)
-        vg_json_num(j, stages[s], m->stage_fraction[s]);
-    vg_json_object_end(j);
-    vg_json_object_begin(j, "warp_error_px");
-    vg_json_num(j, "median", m->error_median);
-    vg_json_num(j, "p99", m->error_p99);
-    vg_json_num(j, "p99_curve", m->error_p99_curve);
-    vg_json_object_end(j);
-    vg_json_num(j, "hole_fraction", fd->stereo == FRAME_STEREO_CAMERAS ? 0.0 : m->hole_fraction);
-    vg_json_object_begin(j, "psnr_db");
-    vg_json_num(j, "left", fd->stereo == FRAME_STEREO_CAMERAS ? INFINITY : m->psnr[0]);
-    vg_json_num(j, "right", fd->stereo == FRAME_STEREO_CAMERAS ? INFINITY : m->psnr[1]);
-    vg_json_object_end(j);
-}
-
-static void json_field_metrics(vg_json *j, const char *key, const disp_metrics *m, double violation,
-                               const science_second_difference *d2)
-{
-    vg_json_object_begin(j, key);
-    vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
-    vg_json_num(j, "range_violation", violation);
-    vg_json_num(j, "static_rms", m->static_rms);
-    vg_json_num(j, "static_grad_rms", m->static_grad_rms);
-    vg_json_int(j, "moving_samples", m->moving_measured);
-    vg_json_object_begin(j, "second_difference");
-    vg_json_num(j, "at_keyframe_boundaries", d2->boundary);
-    vg_json_num(j, "between_keyframes", d2->between);
-    vg_json_object_end(j);
-    vg_json_object_end(j);
-}
-
-/* The science metrics of h and f, shaped as `vergence optimize`'s metrics.json. */
-static void json_science(vg_json *j, const frame_desc *fd, const frame_info *info, const science_metrics_result *r)
-{
-    vg_json_object_begin(j, "metrics");
-    json_field_metrics(j, "h", &r->h, r->h_range_violation, &r->h_d2);
-    json_field_metrics(j, "f", &r->f, r->f_range_violation, &r->f_d2);
-    /* The correction f - h (what the pipeline adds): a kink of the
-     * upsampling in time shows at the keyframes themselves. */
-    vg_json_object_begin(j, "correction_second_difference");
-    vg_json_num(j, "at_keyframe_boundaries", r->c_d2.boundary);
-    vg_json_num(j, "between_keyframes", r->c_d2.between);
-    vg_json_num(j, "at_keyframes", r->c_d2.at_key);
-    vg_json_num(j, "next_to_keyframes", r->c_d2.next_to_key);
-    vg_json_object_end(j);
-    vg_json_num(j, "mid_reduction",
-                r->h.mid_distortion_jnd > 0 ? 1.0 - r->f.mid_distortion_jnd / r->h.mid_distortion_jnd : 0.0);
-    vg_json_str(j, "operator", disp_operator_kind_name(fd->op));
-    vg_json_num(j, "range_lo", r->range_lo);
-    vg_json_num(j, "range_hi", r->range_hi);
-    vg_json_int(j, "keyframes", r->keyframes);
-    vg_json_num(j, "window_seconds", fd->window_seconds);
-    vg_json_int(j, "coarse_stride", (long)info->grid_stride);
-    vg_json_object_end(j);
-}
-
 static vg_status write_json(const char *dir, const scene *s, const gpu *g, const frame_desc *fd,
                             const capture_log *log)
 {
     vg_json j = {0};
-    vg_json_object_begin(&j, NULL);
-    vg_json_str(&j, "vergence", VERGENCE_VERSION);
-    vg_json_str(&j, "scene", o.scene);
-    vg_json_object_begin(&j, "scene_info");
-    vg_json_int(&j, "nodes", s->node_count);
-    vg_json_int(&j, "meshes", s->mesh_count);
-    vg_json_int(&j, "animations", s->animation_count);
-    vg_json_int(&j, "skins", s->skin_count);
-    vg_json_int(&j, "cameras", s->camera_count);
-    vg_json_int(&j, "materials", s->material_count);
-    vg_json_int(&j, "textures", s->texture_count);
-    vg_json_int(&j, "instances", s->instance_count);
-    vg_json_int(&j, "vertices", s->vertex_count);
-    vg_json_int(&j, "triangles", s->index_count / 3);
-    vg_json_num(&j, "duration", s->duration);
-    vg_json_object_end(&j);
-    vg_json_array_begin(&j, "size");
-    vg_json_int(&j, NULL, fd->width);
-    vg_json_int(&j, NULL, fd->height);
-    vg_json_array_end(&j);
-    vg_json_num(&j, "fps", fd->fps);
-    vg_json_int(&j, "keyframe_stride", fd->keyframe_stride);
-    vg_json_int(&j, "frames", log->frames);
-    vg_json_int(&j, "first_frame", log->times[0].index);
-
-    vg_json_object_begin(&j, "device");
-    vg_json_str(&j, "name", g->props.deviceName);
-    vg_json_str(&j, "type", gpu_device_type_text(g->props.deviceType));
-    vg_json_object_end(&j);
-
-    stereo_display d;
-    stereo_display_init(&d, &(stereo_display_desc){0});
-    vg_json_object_begin(&j, "display");
-    vg_json_num(&j, "diagonal_in", 24);
-    vg_json_int(&j, "width_px", d.res_x);
-    vg_json_int(&j, "height_px", d.res_y);
-    vg_json_num(&j, "width_m", d.width_m);
-    vg_json_num(&j, "height_m", d.height_m);
-    vg_json_num(&j, "distance_m", d.distance_m);
-    vg_json_num(&j, "ipd_m", d.ipd_m);
-    vg_json_num(&j, "screen_vergence_arcmin", d.screen_vergence);
-    vg_json_object_end(&j);
-
-    const vg_camera *c0 = &log->cameras[0];
-    vg_json_object_begin(&j, "camera");
-    vg_json_int(&j, "node", c0->source_node);
-    vg_json_num(&j, "yfov", c0->yfov);
-    vg_json_num(&j, "aspect", c0->aspect);
-    vg_json_num(&j, "znear", c0->znear);
-    vg_json_num(&j, "zfar", c0->zfar);
-    vg_json_array_begin(&j, "frames");
-    for (int i = 0; i < log->frames; i++)
-        json_camera(&j, &log->cameras[i], &log->times[i]);
-    vg_json_array_end(&j);
-    vg_json_object_end(&j);
-
-    /* Timings differ from run to run; everything above does not. */
-    vg_json_array_begin(&j, "passes");
-    for (uint32_t p = 0; p < log->pass_count; p++) {
-        double sum = 0;
-        for (int i = 0; i < log->frames; i++)
-            sum += log->pass_ms[i * RG_MAX_PASSES + p];
-        vg_json_object_begin(&j, NULL);
-        vg_json_str(&j, "name", log->pass_names[p]);
-        vg_json_num(&j, "ms_median", vg_median(log->pass_ms + p, (size_t)log->frames, RG_MAX_PASSES));
-        vg_json_num(&j, "ms_mean", sum / log->frames);
-        vg_json_object_end(&j);
-    }
-    vg_json_array_end(&j);
-    vg_json_num(&j, "frame_ms_median", vg_median(log->cpu_ms, (size_t)log->frames, 1));
+    capture_json_header(&j, o.scene, s, fd, g, log);
+    capture_json_cameras(&j, log);
+    capture_json_passes(&j, log);
     if (fd->stereo != FRAME_STEREO_OFF)
-        json_stereo(&j, fd, &log->warp);
+        capture_json_stereo(&j, fd, &log->warp);
     if (log->science)
-        json_science(&j, fd, &log->info, &log->result);
-    vg_json_int(&j, "validation_messages", gpu_validation_messages());
-    vg_json_object_end(&j);
-
-    char path[4096];
-    vg_status st = vg_path_join(path, sizeof path, dir, "capture.json");
-    if (st == VG_OK)
-        st = vg_json_write_file(&j, path);
-    vg_json_free(&j);
-    return st;
+        capture_json_metrics(&j, fd, &log->info, &log->result);
+    return capture_json_finish(&j, dir);
 }
 
 /* ------------------------------------------------------------------------- */
@@ -459,42 +283,20 @@ static vg_status capture(gpu *g, const scene *s)
         rg_dump_text(frame_get_graph(f), stdout);
         st = rg_dump_dot(frame_get_graph(f), o.dump_graph);
     }
-    capture_log log = {
-        .frames = o.frames,
-        .pass_ms = calloc((size_t)o.frames * RG_MAX_PASSES, sizeof(double)),
-        .cpu_ms = calloc((size_t)o.frames, sizeof(double)),
-        .cameras = calloc((size_t)o.frames, sizeof(vg_camera)),
-        .times = calloc((size_t)o.frames, sizeof(frame_times)),
-    };
-    if (!log.pass_ms || !log.cpu_ms || !log.cameras || !log.times)
-        st = VG_ERR_NOMEM;
-    long first = lround(o.time * o.fps);
     const frame_desc *d = frame_get_desc(f);
-    frame_get_info(f, &log.info);
-    if (st == VG_OK && log.info.disparity)
-        st = science_metrics_create_for(f, &log.science);
+    capture_log log = {0};
+    if (st == VG_OK)
+        st = capture_log_begin(&log, f, &(capture_log_desc){.frames = o.frames, .science = true,
+                                                            .warp = d->stereo != FRAME_STEREO_OFF});
+    long first = lround(o.time * o.fps);
     for (int i = 0; i < o.frames && st == VG_OK; i++) {
         vg_progress("capture", i, o.frames);
-        double t0 = vg_now_ms();
-        st = frame_render(f, first + i);
-        log.cpu_ms[i] = vg_now_ms() - t0;
-        if (st != VG_OK)
-            break;
-        log.pass_count = frame_pass_timings(f, log.pass_names, log.pass_ms + (size_t)i * RG_MAX_PASSES, RG_MAX_PASSES);
-        log.cameras[i] = *frame_get_camera(f);
-        log.times[i] = *frame_get_times(f);
-        st = write_frame(o.out, i, frame_get_outputs(f), d->width, d->height);
-        if (st == VG_OK && d->stereo != FRAME_STEREO_OFF)
-            st = warp_metrics_add(&log.warp, frame_get_outputs(f), d->width, d->height);
-        const frame_outputs *fo = frame_get_outputs(f);
-        if (st == VG_OK && log.science && fo->h && fo->f)
-            science_metrics_add(log.science, first + i, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
+        if ((st = capture_log_render(&log, f, first + i)) == VG_OK)
+            st = write_frame(o.out, i, frame_get_outputs(f), d->width, d->height);
     }
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);
-        warp_metrics_finish(&log.warp);
-        if (log.science)
-            st = science_metrics_finish(log.science, &log.result);
+        st = capture_log_finish(&log);
         if (st == VG_OK)
             st = write_json(o.out, s, g, d, &log);
         const science_metrics_result *m = &log.result;
@@ -504,12 +306,7 @@ static vg_status capture(gpu *g, const scene *s)
                     m->h.mid_distortion_jnd, m->f.mid_distortion_jnd, m->f.mid_distortion_jnd / m->h.mid_distortion_jnd,
                     m->f.moving_measured, m->keyframes, m->f_range_violation);
     }
-    warp_metrics_free(&log.warp);
-    science_metrics_destroy(log.science);
-    free(log.pass_ms);
-    free(log.cpu_ms);
-    free(log.cameras);
-    free(log.times);
+    capture_log_free(&log);
     frame_destroy(f);
     return st;
 }

@@ -26,7 +26,7 @@
 #include "core/stats.h"
 #include "disparity/mid_solver.h"
 #include "disparity/mid_synth.h"
-#include "gpu_cli.h"
+#include "options/gpu_cli.h"
 #include "frame/frame.h"
 #include "scene/scene.h"
 

@@ -16,12 +16,12 @@
 
 #include "commands.h"
 #include "core/log.h"
-#include "game_cli.h"
-#include "gpu_cli.h"
-#include "observer.h"
-#include "play_session.h"
-#include "study.h"
-#include "study_log.h"
+#include "options/game_cli.h"
+#include "options/gpu_cli.h"
+#include "observer/observer.h"
+#include "play/play_session.h"
+#include "study/study.h"
+#include "study/study_log.h"
 
 /* ------------------------------------------------------------------------- */
 /* Options                                                                   */

@@ -14,7 +14,7 @@
  * click is scored like a player's (game_click_error). Deterministic for a
  * seed: all noise comes from the trial's random stream. */
 #pragma once
-#include "game.h"
+#include "rules/game.h"
 #include "observer_view.h"
 
 typedef struct observer_desc {

@@ -10,7 +10,8 @@
 #include <string.h>
 
 #include "core/log.h"
-#include "observer.h"
+#include "observer/observer.h"
+#include "pref_trial.h"
 #include "pref_window.h"
 #include "study.h"
 #include "study_log.h"
@@ -22,52 +23,7 @@ static const char *const k_columns[] = {
 enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_SCENE, COL_SALIENCY, COL_SIDE, COL_COUNT = 13 };
 _Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
 
-const char *const pref_scene_names[PREF_SCENES] = {"balloon", "cubes", "arena"};
-const char *const pref_saliency_names[2] = {"moving", "static"};
 static const char *const k_sides[2] = {"left", "right"};
-
-/* Cell c: scene (3) x saliency (2) x side of the optimized version (2). */
-pref_cell pref_cell_of(int c)
-{
-    return (pref_cell){.scene = c / 4, .saliency = (c / 2) % 2, .optimized_right = c % 2};
-}
-
-/* ------------------------------------------------------------------------- */
-/* Scenes: the moving object, the saliency variant, its track                */
-/* ------------------------------------------------------------------------- */
-
-/* The moving object: the node an animation translates (one per scene). */
-int pref_moving_node(const scene *s)
-{
-    for (int c = 0; c < s->channel_count; c++)
-        if (s->channels[c].path == SCENE_PATH_TRANSLATION)
-            return s->channels[c].node;
-    return -1;
-}
-
-/* Saliency on the static objects instead: the landmarks get the moving
- * object's weight and it gets theirs (ground and sky stay as they are). */
-void pref_saliency_apply(scene *s, int moving, int variant)
-{
-    if (variant == 0)
-        return;
-    for (int i = 0; i < s->instance_count; i++) {
-        scene_instance *in = &s->instances[i];
-        if (in->node == moving)
-            in->saliency = 0.1f;
-        else if (in->saliency >= 0.2f)
-            in->saliency = 1.0f;
-    }
-}
-
-vg_status pref_scene_path(const char *arena_path, int scene_index, char *out, size_t cap)
-{
-    /* The three scenes sit together in content/. */
-    const char *slash = strrchr(arena_path, '/');
-    int dir = slash ? (int)(slash - arena_path + 1) : 0;
-    int n = snprintf(out, cap, "%.*s%s.gltf", dir, arena_path, pref_scene_names[scene_index]);
-    return n > 0 && (size_t)n < cap ? VG_OK : VG_ERR_ARG;
-}
 
 /* ------------------------------------------------------------------------- */
 /* The model                                                                 */

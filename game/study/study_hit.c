@@ -7,7 +7,7 @@
 #include <time.h>
 
 #include "core/log.h"
-#include "observer.h"
+#include "observer/observer.h"
 #include "study.h"
 #include "study_log.h"
 

@@ -21,8 +21,8 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
-#include "demo.h"
-#include "gpu_cli.h"
+#include "demo/demo.h"
+#include "options/gpu_cli.h"
 
 #define DEMO_MAX_SCENES 8
 

@@ -16,8 +16,8 @@
 #include <stdint.h>
 
 #include "disparity/disp_operator.h"
-#include "game.h"
-#include "gpu_cli.h"
+#include "rules/game.h"
+#include "options/gpu_cli.h"
 #include "frame/frame.h"
 
 /* Window options of `play` and of a human `study`. */

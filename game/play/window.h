@@ -17,7 +17,7 @@
 #include <stdbool.h>
 
 #include "gpu/swapchain.h"
-#include "gpu_cli.h"
+#include "options/gpu_cli.h"
 #include "frame/frame.h"
 
 typedef struct window_desc {

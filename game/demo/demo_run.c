@@ -9,11 +9,10 @@
 
 #include "core/clock.h"
 #include "core/io.h"
+#include "capture/capture_json.h"
 #include "core/log.h"
-#include "core/stats.h"
 #include "demo.h"
 #include "demo_image.h"
-#include "frame/science_metrics.h"
 
 typedef struct run_ctx {
     gpu *gpu;
@@ -25,9 +24,7 @@ typedef struct run_ctx {
     char dir[4096];
     int *node_track;             /* node -> track index or -1 */
     bool own[DEMO_MAPS];         /* this run writes the scene's slices and tracks of map m */
-    double *pass_samples;        /* samples x RG_MAX_PASSES, NAN where a pass did not run */
-    double *cpu_ms;
-    science_metrics *science;        /* MID metrics of h and f (the analysis run) */
+    capture_log log;             /* the clip's timings and, in the analysis run, the MID metrics */
     FILE *video;
     demo_progress_fn progress;
     void *user;
@@ -48,29 +45,6 @@ void demo_run_free(demo_run *r)
 /* ------------------------------------------------------------------------- */
 /* Per frame                                                                 */
 /* ------------------------------------------------------------------------- */
-
-static uint32_t pass_slot(demo_run *r, const char *name)
-{
-    for (uint32_t p = 0; p < r->pass_count; p++)
-        if (!strcmp(r->pass_names[p], name))
-            return p;
-    if (r->pass_count >= RG_MAX_PASSES)
-        return RG_MAX_PASSES;
-    snprintf(r->pass_names[r->pass_count], DEMO_NAME, "%s", name);
-    return r->pass_count++;
-}
-
-static void record_timings(run_ctx *c, frame *f, int sample)
-{
-    const char *names[RG_MAX_PASSES];
-    double ms[RG_MAX_PASSES];
-    uint32_t n = frame_pass_timings(f, names, ms, RG_MAX_PASSES);
-    for (uint32_t p = 0; p < n; p++) {
-        uint32_t slot = pass_slot(c->r, names[p]);
-        if (slot < RG_MAX_PASSES)
-            c->pass_samples[(size_t)sample * RG_MAX_PASSES + slot] = ms[p];
-    }
-}
 
 /* Mean vergence of every tracked object, and the slice row. */
 static void record_maps(run_ctx *c, const frame_outputs *fo, int sample, uint32_t w, uint32_t h)
@@ -187,25 +161,33 @@ static frame_desc base_desc(const run_ctx *c)
     };
 }
 
-static vg_status science_finish(run_ctx *c)
+/* The clip's figures for the report. */
+static vg_status log_finish(run_ctx *c)
 {
-    science_metrics_result res;
-    vg_status st = science_metrics_finish(c->science, &res);
-    if (st != VG_OK)
-        return st;
+    vg_status st = capture_log_finish(&c->log);
     demo_run *r = c->r;
-    r->has_mid = res.keyframes >= 3;
-    r->mid[0] = res.h;
-    r->mid[1] = res.f;
-    r->range_violation[0] = res.h_range_violation;
-    r->range_violation[1] = res.f_range_violation;
-    r->second_difference[0][0] = res.h_d2.boundary;
-    r->second_difference[0][1] = res.h_d2.between;
-    r->second_difference[1][0] = res.f_d2.boundary;
-    r->second_difference[1][1] = res.f_d2.between;
-    r->range_lo = res.range_lo;
-    r->range_hi = res.range_hi;
-    r->keyframes = res.keyframes;
+    const capture_log *log = &c->log;
+    r->pass_count = log->pass_count;
+    for (uint32_t p = 0; p < log->pass_count; p++) {
+        snprintf(r->pass_names[p], DEMO_NAME, "%s", log->pass_names[p]);
+        r->pass_ms[p] = capture_log_pass_median(log, p);
+    }
+    r->frame_ms = capture_log_frame_median(log);
+    if (st != VG_OK || !log->science)
+        return st;
+    const science_metrics_result *res = &log->result;
+    r->has_mid = res->keyframes >= 3;
+    r->mid[0] = res->h;
+    r->mid[1] = res->f;
+    r->range_violation[0] = res->h_range_violation;
+    r->range_violation[1] = res->f_range_violation;
+    r->second_difference[0][0] = res->h_d2.boundary;
+    r->second_difference[0][1] = res->h_d2.between;
+    r->second_difference[1][0] = res->f_d2.boundary;
+    r->second_difference[1][1] = res->f_d2.between;
+    r->range_lo = res->range_lo;
+    r->range_hi = res->range_hi;
+    r->keyframes = res->keyframes;
     return VG_OK;
 }
 
@@ -218,23 +200,16 @@ static vg_status render_clip(run_ctx *c, frame *f)
     int still = 0;
     for (int i = 0; i < r->frames && st == VG_OK; i++) {
         long n = (long)i * r->step;
-        double t0 = vg_now_ms();
-        if ((st = frame_render(f, n)) != VG_OK)
+        if ((st = capture_log_render(&c->log, f, n)) != VG_OK)
             break;
-        c->cpu_ms[i] = vg_now_ms() - t0;
-        record_timings(c, f, i);
         const frame_outputs *fo = frame_get_outputs(f);
         if (i == 0) {
             if ((st = claim_maps(c, fo)) != VG_OK)
                 break;
-            if (r->analysis && fo->h && fo->f)
-                st = science_metrics_create_for(f, &c->science);
             c->video = video_open(c, fo->stereo_width, fo->stereo_height);
         }
         if (r->analysis)
             record_maps(c, fo, i, w, h);
-        if (c->science)
-            science_metrics_add(c->science, n, fo->g, fo->h, fo->f, fo->depth, fo->motion, fo->ids);
         /* Every run's video has the same frames (every o->step-th). */
         if (n % c->o->step == 0)
             video_frame(c, fo);
@@ -290,6 +265,35 @@ static void pick_stills(run_ctx *c)
     }
 }
 
+/* Shaped as `vergence capture`'s (the same sections, capture/capture_json.h),
+ * with the run's step, its stills and the image-warping baseline. */
+static vg_status write_capture_json(const char *dir, const scene *s, const demo_scene *sc, const demo_run *r,
+                            const frame_desc *clip, const gpu *g, const capture_log *log)
+{
+    vg_json j = {0};
+    capture_json_header(&j, sc->path, s, clip, g, log);
+    vg_json_int(&j, "frame_step", r->step);
+    vg_json_bool(&j, "analysis", r->analysis);
+    vg_json_array_begin(&j, "still_frames");
+    for (int i = 0; i < r->still_count; i++)
+        vg_json_int(&j, NULL, r->still_frames[i]);
+    vg_json_array_end(&j);
+    capture_json_passes(&j, log);
+    /* The warp at the middle still, against the two-camera reference ... */
+    capture_json_stereo(&j, clip, &r->warp);
+    /* ... and the image-warping baseline there. */
+    vg_json_object_begin(&j, "imagewarp");
+    vg_json_num(&j, "hole_fraction", r->imagewarp.hole_fraction);
+    vg_json_object_begin(&j, "psnr_db");
+    vg_json_num(&j, "left", r->imagewarp.psnr[0]);
+    vg_json_num(&j, "right", r->imagewarp.psnr[1]);
+    vg_json_object_end(&j);
+    vg_json_object_end(&j);
+    if (r->has_mid)
+        capture_json_metrics(&j, clip, &log->info, &log->result);
+    return capture_json_finish(&j, dir);
+}
+
 vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_scene *sc, int mode_index,
                               bool analysis, demo_progress_fn progress, void *user)
 {
@@ -323,19 +327,18 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
     if (st != VG_OK)
         return st;
     c.node_track = malloc(sizeof(int) * (size_t)(s->node_count > 0 ? s->node_count : 1));
-    c.pass_samples = malloc(sizeof(double) * (size_t)r->frames * RG_MAX_PASSES);
-    c.cpu_ms = malloc(sizeof(double) * (size_t)r->frames);
-    if (!c.node_track || !c.pass_samples || !c.cpu_ms)
+    if (!c.node_track)
         st = VG_ERR_NOMEM;
+    if (st == VG_OK)
+        st = capture_log_begin(&c.log, f, &(capture_log_desc){.frames = r->frames, .science = r->analysis});
     for (int n = 0; st == VG_OK && n < s->node_count; n++)
         c.node_track[n] = -1;
     for (int t = 0; st == VG_OK && t < sc->track_count; t++)
         c.node_track[sc->tracks[t].node] = t;
-    for (size_t i = 0; st == VG_OK && i < (size_t)r->frames * RG_MAX_PASSES; i++)
-        c.pass_samples[i] = NAN;
 
     if (st == VG_OK)
         st = render_clip(&c, c.frame = f);
+    frame_desc clip = *frame_get_desc(f);
     frame_destroy(f);
     if (c.video) {
         r->video = pclose(c.video) == 0;
@@ -343,22 +346,15 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
             vg_warn("demo: ffmpeg failed; no video for %s/%s", sc->name, frame_mode_names[r->mode]);
     }
     r->available = st == VG_OK;
-    for (uint32_t p = 0; st == VG_OK && p < r->pass_count; p++)
-        r->pass_ms[p] = vg_median(c.pass_samples + p, (size_t)r->frames, (size_t)RG_MAX_PASSES);
-    if (st == VG_OK) {
-        r->frame_ms = vg_median(c.cpu_ms, (size_t)r->frames, (size_t)(1));
-        if (c.science)
-            st = science_finish(&c);
-    }
+    if (st == VG_OK)
+        st = log_finish(&c);
     if (st == VG_OK)
         st = render_stills(&c, FRAME_STEREO_WARP);
     if (st == VG_OK)
         st = render_stills(&c, FRAME_STEREO_IMAGEWARP);
     if (st == VG_OK)
-        st = demo_capture_json(c.dir, s, sc, r, o, g->props.deviceName, gpu_device_type_text(g->props.deviceType));
-    science_metrics_destroy(c.science);
+        st = write_capture_json(c.dir, s, sc, r, &clip, g, &c.log);
+    capture_log_free(&c.log);
     free(c.node_track);
-    free(c.pass_samples);
-    free(c.cpu_ms);
     return st;
 }

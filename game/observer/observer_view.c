@@ -8,7 +8,7 @@
 #include "core/log.h"
 #include "disparity/mid_solver.h"
 #include "disparity/mid_window.h"
-#include "game.h"
+#include "rules/game.h"
 
 struct observer_view {
     observer_view_desc d;

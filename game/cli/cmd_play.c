@@ -10,8 +10,8 @@
 
 #include "commands.h"
 #include "core/log.h"
-#include "game_cli.h"
-#include "play_session.h"
+#include "options/game_cli.h"
+#include "play/play_session.h"
 
 typedef struct play_opts {
     const char *scene;

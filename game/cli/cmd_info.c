@@ -3,7 +3,7 @@
 
 #include "commands.h"
 #include "core/log.h"
-#include "gpu_cli.h"
+#include "options/gpu_cli.h"
 #include "stereo/stereo_display.h"
 
 static gpu_cli g_gpu = {.device = -1};

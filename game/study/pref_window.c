@@ -10,9 +10,9 @@
 #include <GLFW/glfw3.h>
 
 #include "core/log.h"
-#include "picture.h"
-#include "pref_clip.h"
-#include "window.h"
+#include "play/picture.h"
+#include "pref_trial.h"
+#include "play/window.h"
 
 #define GAP 8                /* pixels between the panels (eye image) */
 

@@ -1,0 +1,22 @@
+/* vergence — capture.json (docs/formats.md), written last so that a folder
+ * holding it is a complete capture: by `vergence capture` and by each run
+ * of `vergence demo`, from the same sections. */
+#pragma once
+#include "capture_log.h"
+#include "core/json.h"
+
+/* The header every capture.json starts with: version, scene, size, frame
+ * rate and keyframes, the frames recorded, the device and the display. */
+void capture_json_header(vg_json *j, const char *scene_path, const scene *s, const frame_desc *fd, const gpu *g,
+                         const capture_log *log);
+/* The camera of every recorded frame. */
+void capture_json_cameras(vg_json *j, const capture_log *log);
+/* Per pass: median and mean ms over the frames; the frame's median wall ms. */
+void capture_json_passes(vg_json *j, const capture_log *log);
+/* The stereo pair: how it was made, the cascade's stages, the warp's error,
+ * holes and PSNR against the two-camera reference (m). */
+void capture_json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m);
+/* The science metrics of h and f ("metrics"). */
+void capture_json_metrics(vg_json *j, const frame_desc *fd, const frame_info *info, const science_metrics_result *r);
+/* Ends the object with the validation count and writes DIR/capture.json (atomically); frees j. */
+vg_status capture_json_finish(vg_json *j, const char *dir);
