@@ -5,59 +5,6 @@
 #include "core/log.h"
 #include "graph_internal.h"
 
-const char *rg_usage_name(rg_usage u)
-{
-    static const char *const names[RG_USAGE_COUNT] = {
-        [RG_USAGE_NONE] = "none",           [RG_COLOR_WRITE] = "color-write",
-        [RG_DEPTH_WRITE] = "depth-write",   [RG_DEPTH_READ] = "depth-read",
-        [RG_SAMPLED] = "sampled",           [RG_STORAGE_READ] = "storage-read",
-        [RG_STORAGE_WRITE] = "storage-write", [RG_STORAGE_READ_WRITE] = "storage-read-write",
-        [RG_UNIFORM] = "uniform",           [RG_VERTEX] = "vertex",
-        [RG_INDEX] = "index",               [RG_INDIRECT] = "indirect",
-        [RG_TRANSFER_SRC] = "transfer-src",
-        [RG_TRANSFER_DST] = "transfer-dst", [RG_HOST_READ] = "host-read",
-        [RG_PRESENT] = "present",
-    };
-    return (unsigned)u < RG_USAGE_COUNT ? names[u] : "?";
-}
-
-const char *rg_layout_name(VkImageLayout l)
-{
-    switch (l) {
-    case VK_IMAGE_LAYOUT_UNDEFINED: return "UNDEFINED";
-    case VK_IMAGE_LAYOUT_GENERAL: return "GENERAL";
-    case VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL: return "COLOR_ATTACHMENT";
-    case VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL: return "DEPTH_ATTACHMENT";
-    case VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL: return "DEPTH_READ_ONLY";
-    case VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL: return "SHADER_READ_ONLY";
-    case VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL: return "TRANSFER_SRC";
-    case VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL: return "TRANSFER_DST";
-    case VK_IMAGE_LAYOUT_PRESENT_SRC_KHR: return "PRESENT_SRC";
-    default: return "OTHER";
-    }
-}
-
-const char *rg_format_name(VkFormat f)
-{
-    switch (f) {
-    case VK_FORMAT_R8_UNORM: return "R8_UNORM";
-    case VK_FORMAT_R8G8B8A8_UNORM: return "RGBA8_UNORM";
-    case VK_FORMAT_R8G8B8A8_SRGB: return "RGBA8_SRGB";
-    case VK_FORMAT_B8G8R8A8_SRGB: return "BGRA8_SRGB";
-    case VK_FORMAT_B8G8R8A8_UNORM: return "BGRA8_UNORM";
-    case VK_FORMAT_R16_SFLOAT: return "R16F";
-    case VK_FORMAT_R16G16_SFLOAT: return "RG16F";
-    case VK_FORMAT_R16G16B16A16_SFLOAT: return "RGBA16F";
-    case VK_FORMAT_R32_SFLOAT: return "R32F";
-    case VK_FORMAT_R32_UINT: return "R32_UINT";
-    case VK_FORMAT_R32G32_SFLOAT: return "RG32F";
-    case VK_FORMAT_R32G32B32A32_SFLOAT: return "RGBA32F";
-    case VK_FORMAT_D32_SFLOAT: return "D32F";
-    case VK_FORMAT_D16_UNORM: return "D16";
-    default: return "FORMAT";
-    }
-}
-
 static void stage_names(VkPipelineStageFlags2 s, char *out, size_t cap)
 {
     static const struct { VkPipelineStageFlags2 bit; const char *name; } table[] = {

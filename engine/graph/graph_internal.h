@@ -1,5 +1,6 @@
-/* vergence — frame graph internals shared by the compile step (graph.c), the
- * dump (graph_dump.c) and the Vulkan executor (graph_vk.c). */
+/* vergence — frame graph internals shared by the compile step (graph.c:
+ * pure data), the dump (graph_dump.c) and the Vulkan executor (graph_vk.c),
+ * both of which use the compile step's data and never the other way round. */
 #pragma once
 #include "gpu/gpu.h"
 #include "graph.h"
@@ -105,5 +106,5 @@ bool rg_format_is_depth(VkFormat f);
 const char *rg_usage_name(rg_usage u);
 const char *rg_layout_name(VkImageLayout l);
 const char *rg_format_name(VkFormat f);
-/* Frees the physical resources and queries (graph_vk.c). */
+/* Frees the physical resources and queries (graph_vk.c; rg_destroy there). */
 void rg_unrealize(rg_graph *g);

@@ -1,5 +1,6 @@
 /* vergence — frame graph: physical resources and command recording. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/log.h"
@@ -276,4 +277,14 @@ VkImageLayout rg_ctx_layout(const rg_context *ctx, rg_res res)
         if (ctx->graph->use[i].pass == ctx->pass && ctx->graph->use[i].res == res.id - 1)
             return ctx->graph->use[i].layout;
     return VK_IMAGE_LAYOUT_UNDEFINED;
+}
+
+/* The executor owns the physical resources: they go first, then the graph. */
+void rg_destroy(rg_graph *g)
+{
+    if (!g)
+        return;
+    rg_unrealize(g);
+    free(g->barriers);
+    free(g);
 }

@@ -1,0 +1,259 @@
+#!/usr/bin/env python3
+"""The house, checked (issue 14): the folders are the layers, and the docs say so.
+
+usage: arch_test.py BUILD_DIR CASE
+
+  layers     every folder of engine/ and game/ listed in its CMakeLists
+             (VG_MODULES, VG_WINGS: bottom-up) holds exactly one library; no
+             file includes a header of a folder listed after its own
+  circles    no two source files of the project (engine, game, the content
+             tool) use each other's functions, directly or around a longer
+             circle (nm on BUILD_DIR's objects)
+  prefixes   a pass module X_gpu.c defines functions named X_gpu_* only
+  libraries  docs/architecture.md names every library of the build, and no other
+  graph      the frame-graph dump in docs/architecture.md is what the binary
+             prints for the settings the doc states (vergence capture --dump-graph)
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def fail(msg):
+    sys.exit(f"FAIL: {msg}")
+
+
+def listed(cmake, var):
+    """The folders a CMakeLists lists in set(VAR a b c)."""
+    text = open(os.path.join(ROOT, cmake)).read()
+    m = re.search(r"set\(%s ([^)]*)\)" % var, text)
+    if not m:
+        fail(f"{cmake} has no set({var} ...)")
+    return m.group(1).split()
+
+
+def layers():
+    """[(folder, library)] bottom-up: engine's modules, then game's wings."""
+    out = []
+    for top, var in (("engine", "VG_MODULES"), ("game", "VG_WINGS")):
+        for folder in listed(f"{top}/CMakeLists.txt", var):
+            path = f"{top}/{folder}"
+            text = open(os.path.join(ROOT, path, "CMakeLists.txt")).read()
+            targets = re.findall(r"add_(?:library|executable)\((\S+)", text)
+            if len(targets) != 1:
+                fail(f"{path}/CMakeLists.txt defines {len(targets)} targets ({targets}); a folder is one library")
+            out.append((path, targets[0]))
+    return out
+
+
+def sources():
+    files = subprocess.run(["git", "ls-files", "engine", "game"], capture_output=True, text=True, cwd=ROOT,
+                           check=True).stdout.split()
+    return [f for f in files if f.endswith((".c", ".h", ".cpp"))]
+
+
+def folder_of(path, folders):
+    """The deepest listed folder holding path."""
+    best = None
+    for f in folders:
+        if path.startswith(f + "/") and (best is None or len(f) > len(best)):
+            best = f
+    return best
+
+
+def case_layers():
+    lay = layers()
+    folders = [f for f, _ in lay]
+    rank = {f: i for i, f in enumerate(folders)}
+    for top in ("engine", "game"):
+        for d in sorted(os.listdir(os.path.join(ROOT, top))):
+            if os.path.isdir(os.path.join(ROOT, top, d)) and f"{top}/{d}" not in rank:
+                fail(f"{top}/{d} is not listed in {top}/CMakeLists.txt: every folder is a layer")
+    bad = []
+    for src in sources():
+        own = folder_of(src, folders)
+        if own is None:
+            fail(f"{src} is in no library's folder")
+        for inc in re.findall(r'^#include "([^"]+)"', open(os.path.join(ROOT, src)).read(), re.M):
+            target = None
+            for base in (os.path.dirname(src), "engine", "game"):
+                cand = os.path.normpath(os.path.join(base, inc))
+                if os.path.exists(os.path.join(ROOT, cand)):
+                    target = cand
+                    break
+            if target is None:
+                continue  # generated (shaders) or a system header
+            theirs = folder_of(target, folders)
+            if theirs is not None and rank[theirs] > rank[own]:
+                bad.append(f"{src} ({own}) includes {inc} ({theirs}, a higher layer)")
+    for b in bad:
+        print(b)
+    if bad:
+        fail(f"{len(bad)} includes run up")
+    print(f"{len(folders)} layers, each one library: " + " < ".join(f"{f} ({t})" for f, t in lay))
+
+
+def objects(build):
+    """The object file of every source of the libraries and of vergence (not
+    tests, benches or tools), where the build puts it."""
+    lay = layers()
+    folders = [f for f, _ in lay]
+    target = dict(lay)
+    out = []
+    for src in sources():
+        if not src.endswith((".c", ".cpp")):
+            continue
+        own = folder_of(src, folders)
+        obj = os.path.join(build, own, "CMakeFiles", target[own] + ".dir", os.path.relpath(src, own) + ".o")
+        if not os.path.exists(obj):
+            fail(f"{obj} is missing: build {build} first")
+        out.append(obj)
+    return sorted(out)
+
+
+def symbols(obj):
+    text = subprocess.run(["nm", obj], capture_output=True, text=True, check=True).stdout
+    defined, used = set(), set()
+    for line in text.splitlines():
+        parts = line.split()
+        if len(parts) == 2 and parts[0] == "U":
+            used.add(parts[1])
+        elif len(parts) == 3 and parts[1] in "TDBRCV":
+            defined.add(parts[2])
+    return defined, used
+
+
+def short(obj, build):
+    """The source of an object file."""
+    rel = os.path.relpath(obj, build)
+    return re.sub(r"CMakeFiles/[^/]+\.dir/", "", rel)[:-len(".o")]
+
+
+def tool_objects(build):
+    """The content tool's objects (tools/content, one executable)."""
+    files = subprocess.run(["git", "ls-files", "tools/content"], capture_output=True, text=True, cwd=ROOT,
+                           check=True).stdout.split()
+    out = []
+    for src in files:
+        if src.endswith(".c"):
+            obj = os.path.join(build, "tools", "content", "CMakeFiles", "vergence-content.dir",
+                               os.path.basename(src) + ".o")
+            if not os.path.exists(obj):
+                fail(f"{obj} is missing: build {build} first")
+            out.append(obj)
+    return out
+
+
+def case_circles(build):
+    objs = objects(build) + tool_objects(build)
+    table = {o: symbols(o) for o in objs}
+    owner = {}
+    for o, (defined, _) in table.items():
+        for s in defined:
+            owner.setdefault(s, o)
+    edges = {o: sorted({owner[s] for s in used if s in owner and owner[s] != o}) for o, (_, used) in table.items()}
+    # Tarjan's strongly connected components.
+    index, low, stack, on, comps, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in edges[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            comps.append(comp)
+
+    sys.setrecursionlimit(10000)
+    for v in objs:
+        if v not in index:
+            visit(v)
+    circles = [c for c in comps if len(c) > 1]
+    for c in circles:
+        print("circle: " + " <-> ".join(short(o, build) for o in sorted(c)))
+    if circles:
+        fail(f"{len(circles)} circles of files that use each other")
+    print(f"{len(objs)} object files, {sum(len(e) for e in edges.values())} uses between them, no circle")
+
+
+def case_prefixes(build):
+    bad = []
+    n = 0
+    for o in objects(build):
+        stem = os.path.basename(o)[:-len(".c.o")]
+        if not stem.endswith("_gpu") or not o.endswith(".c.o"):
+            continue
+        n += 1
+        text = subprocess.run(["nm", o], capture_output=True, text=True, check=True).stdout
+        for line in text.splitlines():
+            parts = line.split()
+            if len(parts) == 3 and parts[1] == "T" and not parts[2].startswith(stem + "_"):
+                bad.append(f"{short(o, build)} defines {parts[2]} (not {stem}_*)")
+    for b in bad:
+        print(b)
+    if bad:
+        fail(f"{len(bad)} functions of pass modules do not carry their file's prefix")
+    print(f"{n} pass modules, every function named after its file")
+
+
+def doc():
+    return open(os.path.join(ROOT, "docs", "architecture.md")).read()
+
+
+def case_libraries():
+    built = {t for _, t in layers()}
+    named = set(re.findall(r"`(vg_[a-z_]+|vergence)`", doc()))
+    missing = sorted(built - named)
+    # vg_engine (engine/CMakeLists) and vg_shaders link the others; the docs may name them too.
+    extra = sorted(n for n in named - built if n not in ("vg_engine", "vg_shaders", "vg_disparity_testlib"))
+    if missing or extra:
+        fail(f"docs/architecture.md does not name {missing} and names {extra}, which the build lacks")
+    print(f"docs/architecture.md names all {len(built)} libraries of the build")
+
+
+def case_graph(vergence):
+    text = doc()
+    m = re.search(r"<!-- graph-dump: (.*?) -->\n```\n(.*?)```", text, re.S)
+    if not m:
+        fail("docs/architecture.md has no <!-- graph-dump: ARGS --> block")
+    args, want = m.group(1).split(), m.group(2)
+    with tempfile.TemporaryDirectory(prefix="vergence_arch_") as tmp:
+        p = subprocess.run([vergence, "capture", "--out", os.path.join(tmp, "c"), "--dump-graph",
+                            os.path.join(tmp, "frame.dot")] + args, capture_output=True, text=True, timeout=600,
+                           cwd=ROOT)
+    if p.returncode:
+        fail(f"vergence capture {' '.join(args)} failed:\n{p.stderr}")
+    got = p.stdout
+    if got.strip() != want.strip():
+        w, g = want.strip().splitlines(), got.strip().splitlines()
+        for i, (a, b) in enumerate(zip(w, g)):
+            if a != b:
+                fail(f"the dump in docs/architecture.md differs from the binary's at line {i + 1}:\n"
+                     f"  doc:    {a}\n  binary: {b}\n(regenerate it: vergence capture {' '.join(args)} --dump-graph F)")
+        fail(f"the dump in docs/architecture.md has {len(w)} lines, the binary prints {len(g)}")
+    print(f"docs/architecture.md's graph dump is the binary's: {got.splitlines()[0]}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
+    {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
+     "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence"))}[case]()
+    print("ok")
