@@ -1,5 +1,5 @@
 /* vergence optimize — the motion-in-depth optimisation of disparity videos
- * from files (paper Sec. 4; pipeline in engine/disparity/disp_offline.c). */
+ * from files (paper Sec. 4; pipeline in engine/offline/offline.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -147,7 +147,7 @@ vg_status observer_view_create(const observer_view_desc *desc, observer_view **o
     scene_camera_resolve(v->scene, &st, desc->camera, (float)v->w / (float)v->h, &v->cam);
     v->tan_y = tan(0.5 * v->cam.yfov);
     v->tan_x = v->tan_y * v->cam.aspect;
-    /* The original rig as the frame sets it up (render/frame.c stereo_setup). */
+    /* The original rig as the frame sets it up (frame/frame.c stereo_setup). */
     stereo_camera_desc rig = desc->rig;
     if (!(rig.interaxial_m > 0))
         rig.interaxial_m = FRAME_DEFAULT_INTERAXIAL;

@@ -116,7 +116,7 @@ bool game_click_to_image(frame_compose compose, uint32_t width, uint32_t height,
     uint32_t sw, sh;
     frame_compose_size(compose, width, height, &sw, &sh);
     /* The picture is fitted into the window keeping its aspect, centred
-     * (warp/present_gpu.c place_picture). */
+     * (output/present_gpu.c place_picture). */
     double s = fmin((double)win_w / sw, (double)win_h / sh);
     double pw = floor(sw * s + 0.5), ph = floor(sh * s + 0.5);
     double x0 = floor((win_w - pw) / 2), y0 = floor((win_h - ph) / 2);

@@ -1,4 +1,4 @@
-/* Study CSV read back (`vergence study ... --resume`, game/study_log.c):
+/* Study CSV read back (`vergence study ... --resume`, game/study/study_log.c):
  * study_log_read on any bytes, the code study_log_open runs on an existing
  * file. Three headers each time: the hit and the preference study's, and
  * one taken from the input's own first line (so any column count up to the
@@ -11,7 +11,7 @@
 #include "fuzz.h"
 #include "study/study_log.h"
 
-/* The headers of game/study_hit.c and game/study_pref.c (their k_columns). */
+/* The headers of game/study/study_hit.c and game/study/study_pref.c (their k_columns). */
 static const char *const k_hit[] = {
     "participant", "study", "trial", "seed", "condition", "direction", "path", "operator", "observer",
     "visible_s", "start_x", "start_y", "start_z", "velocity_x", "velocity_y", "velocity_z", "gravity",
