@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "capture/capture_image.h"
 #include "capture/capture_json.h"
 #include "commands.h"
 #include "core/clock.h"
@@ -93,25 +94,16 @@ static vg_status write_rgba_as_rgb(const char *dir, const char *name, const uint
  * that gave each pixel's vertices their disparity. */
 static vg_status write_cascade(const char *dir, int n, const frame_outputs *fo, uint32_t w, uint32_t h)
 {
-    static const float tint[5][3] = {
-        {1, 1, 1}, {0.25f, 0.85f, 0.3f}, {1.0f, 0.85f, 0.15f}, {1.0f, 0.45f, 0.1f}, {0.75f, 0.2f, 0.9f}};
-    size_t px = (size_t)w * h;
-    uint8_t *rgba = malloc(px * 4);
-    if (!rgba)
+    uint8_t *rgb = malloc((size_t)w * h * 3);
+    if (!rgb)
         return VG_ERR_NOMEM;
-    for (size_t i = 0; i < px; i++) {
-        int stage = (int)fo->left_aux[4 * i + 3];
-        stage = stage < 0 || stage > VG_STAGE_CURVE ? 0 : stage;
-        const uint8_t *c = fo->left + 4 * i;
-        float lum = (0.3f * c[0] + 0.59f * c[1] + 0.11f * c[2]) / 255.0f;
-        for (int k = 0; k < 3; k++)
-            rgba[4 * i + k] = stage ? (uint8_t)(255.0f * (0.35f + 0.65f * lum) * tint[stage][k]) : c[k];
-        rgba[4 * i + 3] = 255;
-    }
-    char name[64];
+    capture_image_cascade(fo, w, h, false, rgb);
+    char name[64], path[4096];
     snprintf(name, sizeof name, "frame_%04d_cascade.png", n);
-    vg_status st = write_rgba_as_rgb(dir, name, rgba, w, h);
-    free(rgba);
+    vg_status st = vg_path_join(path, sizeof path, dir, name);
+    if (st == VG_OK)
+        st = vg_png_write(path, (int)w, (int)h, 3, rgb);
+    free(rgb);
     return st;
 }
 

@@ -7,8 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "capture/capture_image.h"
 #include "core/io.h"
 #include "demo.h"
+#include "shared.h"
 #include "demo_svg.h"
 
 #define P(...) demo_buf_printf(b, __VA_ARGS__)
@@ -331,15 +333,22 @@ static void cascade(demo_buf *b, const demo_scene *sc)
         return;
     const char *mode = frame_mode_names[r->mode];
     int k = r->still_count / 2;
+    /* The swatches in the colours of the cascade view itself. */
+    static const char *const stage_text[5] = {"", "direct fetch", "3&times;3 neighbourhood", "64 Halton samples",
+                                              "global curve"};
     P("<h3>The warp: cascade and holes</h3><p class=\"explain\">Left: which stage of the cascade (paper Fig. 5) "
-      "gave each pixel's vertices their disparity, in the %s mode at t&nbsp;=&nbsp;%.2f&nbsp;s: "
-      "<span class=\"sw\" style=\"background:#40d94d\"></span>direct fetch, "
-      "<span class=\"sw\" style=\"background:#ffd926\"></span>3&times;3 neighbourhood, "
-      "<span class=\"sw\" style=\"background:#ff731a\"></span>64 Halton samples, "
-      "<span class=\"sw\" style=\"background:#bf33e6\"></span>global curve. Middle: the tessellated warp's left eye. "
+      "gave each pixel's vertices their disparity, in the %s mode at t&nbsp;=&nbsp;%.2f&nbsp;s: ", mode,
+      r->still_frames[k] / sc->fps);
+    for (int st = 1; st <= VG_STAGE_CURVE; st++) {
+        const float *t = capture_cascade_tint[st];
+        P("<span class=\"sw\" style=\"background:#%02x%02x%02x\"></span>%s%s", (unsigned)lroundf(255 * t[0]),
+          (unsigned)lroundf(255 * t[1]), (unsigned)lroundf(255 * t[2]), stage_text[st],
+          st < VG_STAGE_CURVE ? ", " : ". ");
+    }
+    P("Middle: the tessellated warp's left eye. "
       "Right: the image-warping baseline's left eye, <span class=\"sw\" style=\"background:#ff00c8\"></span>magenta "
       "where it has nothing to show (disocclusions); the tessellated warp has next to none (table below).</p>"
-      "<div class=\"grid3\">\n", mode, r->still_frames[k] / sc->fps);
+      "<div class=\"grid3\">\n");
     char src[256];
     snprintf(src, sizeof src, "%s/%s/still_%d_cascade.png", sc->name, mode, k);
     img(b, src, "cascade stages", "cascade stages");

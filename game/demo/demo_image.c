@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "capture/capture_image.h"
 #include "core/io.h"
 #include "shared.h"
 
@@ -62,22 +63,10 @@ vg_status demo_png_sbs(const char *dir, const char *name, const uint8_t *left, c
 
 vg_status demo_png_cascade(const char *dir, const char *name, const frame_outputs *fo, uint32_t w, uint32_t h)
 {
-    /* Stage colours, also used by the report's legend (demo_html.c). */
-    static const float tint[5][3] = {
-        {1, 1, 1}, {0.25f, 0.85f, 0.3f}, {1.0f, 0.85f, 0.15f}, {1.0f, 0.45f, 0.1f}, {0.75f, 0.2f, 0.9f}};
-    size_t px = (size_t)w * h;
-    uint8_t *rgb = malloc(px * 3);
+    uint8_t *rgb = malloc((size_t)w * h * 3);
     if (!rgb)
         return VG_ERR_NOMEM;
-    for (size_t i = 0; i < px; i++) {
-        int stage = (int)fo->left_aux[4 * i + 3];
-        stage = stage < 0 || stage > VG_STAGE_CURVE || fo->left[4 * i + 3] < 192 ? 0 : stage;
-        const uint8_t *c = fo->left + 4 * i;
-        float lum = (0.3f * c[0] + 0.59f * c[1] + 0.11f * c[2]) / 255.0f;
-        for (int k = 0; k < 3; k++)
-            rgb[3 * i + (size_t)k] = stage ? (uint8_t)(255.0f * (0.35f + 0.65f * lum) * tint[stage][k])
-                                           : (uint8_t)(0.55f * c[k] + 0.45f * 255);
-    }
+    capture_image_cascade(fo, w, h, true, rgb);
     vg_status st = write_rgb(dir, name, rgb, w, h);
     free(rgb);
     return st;
