@@ -2,7 +2,7 @@
  *
  * A pass module (gbuffer, disparity, warp, compose) owns its pipelines and
  * persistent resources, and adds its passes to the frame graph in
- * *_pass_add(), reading and writing named resources of frame_resources. Its
+ * X_gpu_add(), reading and writing named resources of frame_resources. Its
  * execute callbacks read per-frame state (slot, times, cameras) from the
  * frame_ctx, which lives as long as the frame. */
 #pragma once
