@@ -12,6 +12,7 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "fault.h"
 #include "log.h"
 
 /* Images larger than this are rejected as garbled headers, not allocated. */
@@ -82,6 +83,117 @@ vg_status vg_file_read(const char *path, uint8_t **data, size_t *size)
     return VG_OK;
 }
 
+vg_status vg_write_all(int fd, const void *data, size_t size, const char *path)
+{
+    const uint8_t *p = data;
+    while (size > 0) {
+        /* A disk that fills up (tests: VERGENCE_FAULT=enospc:N). */
+        size_t allowed = vg_fault_write_allowance(size);
+        ssize_t w = allowed ? write(fd, p, allowed) : (errno = ENOSPC, -1);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            vg_error("%s: write failed: %s", path, strerror(w < 0 ? errno : EIO));
+            return VG_ERR_IO;
+        }
+        p += w;
+        size -= (size_t)w;
+    }
+    return VG_OK;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Watched folders: what was written under them                              */
+/* ------------------------------------------------------------------------- */
+
+static vg_write_watch *g_watches;
+
+void vg_write_watch_begin(vg_write_watch *w, const char *dir)
+{
+    *w = (vg_write_watch){0};
+    snprintf(w->dir, sizeof w->dir, "%s", dir);
+    size_t n = strlen(w->dir);
+    while (n > 1 && w->dir[n - 1] == '/')
+        w->dir[--n] = '\0';
+    w->next = g_watches;
+    g_watches = w;
+}
+
+void vg_write_watch_end(vg_write_watch *w)
+{
+    for (vg_write_watch **p = &g_watches; *p; p = &(*p)->next)
+        if (*p == w) {
+            *p = w->next;
+            break;
+        }
+    for (int i = 0; i < w->count; i++)
+        free(w->files[i].name);
+    free(w->files);
+    *w = (vg_write_watch){0};
+}
+
+/* path relative to dir when it lies under it, else NULL ("./a" and "a" alike). */
+static const char *under(const char *dir, const char *path)
+{
+    while (path[0] == '.' && path[1] == '/')
+        path += 2;
+    if (!strcmp(dir, "."))
+        return path[0] != '/' ? path : NULL;
+    size_t n = strlen(dir);
+    if (strncmp(path, dir, n) || path[n] != '/')
+        return NULL;
+    path += n;
+    while (*path == '/')
+        path++;
+    return *path ? path : NULL;
+}
+
+static bool grow(vg_write_watch *w)
+{
+    if (w->count < w->cap)
+        return true;
+    int cap = w->cap ? 2 * w->cap : 64;
+    vg_written *f = realloc(w->files, (size_t)cap * sizeof *f);
+    if (!f)
+        return false;
+    w->files = f;
+    w->cap = cap;
+    return true;
+}
+
+static void note_written(const char *path, uint64_t bytes)
+{
+    for (vg_write_watch *w = g_watches; w; w = w->next) {
+        const char *rel = under(w->dir, path);
+        if (!rel)
+            continue;
+        int i = 0;
+        while (i < w->count && strcmp(w->files[i].name, rel))
+            i++;
+        if (i == w->count) {
+            char *name = grow(w) ? strdup(rel) : NULL;
+            if (!name) {
+                w->failed = true; /* the manifest would not be exact: its writer refuses */
+                continue;
+            }
+            w->files[w->count++] = (vg_written){name, 0};
+        }
+        w->files[i].bytes = bytes;
+    }
+}
+
+vg_status vg_write_watch_add(const char *path)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        vg_error("%s: %s", path, strerror(errno));
+        return VG_ERR_IO;
+    }
+    note_written(path, (uint64_t)st.st_size);
+    vg_fault_file_done();
+    return VG_OK;
+}
+
 vg_status vg_file_write_atomic(const char *path, const void *data, size_t size)
 {
     char tmp[4096];
@@ -94,26 +206,18 @@ vg_status vg_file_write_atomic(const char *path, const void *data, size_t size)
         vg_error("%s: cannot write: %s", path, strerror(errno));
         return VG_ERR_IO;
     }
-    const uint8_t *p = data;
-    size_t left = size;
-    while (left > 0) {
-        ssize_t w = write(fd, p, left);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0) {
-            vg_error("%s: write failed: %s", path, strerror(errno));
-            close(fd);
-            unlink(tmp);
-            return VG_ERR_IO;
-        }
-        p += w;
-        left -= (size_t)w;
+    if (vg_write_all(fd, data, size, path) != VG_OK) {
+        close(fd);
+        unlink(tmp);
+        return VG_ERR_IO;
     }
     if (close(fd) != 0 || rename(tmp, path) != 0) {
         vg_error("%s: cannot finish writing: %s", path, strerror(errno));
         unlink(tmp);
         return VG_ERR_IO;
     }
+    note_written(path, size);
+    vg_fault_file_done();
     return VG_OK;
 }
 

@@ -5,6 +5,7 @@
  * file and renames it into place, so a crash never leaves a half-written file
  * under the final name. Images are row-major with the top row first. */
 #pragma once
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -22,6 +23,28 @@ void vg_imagef_free(vg_imagef *img);
 vg_status vg_file_read(const char *path, uint8_t **data, size_t *size);
 /* Writes data to path.tmp then renames it to path. */
 vg_status vg_file_write_atomic(const char *path, const void *data, size_t size);
+/* write(2) of every byte (one error line naming path); honours the injected
+ * "disk full" (core/fault.h). */
+vg_status vg_write_all(int fd, const void *data, size_t size, const char *path);
+
+/* A watched folder records every file vg_file_write_atomic finishes under
+ * it (and vg_write_watch_add for files written by other means): the
+ * manifest of a result lists exactly those (core/manifest.h). Watches nest;
+ * a file is recorded by every watch of a folder that holds it. */
+typedef struct vg_written {
+    char *name;                  /* relative to the watched folder */
+    uint64_t bytes;
+} vg_written;
+typedef struct vg_write_watch {
+    char dir[1024];
+    vg_written *files;
+    int count, cap;
+    bool failed;                 /* out of memory: a file went unrecorded */
+    struct vg_write_watch *next;
+} vg_write_watch;
+void vg_write_watch_begin(vg_write_watch *w, const char *dir);
+void vg_write_watch_end(vg_write_watch *w);
+vg_status vg_write_watch_add(const char *path);
 /* mkdir -p, then proves the folder is writable by creating a probe file. */
 vg_status vg_dir_prepare(const char *path);
 /* Joins dir and name into out (size cap); returns VG_ERR_ARG when too long. */

@@ -8,9 +8,11 @@ static int g_errors;
 static bool g_progress_open;
 static bool g_silent;
 
-void vg_log_set_silent(bool silent)
+bool vg_log_set_silent(bool silent)
 {
+    bool was = g_silent;
     g_silent = silent;
+    return was;
 }
 
 void vg_log_set_level(vg_log_level max_level)

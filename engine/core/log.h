@@ -16,8 +16,9 @@ typedef enum vg_log_level {
 } vg_log_level;
 
 void vg_log_set_level(vg_log_level max_level);
-/* Silences every line, errors included (fuzzers); errors are still counted. */
-void vg_log_set_silent(bool silent);
+/* Silences every line, errors included (fuzzers); errors are still counted.
+ * Returns the setting before. */
+bool vg_log_set_silent(bool silent);
 void vg_log(vg_log_level level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 #define vg_error(...) vg_log(VG_LOG_ERROR, __VA_ARGS__)
 #define vg_warn(...)  vg_log(VG_LOG_WARN, __VA_ARGS__)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/fault.h"
 #include "core/log.h"
 
 /* ------------------------------------------------------------------------- */
@@ -335,30 +336,25 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
         .draw_indirect_count = f12q.drawIndirectCount,
     };
 
-    /* Tests pretend a feature is missing: VERGENCE_DISABLE=tessellation,multiview,... */
+    /* Tests pretend a feature is missing, and make the device fail (core/fault.h). */
+    vg_status fst = vg_fault_check();
+    if (fst != VG_OK)
+        return fst;
+    if (vg_fault_disabled("tessellation"))
+        g->features.tessellation = g->features.multiview_tessellation = false;
+    if (vg_fault_disabled("multiview"))
+        g->features.multiview = g->features.multiview_tessellation = false;
+    if (vg_fault_disabled("timestamps"))
+        g->features.timestamps = false;
+    if (vg_fault_disabled("indirect"))
+        g->features.multi_draw_indirect = g->features.draw_indirect_count = false;
     const char *off = getenv("VERGENCE_DISABLE");
-    if (off && *off) {
-        if (strstr(off, "tessellation"))
-            g->features.tessellation = g->features.multiview_tessellation = false;
-        if (strstr(off, "multiview"))
-            g->features.multiview = g->features.multiview_tessellation = false;
-        if (strstr(off, "timestamps"))
-            g->features.timestamps = false;
-        if (strstr(off, "indirect"))
-            g->features.multi_draw_indirect = g->features.draw_indirect_count = false;
+    if (off && *off)
         vg_warn("VERGENCE_DISABLE=%s: pretending the device lacks these features", off);
-    }
-    /* Tests make the device fail: VERGENCE_FAULT=device-lost:N. */
-    const char *fault = getenv("VERGENCE_FAULT");
-    if (fault && *fault) {
-        char *end;
-        long n = strncmp(fault, "device-lost:", 12) == 0 ? strtol(fault + 12, &end, 10) : 0;
-        if (n <= 0 || *end) {
-            vg_error("VERGENCE_FAULT=%s: expected device-lost:N (N >= 1)", fault);
-            return VG_ERR_ARG;
-        }
-        g->lost_at = n;
-        vg_warn("VERGENCE_FAULT=%s: queue submission %ld and later will fail as a lost device", fault, n);
+    long lost = vg_fault("device-lost");
+    if (lost >= 1) {
+        g->lost_at = lost;
+        vg_warn("VERGENCE_FAULT: queue submission %ld and later will fail as a lost device", lost);
     }
 
     VkPhysicalDeviceVulkan13Features f13 = {

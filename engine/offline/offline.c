@@ -11,6 +11,7 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "core/manifest.h"
 #include "core/parallel.h"
 #include "disparity/disp_metrics.h"
 #include "disparity/disp_pattern.h"
@@ -34,6 +35,9 @@ typedef struct seq {
     disp_operator *op;
     vg_pool *pool;
     float *sal;           /* scratch: saliency of one frame */
+    uint8_t *unknown;     /* scratch: the last frame read's pixels of unknown g (inf) */
+    vg_manifest man;      /* the result in out_dir: metrics.json lists its files */
+    long unknown_total;   /* over the sequence, counted when checking the inputs */
 } seq;
 
 static vg_status frame_path(const disp_pattern *p, int t, char *buf)
@@ -48,7 +52,7 @@ static vg_status frame_path(const disp_pattern *p, int t, char *buf)
 /* Reads one frame of a single- or two-channel sequence and checks its size
  * against the first g frame: every frame of every input must match. */
 static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, const char *what,
-                            vg_imagef *img)
+                            vg_imagef *img, bool inf_unknown)
 {
     char path[PATH_CAP];
     vg_status st = frame_path(p, t, path);
@@ -70,7 +74,7 @@ static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, 
     }
     int n = img->width * img->height * channels;
     for (int i = 0; i < n; i++)
-        if (!isfinite(img->data[i])) {
+        if (!isfinite(img->data[i]) && !(inf_unknown && isinf(img->data[i]))) {
             vg_error("%s: %s has a non-finite value at pixel %d", path, what, i / channels);
             vg_imagef_free(img);
             return VG_ERR_FORMAT;
@@ -78,18 +82,75 @@ static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, 
     return VG_OK;
 }
 
+/* Pixels of unknown disparity (inf, as Middlebury writes them) take the
+ * value of the nearest known pixel of their row (of the nearest row with
+ * one); s->unknown marks them, f is written as inf there. Returns how many,
+ * -1 when no pixel is known. */
+static int fill_unknown(seq *s, float *v)
+{
+    int w = s->w, h = s->h, count = 0, known_row = -1;
+    for (int i = 0; i < w * h; i++) {
+        s->unknown[i] = isinf(v[i]) != 0;
+        count += s->unknown[i];
+    }
+    if (!count)
+        return 0;
+    for (int y = 0; y < h; y++) {
+        float *row = v + (size_t)y * w;
+        const uint8_t *u = s->unknown + (size_t)y * w;
+        int last = -1;
+        for (int x = 0; x < w; x++)
+            if (!u[x]) {
+                for (int k = last + 1; k < x; k++) /* a gap: its nearer end */
+                    row[k] = last < 0 || x - k <= k - last ? row[x] : row[last];
+                last = x;
+            }
+        if (last < 0)
+            continue;
+        for (int k = last + 1; k < w; k++)
+            row[k] = row[last];
+        known_row = y;
+    }
+    if (known_row < 0)
+        return -1;
+    /* Rows with no known pixel: the nearest row that has one (filled above). */
+    for (int pass = 0; pass < 2; pass++)
+        for (int y = pass ? h - 2 : 1; pass ? y >= 0 : y < h; y += pass ? -1 : 1) {
+            int from = pass ? y + 1 : y - 1;
+            bool empty = true;
+            for (int x = 0; x < w && empty; x++)
+                empty = isinf(v[(size_t)y * w + x]);
+            if (empty && !isinf(v[(size_t)from * w]))
+                memcpy(v + (size_t)y * w, v + (size_t)from * w, (size_t)w * sizeof(float));
+        }
+    return count;
+}
+
 /* g of a frame as vergence in arcmin (converted from dataset pixels if asked). */
 static vg_status read_g(seq *s, int t, float *out)
 {
-    vg_imagef img;
-    vg_status st = read_frame(s, &s->pg, t, 1, "g", &img);
+    vg_imagef img = {0};
+    vg_status st = read_frame(s, &s->pg, t, 1, "g", &img, true);
     if (st != VG_OK)
         return st;
     if (!s->w) {
         s->w = img.width;
         s->h = img.height;
+        if (!(s->unknown = malloc((size_t)s->w * s->h))) {
+            vg_imagef_free(&img);
+            return VG_ERR_NOMEM;
+        }
     }
-    int n = s->w * s->h, bad = 0;
+    int n = s->w * s->h, bad = 0, unknown = fill_unknown(s, img.data);
+    if (unknown < 0) {
+        char path[PATH_CAP];
+        frame_path(&s->pg, t, path);
+        vg_error("%s: g is unknown (inf) at every pixel", path);
+        vg_imagef_free(&img);
+        return VG_ERR_FORMAT;
+    }
+    if (!out)
+        s->unknown_total += unknown;
     for (int i = 0; i < n; i++) {
         double v = img.data[i];
         if (s->d->g_units == DISP_G_PX)
@@ -115,8 +176,17 @@ static vg_status read_g(seq *s, int t, float *out)
 
 static vg_status read_plane(seq *s, const disp_pattern *p, int t, const char *what, float *out)
 {
-    vg_imagef img;
-    vg_status st = read_frame(s, p, t, 1, what, &img);
+    vg_imagef img = {0};
+    vg_status st = read_frame(s, p, t, 1, what, &img, false);
+    /* A depth is a distance in front of the camera. */
+    for (int i = 0; st == VG_OK && p == &s->pz && i < img.width * img.height; i++)
+        if (!(img.data[i] > 0)) {
+            char path[PATH_CAP];
+            frame_path(p, t, path);
+            vg_error("%s: depth %g at pixel (%d, %d): depths must be > 0 (metres in front of the camera)", path,
+                     img.data[i], i % img.width, i / img.width);
+            st = VG_ERR_FORMAT;
+        }
     if (st == VG_OK && out)
         memcpy(out, img.data, (size_t)s->w * s->h * sizeof(float));
     vg_imagef_free(&img);
@@ -158,9 +228,9 @@ static vg_status read_flow(seq *s, int t, bool next, float *out)
             memset(out, 0, n * sizeof(float));
         return VG_OK;
     }
-    vg_imagef img;
+    vg_imagef img = {0};
     vg_status st = read_frame(s, have ? (next ? &s->pfn : &s->pfp) : (next ? &s->pfp : &s->pfn), tt, 2,
-                              "flow", &img);
+                              "flow", &img, false);
     if (st != VG_OK)
         return st;
     for (size_t i = 0; out && i < n; i++)
@@ -221,6 +291,13 @@ static vg_status pass_validate(seq *s)
     }
     if (st == VG_OK)
         vg_progress("optimize: checking inputs", s->frames, s->frames);
+    if (st == VG_OK && s->unknown_total)
+        vg_info("optimize: %ld pixels of unknown g (inf) take the value of their row's nearest known pixel; f is "
+                "inf there too", s->unknown_total);
+    if (st == VG_OK && d->row >= s->h) {
+        vg_error("optimize: --row %d: the frames have %d rows (0 to %d)", d->row, s->h, s->h - 1);
+        st = VG_ERR_ARG;
+    }
     return st;
 }
 
@@ -353,7 +430,12 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             char path[PATH_CAP], name[64];
             snprintf(name, sizeof name, "f_%04d.pfm", t);
             st = vg_path_join(path, sizeof path, d->out_dir, name);
-            vg_imagef img = {.width = s->w, .height = s->h, .channels = 1, .data = f};
+            /* Unknown g stays unknown in f (z is free by now). */
+            memcpy(z, f, np * sizeof(float));
+            for (size_t i = 0; i < np; i++)
+                if (s->unknown[i])
+                    z[i] = INFINITY;
+            vg_imagef img = {.width = s->w, .height = s->h, .channels = 1, .data = z};
             if (st == VG_OK)
                 st = vg_pfm_write(path, &img);
             size_t r = (size_t)(t - d->first) * s->w, src = (size_t)row * s->w;
@@ -457,9 +539,12 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_num(&j, "range_lo", s->lo);
     vg_json_num(&j, "range_hi", s->hi);
     vg_json_object_end(&j);
+    /* metrics.json is the manifest of the result, written last. */
+    st = vg_manifest_files(&s->man, &j);
     vg_json_object_end(&j);
     char path[PATH_CAP];
-    st = vg_path_join(path, sizeof path, s->d->out_dir, "metrics.json");
+    if (st == VG_OK)
+        st = vg_path_join(path, sizeof path, s->d->out_dir, "metrics.json");
     if (st == VG_OK)
         st = vg_json_write_file(&j, path);
     vg_json_free(&j);
@@ -468,6 +553,38 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
                 mh.mid_distortion_jnd, mf.mid_distortion_jnd,
                 mh.mid_distortion_jnd > 0 ? 100.0 * (1.0 - mf.mid_distortion_jnd / mh.mid_distortion_jnd) : 0.0,
                 o->f_out / np, mf.static_rms);
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Run                                                                       */
+/* ------------------------------------------------------------------------- */
+
+/* What optimize writes into --out: f_NNNN.pfm, the x-t slices, metrics.json. */
+static bool writes(const char *name)
+{
+    size_t n = strlen(name);
+    return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "xt_g.png") ||
+           !strcmp(name, "xt_h.png") || !strcmp(name, "xt_f.png") || !strcmp(name, "metrics.json");
+}
+
+static vg_status check_outputs(seq *s)
+{
+    const offline_desc *d = s->d;
+    vg_inputs in = {0};
+    struct { const disp_pattern *p; bool has; const char *label; } seqs[] = {
+        {&s->pg, true, "--g"}, {&s->ph, s->has_h, "--h"}, {&s->pz, s->has_z, "--depth"},
+        {&s->pfn, s->has_fn, "--flow-next"}, {&s->pfp, s->has_fp, "--flow-prev"}, {&s->ps, s->has_s, "--saliency"}};
+    vg_status st = VG_OK;
+    for (size_t k = 0; k < sizeof seqs / sizeof seqs[0] && st == VG_OK; k++)
+        for (int t = d->first; seqs[k].has && t <= d->last && st == VG_OK; t++) {
+            char path[PATH_CAP];
+            if ((st = frame_path(seqs[k].p, t, path)) == VG_OK)
+                st = vg_inputs_add(&in, seqs[k].label, path);
+        }
+    if (st == VG_OK)
+        st = vg_inputs_check_dir(&in, "--out", d->out_dir, "metrics.json", writes);
+    vg_inputs_free(&in);
     return st;
 }
 
@@ -530,14 +647,10 @@ vg_status offline_run(const offline_desc *d)
     vg_status st = parse_patterns(&s);
     if (st != VG_OK)
         return st;
-    /* A previous run's metrics.json would make a failed run look complete. */
-    char path[PATH_CAP];
-    if ((st = vg_dir_prepare(d->out_dir)) != VG_OK || (st = vg_path_join(path, sizeof path, d->out_dir, "metrics.json")) != VG_OK)
+    /* Nothing it writes or removes may be an input; then the earlier result
+     * in --out goes (metrics.json first, then its files). */
+    if ((st = check_outputs(&s)) != VG_OK || (st = vg_manifest_begin(&s.man, d->out_dir, "metrics.json")) != VG_OK)
         return st;
-    if (unlink(path) != 0 && errno != ENOENT) {
-        vg_error("%s: cannot remove the previous metrics: %s", path, strerror(errno));
-        return VG_ERR_IO;
-    }
     if (!s.has_fn && !s.has_fp)
         vg_warn("optimize: no --flow-next or --flow-prev: assuming a static camera and scene (zero flow)");
     else if (!s.has_fn || !s.has_fp)
@@ -607,9 +720,11 @@ done:
     free(g); free(h); free(z); free(scratch); free(pos); free(f_sol);
     free(o.f_key); free(o.slice_g); free(o.slice_h); free(o.slice_f);
     free(s.sal);
+    free(s.unknown);
     free(s.key);
     mid_window_destroy(w);
     disp_operator_destroy(s.op);
     vg_pool_destroy(s.pool);
+    vg_manifest_end(&s.man);
     return st;
 }

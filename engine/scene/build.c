@@ -408,7 +408,7 @@ void scene_destroy(scene *s)
         free(s->samplers[i].times), free(s->samplers[i].values);
     free(s->nodes), free(s->meshes), free(s->primitives), free(s->materials), free(s->textures);
     free(s->cameras), free(s->skins), free(s->animations), free(s->channels), free(s->samplers);
-    free(s->roots), free(s->node_order), free(s->instances), free(s->indices);
+    free(s->roots), free(s->node_order), free(s->instances), free(s->indices), free(s->files);
     memset(s, 0, sizeof *s);
     free(s);
 }

@@ -92,8 +92,10 @@ std::string fs_expand(const std::string &path, void *)
     return path;
 }
 
-bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *)
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
 {
+    /* Every file the scene is read from, for the commands that must not write one (scene.files). */
+    static_cast<std::vector<std::string> *>(user)->push_back(path);
     FILE *f = std::fopen(path.c_str(), "rb");
     if (!f) {
         *err = std::strerror(errno);
@@ -155,7 +157,7 @@ std::string one_line(const std::string &text)
 /* Parsing                                                                   */
 /* ------------------------------------------------------------------------- */
 
-bool parse(const char *path, Model &model, scene_err *e)
+bool parse(const char *path, Model &model, scene_err *e, std::vector<std::string> *files)
 {
     uint8_t *bytes = nullptr;
     size_t size = 0;
@@ -169,7 +171,7 @@ bool parse(const char *path, Model &model, scene_err *e)
     dir = slash == std::string::npos ? std::string() : dir.substr(0, slash);
 
     tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, nullptr});
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, files});
     loader.SetImageLoader(image_stash, nullptr);
     std::string err, warn;
     bool ok = false;
@@ -272,6 +274,9 @@ bool locate(Ctx &c, int index, unsigned allowed, const std::string &what, scene_
         return scene_fail(c.e, VG_ERR_FORMAT, "accessor %d has the wrong type for %s", index, what.c_str());
     std::string at = fmt("accessor %d, %s", index, what.c_str());
     *d = scene_accessor_desc{};
+    if (a.count == 0)
+        return scene_fail(c.e, VG_ERR_FORMAT, "accessor %d has count 0; glTF requires at least 1 (%s)", index,
+                          what.c_str());
     d->component_type = a.componentType;
     d->components = comps;
     d->normalized = a.normalized;
@@ -332,6 +337,16 @@ float *decode_floats(Ctx &c, int index, unsigned allowed, const std::string &wha
         std::free(out);
         out = nullptr;
         scene_fail(c.e, VG_ERR_FORMAT, "accessor %d (%s): %s", index, what.c_str(), why);
+    } else {
+        size_t n = d.count * static_cast<size_t>(d.components);
+        for (size_t k = 0; k < n; k++)
+            if (!std::isfinite(out[k])) {
+                std::free(out);
+                out = nullptr;
+                scene_fail(c.e, VG_ERR_FORMAT, "accessor %d (%s): element %zu is not a finite number", index,
+                           what.c_str(), k / static_cast<size_t>(d.components));
+                break;
+            }
     }
     *count = d.count;
     if (comps)
@@ -545,7 +560,10 @@ bool convert_meshes(Ctx &c)
                 return false;
             o->weight_count = std::max(o->weight_count, p->target_count);
         }
-        /* Default morph weights (spec 3.7.2.2); missing ones are zero. */
+        /* Default morph weights (spec 3.7.2.2): one per target. */
+        if (!m.weights.empty() && m.weights.size() != static_cast<size_t>(o->weight_count))
+            return scene_fail(c.e, VG_ERR_FORMAT, "mesh %d has %zu morph weights for %d targets (glTF: one each)", mi,
+                              m.weights.size(), o->weight_count);
         if (!(o->weights = alloc<float>(static_cast<size_t>(o->weight_count))))
             return scene_fail(c.e, VG_ERR_NOMEM, "out of memory (mesh %d weights)", mi);
         for (size_t k = 0; k < m.weights.size() && k < static_cast<size_t>(o->weight_count); k++)
@@ -564,8 +582,11 @@ bool copy_vec(Ctx &c, const std::vector<double> &v, size_t n, float *dst, int no
         return true;
     if (v.size() != n)
         return scene_fail(c.e, VG_ERR_FORMAT, "node %d: %s has %zu numbers, not %zu", node, what, v.size(), n);
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
+        if (!std::isfinite(v[i]))
+            return scene_fail(c.e, VG_ERR_FORMAT, "node %d: %s holds a number that is not finite", node, what);
         dst[i] = to_f(v[i]);
+    }
     return true;
 }
 
@@ -580,6 +601,9 @@ bool convert_node(Ctx &c, int i, scene_node *o)
         return scene_fail(c.e, VG_ERR_FORMAT, "node %d: camera %d does not exist", i, n.camera);
     if (n.skin != -1 && !valid(n.skin, c.m.skins.size()))
         return scene_fail(c.e, VG_ERR_FORMAT, "node %d: skin %d does not exist", i, n.skin);
+    if (!n.matrix.empty() && (!n.translation.empty() || !n.rotation.empty() || !n.scale.empty()))
+        return scene_fail(c.e, VG_ERR_FORMAT, "node %d has both a matrix and translation/rotation/scale (glTF: one "
+                          "or the other)", i);
     o->rotation[3] = 1.0f;
     o->scale[0] = o->scale[1] = o->scale[2] = 1.0f;
     if (!copy_vec(c, n.translation, 3, o->translation, i, "translation") ||
@@ -597,6 +621,9 @@ bool convert_node(Ctx &c, int i, scene_node *o)
     }
     /* Node weights override the mesh's (spec 3.7.2.2), padded with zeros. */
     int wc = o->mesh >= 0 ? c.s->meshes[o->mesh].weight_count : 0;
+    if (!n.weights.empty() && n.weights.size() != static_cast<size_t>(wc))
+        return scene_fail(c.e, VG_ERR_FORMAT, "node %d has %zu morph weights for %d targets of its mesh (glTF: one "
+                          "each)", i, n.weights.size(), wc);
     if (wc > 0 && !n.weights.empty()) {
         if (!(o->weights = alloc<float>(static_cast<size_t>(wc))))
             return scene_fail(c.e, VG_ERR_NOMEM, "out of memory (node %d weights)", i);
@@ -984,6 +1011,10 @@ bool convert(const Model &m, scene *s, scene_err *e)
 {
     Ctx c(m, s, e);
     std::vector<int> start, list;
+    /* glTF 2.x only (asset.version "2.0", "2.1", ...); 1.0 is another format. */
+    if (m.asset.version.rfind("2.", 0) != 0)
+        return scene_fail(e, VG_ERR_FORMAT, "asset.version is \"%.16s\"; vergence reads glTF 2.x",
+                          m.asset.version.c_str());
     /* Order matters: nodes need mesh weight counts, channels need nodes. */
     if (!check_extensions(c) || !convert_cameras(c) || !convert_materials(c) || !convert_meshes(c) ||
         !convert_nodes(c, start, list) || !convert_roots(c) || !convert_skins(c) || !convert_animations(c))
@@ -1014,8 +1045,14 @@ extern "C" vg_status scene_load(const char *path, scene **out)
     std::snprintf(s->path, sizeof s->path, "%s", path);
     try {
         Model model;
-        if (parse(path, model, &err))
-            convert(model, s, &err);
+        std::vector<std::string> files{path};
+        if (parse(path, model, &err, &files) && convert(model, s, &err)) {
+            s->files = static_cast<char (*)[512]>(std::calloc(files.size(), sizeof *s->files));
+            if (!s->files)
+                throw std::bad_alloc();
+            for (const std::string &f : files)
+                std::snprintf(s->files[s->file_count++], sizeof *s->files, "%s", f.c_str());
+        }
     } catch (const std::bad_alloc &) {
         scene_fail(&err, VG_ERR_NOMEM, "out of memory");
     } catch (const std::exception &ex) {

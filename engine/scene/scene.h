@@ -145,6 +145,8 @@ typedef void (*scene_pose_fn)(void *user, const struct scene *s, float t, float 
 
 typedef struct scene {
     char path[512];
+    char (*files)[512];      /* every file the scene was read from: path, then its buffers and images */
+    int file_count;
     int node_count, mesh_count, primitive_count, material_count, texture_count;
     int camera_count, skin_count, animation_count, channel_count, sampler_count;
     int root_count;

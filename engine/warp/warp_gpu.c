@@ -201,12 +201,19 @@ static void draw_warped(warp_gpu *w, const rg_context *ctx, uint32_t flags)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp_flat);
     scene_gpu_bind(&fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->flat_indices));
     for (int i = 0; i < s->instance_count; i++) {
+        /* An instance without a whole triangle has no chunk, so warp.classify
+         * never writes its draw: drawing it would read arguments nobody wrote
+         * (lavapipe then spins on garbage counts). */
+        if (table[i].index_count < 3)
+            continue;
         scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
         vkCmdDrawIndexedIndirect(cmd, args, (VkDeviceSize)i * stride, 1, (uint32_t)stride);
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp);
     scene_gpu_bind(&fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->tess_indices));
     for (int i = 0; i < s->instance_count; i++) {
+        if (!table[i].tess_chunks)
+            continue;
         scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
         VkDeviceSize first = (VkDeviceSize)(s->instance_count + (int)table[i].tess_args) * stride;
         VkDeviceSize count = (VkDeviceSize)(s->instance_count + (int)w->tess_slots) * stride + 4 * (VkDeviceSize)i;

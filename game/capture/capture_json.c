@@ -2,6 +2,7 @@
 #include "capture_json.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "core/io.h"
 #include "shared.h"
@@ -175,14 +176,18 @@ void capture_json_metrics(vg_json *j, const frame_desc *fd, const frame_info *in
     vg_json_object_end(j);
 }
 
-vg_status capture_json_finish(vg_json *j, const char *dir)
+vg_status capture_json_finish(vg_json *j, const vg_manifest *m)
 {
+    vg_status st = vg_manifest_files(m, j);
     vg_json_int(j, "validation_messages", gpu_validation_messages());
     vg_json_object_end(j);
     char path[4096];
-    vg_status st = vg_path_join(path, sizeof path, dir, "capture.json");
+    if (st == VG_OK)
+        st = vg_path_join(path, sizeof path, m->dir, m->name);
     if (st == VG_OK)
         st = vg_json_write_file(j, path);
     vg_json_free(j);
     return st;
 }
+
+bool capture_json_writes(const char *name) { return !strncmp(name, "frame_", 6) || !strcmp(name, "capture.json"); }

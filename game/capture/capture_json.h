@@ -4,6 +4,7 @@
 #pragma once
 #include "capture_log.h"
 #include "core/json.h"
+#include "core/manifest.h"
 
 /* The header every capture.json starts with: version, scene, size, frame
  * rate and keyframes, the frames recorded, the device and the display. */
@@ -18,5 +19,9 @@ void capture_json_passes(vg_json *j, const capture_log *log);
 void capture_json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m);
 /* The science metrics of h and f ("metrics"). */
 void capture_json_metrics(vg_json *j, const frame_desc *fd, const frame_info *info, const science_metrics_result *r);
-/* Ends the object with the validation count and writes DIR/capture.json (atomically); frees j. */
-vg_status capture_json_finish(vg_json *j, const char *dir);
+/* Ends the object with the files of the result (the manifest's list) and
+ * the validation count, and writes it as the manifest m (atomically, last);
+ * frees j. */
+vg_status capture_json_finish(vg_json *j, const vg_manifest *m);
+/* The names a capture writes into its folder (capture.json, frame_*). */
+bool capture_json_writes(const char *name);

@@ -20,6 +20,7 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "core/manifest.h"
 #include "options/gpu_cli.h"
 #include "frame/frame.h"
 #include "shared.h"
@@ -229,7 +230,7 @@ done:
 /* capture.json                                                              */
 /* ------------------------------------------------------------------------- */
 
-static vg_status write_json(const char *dir, const scene *s, const gpu *g, const frame_desc *fd,
+static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, const frame_desc *fd,
                             const capture_log *log)
 {
     vg_json j = {0};
@@ -240,14 +241,14 @@ static vg_status write_json(const char *dir, const scene *s, const gpu *g, const
         capture_json_stereo(&j, fd, &log->warp);
     if (log->science)
         capture_json_metrics(&j, fd, &log->info, &log->result);
-    return capture_json_finish(&j, dir);
+    return capture_json_finish(&j, m);
 }
 
 /* ------------------------------------------------------------------------- */
 /* Command                                                                   */
 /* ------------------------------------------------------------------------- */
 
-static vg_status capture(gpu *g, const scene *s)
+static vg_status capture(gpu *g, const scene *s, const vg_manifest *m)
 {
     vg_curve baked;
     if (o.curve) {
@@ -290,7 +291,7 @@ static vg_status capture(gpu *g, const scene *s)
         vg_progress("capture", o.frames, o.frames);
         st = capture_log_finish(&log);
         if (st == VG_OK)
-            st = write_json(o.out, s, g, d, &log);
+            st = write_json(m, s, g, d, &log);
         const science_metrics_result *m = &log.result;
         if (st == VG_OK && log.science && m->h.moving_measured > 0 && m->h.mid_distortion_jnd > 0)
             vg_info("MID distortion h %.2f JND, f %.2f JND (%.3f of h's) over %d moving samples of %d keyframes; "
@@ -312,19 +313,32 @@ static int run(int argc, char **argv)
         return 0;
     if (vg_cli_require(&vg_cmd_capture, "--scene", o.scene) || vg_cli_require(&vg_cmd_capture, "--out", o.out))
         return 2;
-    vg_status st = vg_dir_prepare(o.out);
+    scene *s;
+    vg_status st = scene_load(o.scene, &s);
     if (st != VG_OK)
         return vg_status_exit_code(st);
-    scene *s;
-    if ((st = scene_load(o.scene, &s)) != VG_OK)
-        return vg_status_exit_code(st);
-    gpu *g;
-    if ((st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK) {
-        scene_destroy(s);
-        return vg_status_exit_code(st);
-    }
-    st = capture(g, s);
-    int code = gpu_cli_close(g, st);
+    /* Nothing it writes or removes may be one of its inputs. */
+    vg_inputs in = {0};
+    for (int i = 0; i < s->file_count && st == VG_OK; i++)
+        st = vg_inputs_add(&in, "--scene", s->files[i]);
+    if (st == VG_OK && o.curve)
+        st = vg_inputs_add(&in, "--curve", o.curve);
+    if (st == VG_OK && o.dump_graph)
+        st = vg_inputs_check(&in, "--dump-graph", o.dump_graph);
+    if (st == VG_OK)
+        st = vg_inputs_check_dir(&in, "--out", o.out, "capture.json", capture_json_writes);
+    vg_inputs_free(&in);
+    /* The earlier capture in --out goes first (manifest, then its files). */
+    vg_manifest man = {0};
+    if (st == VG_OK)
+        st = vg_manifest_begin(&man, o.out, "capture.json");
+    gpu *g = NULL;
+    if (st == VG_OK && (st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK)
+        g = NULL;
+    if (st == VG_OK)
+        st = capture(g, s, &man);
+    vg_manifest_end(&man);
+    int code = g ? gpu_cli_close(g, st) : vg_status_exit_code(st);
     scene_destroy(s);
     if (code == 0)
         vg_info("captured %d frame(s) of %s into %s", o.frames, o.scene, o.out);

@@ -21,6 +21,7 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
+#include "core/manifest.h"
 #include "demo/demo.h"
 #include "options/gpu_cli.h"
 
@@ -116,6 +117,22 @@ static const char *find_ffmpeg(char *buf, size_t cap)
     return NULL;
 }
 
+/* What the report writes under --out: index.html and each scene's folder. */
+static char (*g_names)[DEMO_NAME];
+static int g_count;
+
+static bool demo_writes(const char *name)
+{
+    if (!strcmp(name, "index.html"))
+        return true;
+    for (int i = 0; i < g_count; i++) {
+        size_t n = strlen(g_names[i]);
+        if (!strncmp(name, g_names[i], n) && name[n] == '/')
+            return true;
+    }
+    return false;
+}
+
 static int split_scenes(char names[DEMO_MAX_SCENES][DEMO_NAME])
 {
     int n = 0;
@@ -127,7 +144,15 @@ static int split_scenes(char names[DEMO_MAX_SCENES][DEMO_NAME])
                      DEMO_MAX_SCENES);
             return -1;
         }
-        snprintf(names[n++], DEMO_NAME, "%.*s", (int)len, p);
+        snprintf(names[n], DEMO_NAME, "%.*s", (int)len, p);
+        /* A scene is content/NAME.gltf and its results go to --out/NAME: a
+         * name, not a path (no '/', no "..": nothing outside --out). */
+        if (strspn(names[n], "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_") != len) {
+            vg_error("vergence demo: --scenes: '%s' is not a scene name (letters, digits, '-' and '_': "
+                     "the name of a file content/NAME.gltf)", names[n]);
+            return -1;
+        }
+        n++;
         p += len + (p[len] == ',');
     }
     if (n == 0)
@@ -161,7 +186,8 @@ static vg_status demo_scene_all_modes(gpu *g, const demo_opts *d, demo_scene *sc
     return st;
 }
 
-static vg_status demo(gpu *g, const demo_opts *d, char names[DEMO_MAX_SCENES][DEMO_NAME], int count)
+static vg_status demo(gpu *g, const demo_opts *d, char names[DEMO_MAX_SCENES][DEMO_NAME], int count,
+                      const vg_manifest *m)
 {
     demo_scene *scenes = calloc((size_t)count, sizeof *scenes);
     char (*paths)[4096] = calloc((size_t)count, sizeof *paths);
@@ -197,7 +223,7 @@ static vg_status demo(gpu *g, const demo_opts *d, char names[DEMO_MAX_SCENES][DE
         pr.done = pr.total;
         snprintf(pr.label, sizeof pr.label, "report");
         progress_show(&pr);
-        st = demo_html_write(d, scenes, count, seconds, g->props.deviceName);
+        st = demo_html_write(d, scenes, count, seconds, g->props.deviceName, m);
     }
     for (int i = 0; i < count; i++)
         demo_scene_free(&scenes[i]);
@@ -232,16 +258,34 @@ static int run(int argc, char **argv)
     d.ffmpeg = d.video ? find_ffmpeg(ffmpeg_buf, sizeof ffmpeg_buf) : NULL;
     if (d.video && !d.ffmpeg)
         vg_warn("demo: ffmpeg is not installed (Debian package ffmpeg): the report has stills but no videos");
-    vg_status st = vg_dir_prepare(o.out);
-    if (st != VG_OK)
-        return vg_status_exit_code(st);
-    gpu *g;
-    if ((st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK)
-        return vg_status_exit_code(st);
+    /* Nothing it writes or removes may be an input (the scenes and their files). */
+    vg_inputs in = {0};
+    vg_status st = VG_OK;
+    g_names = names;
+    g_count = count;
+    for (int i = 0; i < count && st == VG_OK; i++) {
+        char file[DEMO_NAME + 8], path[4096];
+        snprintf(file, sizeof file, "%s.gltf", names[i]);
+        st = vg_path_join(path, sizeof path, o.content, file);
+        if (st == VG_OK)
+            st = vg_inputs_add(&in, "--scenes", path);
+    }
+    if (st == VG_OK)
+        st = vg_inputs_check_dir(&in, "--out", o.out, "index.html", demo_writes);
+    vg_inputs_free(&in);
+    /* The earlier report in --out goes first (index.html, then its files). */
+    vg_manifest man = {0};
+    if (st == VG_OK)
+        st = vg_manifest_begin(&man, o.out, "index.html");
+    gpu *g = NULL;
+    if (st == VG_OK && (st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK)
+        g = NULL;
     /* A dying ffmpeg must not kill the run: writes to its pipe fail instead. */
     signal(SIGPIPE, SIG_IGN);
-    st = demo(g, &d, names, count);
-    int code = gpu_cli_close(g, st);
+    if (st == VG_OK)
+        st = demo(g, &d, names, count, &man);
+    vg_manifest_end(&man);
+    int code = g ? gpu_cli_close(g, st) : vg_status_exit_code(st);
     if (code == 0) {
         char index[4096];
         vg_path_join(index, sizeof index, o.out, "index.html");

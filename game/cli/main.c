@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "core/fault.h"
 #include "core/log.h"
 
 static const vg_cmd *const g_commands[] = {
@@ -45,6 +46,9 @@ int main(int argc, char **argv)
         printf("vergence %s\n", VERGENCE_VERSION);
         return 0;
     }
+    /* A test's fault that would not be injected is an error, not a pass. */
+    if (vg_fault_check() != VG_OK)
+        return 2;
     for (int i = 0; i < COMMAND_COUNT; i++)
         if (!strcmp(argv[1], g_commands[i]->name))
             return g_commands[i]->run(argc - 1, argv + 1);

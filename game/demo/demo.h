@@ -15,6 +15,7 @@
 #include "frame/frame.h"
 #include "scene/scene.h"
 #include "capture/capture_log.h"
+#include "core/manifest.h"
 #include "frame/warp_metrics.h"
 
 #define DEMO_MODES 3         /* original, manipulated, optimized */
@@ -122,4 +123,4 @@ vg_status demo_figures_write(const demo_opts *o, demo_scene *sc);
 
 /* index.html in o->out. */
 vg_status demo_html_write(const demo_opts *o, const demo_scene *scenes, int count, double seconds,
-                          const char *device);
+                          const char *device, const vg_manifest *m);

@@ -427,8 +427,17 @@ static void scene_section(demo_buf *b, const demo_scene *sc, const demo_opts *o)
 }
 
 vg_status demo_html_write(const demo_opts *o, const demo_scene *scenes, int count, double seconds,
-                          const char *device)
+                          const char *device, const vg_manifest *m)
 {
+    /* The report is the manifest of the whole result: the files it lists. */
+    vg_json files = {.compact = true};
+    vg_json_object_begin(&files, NULL);
+    vg_status fst = vg_manifest_files(m, &files);
+    vg_json_object_end(&files);
+    if (fst != VG_OK || files.failed) {
+        vg_json_free(&files);
+        return fst != VG_OK ? fst : VG_ERR_NOMEM;
+    }
     demo_buf buf = {0}, *b = &buf;
     P("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
       "<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">"
@@ -455,8 +464,10 @@ vg_status demo_html_write(const demo_opts *o, const demo_scene *scenes, int coun
         scene_section(b, &scenes[i], o);
     P("<h2>Reproduce</h2><p class=\"explain\"><code>vergence demo --out %s --size %ux%u --step %d</code>. "
       "Each scene and mode has a <code>capture.json</code> with the figures above; see "
-      "<code>docs/demo.md</code>.</p>\n</main></body></html>\n", o->out, (unsigned)o->width,
-      (unsigned)o->height, o->step);
+      "<code>docs/demo.md</code>.</p>\n</main>" VG_MANIFEST_HTML_OPEN "%.*s" VG_MANIFEST_HTML_CLOSE
+      "</body></html>\n", o->out, (unsigned)o->width,
+      (unsigned)o->height, o->step, (int)files.len, files.buf);
+    vg_json_free(&files);
 
     vg_status st = buf.failed ? VG_ERR_NOMEM : VG_OK;
     char path[4096];

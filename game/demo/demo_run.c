@@ -267,7 +267,7 @@ static void pick_stills(run_ctx *c)
 
 /* Shaped as `vergence capture`'s (the same sections, capture/capture_json.h),
  * with the run's step, its stills and the image-warping baseline. */
-static vg_status write_capture_json(const char *dir, const scene *s, const demo_scene *sc, const demo_run *r,
+static vg_status write_capture_json(const vg_manifest *m, const scene *s, const demo_scene *sc, const demo_run *r,
                             const frame_desc *clip, const gpu *g, const capture_log *log)
 {
     vg_json j = {0};
@@ -291,7 +291,7 @@ static vg_status write_capture_json(const char *dir, const scene *s, const demo_
     vg_json_object_end(&j);
     if (r->has_mid)
         capture_json_metrics(&j, clip, &log->info, &log->result);
-    return capture_json_finish(&j, dir);
+    return capture_json_finish(&j, m);
 }
 
 vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_scene *sc, int mode_index,
@@ -307,8 +307,10 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
     vg_status st = vg_path_join(sub, sizeof sub, o->out, sc->name);
     if (st == VG_OK)
         st = vg_path_join(c.dir, sizeof c.dir, sub, frame_mode_names[r->mode]);
+    /* The run's own result: an earlier one there goes first (core/manifest.h). */
+    vg_manifest man = {0};
     if (st == VG_OK)
-        st = vg_dir_prepare(c.dir);
+        st = vg_manifest_begin(&man, c.dir, "capture.json");
     if (st != VG_OK)
         return st;
     pick_stills(&c);
@@ -322,10 +324,13 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
                  "(the GPU disparity pipeline, issue 4)", frame_mode_names[r->mode]);
         vg_warn("demo: %s: %s; the report leaves it out", sc->name, r->note);
         progress(user, units);
+        vg_manifest_end(&man);
         return VG_OK;
     }
-    if (st != VG_OK)
+    if (st != VG_OK) {
+        vg_manifest_end(&man);
         return st;
+    }
     c.node_track = malloc(sizeof(int) * (size_t)(s->node_count > 0 ? s->node_count : 1));
     if (!c.node_track)
         st = VG_ERR_NOMEM;
@@ -342,6 +347,9 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
     frame_destroy(f);
     if (c.video) {
         r->video = pclose(c.video) == 0;
+        char video[4096];
+        if (r->video && vg_path_join(video, sizeof video, c.dir, "video.mp4") == VG_OK)
+            r->video = vg_write_watch_add(video) == VG_OK; /* ffmpeg wrote it, not core/io */
         if (!r->video)
             vg_warn("demo: ffmpeg failed; no video for %s/%s", sc->name, frame_mode_names[r->mode]);
     }
@@ -353,7 +361,8 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
     if (st == VG_OK)
         st = render_stills(&c, FRAME_STEREO_IMAGEWARP);
     if (st == VG_OK)
-        st = write_capture_json(c.dir, s, sc, r, &clip, g, &c.log);
+        st = write_capture_json(&man, s, sc, r, &clip, g, &c.log);
+    vg_manifest_end(&man);
     capture_log_free(&c.log);
     free(c.node_track);
     return st;
