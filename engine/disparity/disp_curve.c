@@ -129,10 +129,16 @@ vg_status disp_curve_read(const char *path, vg_curve *c)
             bool ok = c->valid == 1 && isfinite(c->inv_depth_near) && isfinite(c->inv_depth_far) &&
                       c->inv_depth_near > c->inv_depth_far && c->inv_depth_far >= 0;
             for (int b = 0; b < VG_CURVE_BINS && ok; b++)
-                ok = isfinite(c->inv_depth[b]) && isfinite(c->vergence[b]) &&
-                     (b == 0 || c->inv_depth[b] >= c->inv_depth[b - 1]);
+                ok = isfinite(c->inv_depth[b]) && (b == 0 || c->inv_depth[b] >= c->inv_depth[b - 1]);
+            bool range = true;
+            for (int b = 0; b < VG_CURVE_BINS && ok && range; b++)
+                range = c->vergence[b] > 0 && c->vergence[b] < DISP_CURVE_MAX_ARCMIN;
             if (!ok) {
                 vg_error("%s: curve values are not finite or not increasing in inverse depth", path);
+                st = VG_ERR_FORMAT;
+            } else if (!range) {
+                vg_error("%s: a vergence of the curve is outside (0, %g) arcmin: not a curve of a scene", path,
+                         DISP_CURVE_MAX_ARCMIN);
                 st = VG_ERR_FORMAT;
             }
         }

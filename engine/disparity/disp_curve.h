@@ -21,6 +21,9 @@
 #include "core/status.h"
 #include "shared.h"
 
+/* Vergence is an angle below 180 degrees: a curve beyond is not of a scene. */
+#define DISP_CURVE_MAX_ARCMIN 10800.0
+
 /* Bins between the two nodes of an end slope (= cascade.glsl CURVE_REACH). */
 #define DISP_CURVE_REACH 16
 

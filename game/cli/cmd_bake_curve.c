@@ -4,10 +4,13 @@
  * vertex gives a (depth, disparity) pair from the captured maps, and the pairs of
  * all frames make one curve (disparity/disp_curve.h) that `--curve FILE` loads
  * instead of the per-frame one. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <embree3/rtcore.h>
 
@@ -15,6 +18,7 @@
 #include "core/io.h"
 #include "core/json_read.h"
 #include "core/log.h"
+#include "core/manifest.h"
 #include "scene/scene.h"
 #include "disparity/disp_curve.h"
 
@@ -171,6 +175,32 @@ static vg_status bake_frame(RTCDevice dev, const scene *s, scene_state *st, cons
     return st2;
 }
 
+/* The capture was made of this scene (the same file, or one of the same name
+ * when the capture's path does not resolve from here). */
+static const char *basename_of(const char *p)
+{
+    const char *slash = strrchr(p, '/');
+    return slash ? slash + 1 : p;
+}
+
+static vg_status same_scene(const vg_jdoc *doc, const char *json, const scene *s)
+{
+    const vg_jvalue *v = vg_jget(doc->root, "scene");
+    const char *captured = v && v->type == VG_JSTRING ? v->string : NULL;
+    if (!captured) {
+        vg_error("%s: no \"scene\": not a capture of vergence", json);
+        return VG_ERR_FORMAT;
+    }
+    struct stat a, b;
+    bool same = stat(captured, &a) == 0 && stat(s->path, &b) == 0 ? a.st_dev == b.st_dev && a.st_ino == b.st_ino
+                                                                  : !strcmp(basename_of(captured), basename_of(s->path));
+    if (!same) {
+        vg_error("--capture %s was made of %s, not of --scene %s", o.capture, captured, s->path);
+        return VG_ERR_ARG;
+    }
+    return VG_OK;
+}
+
 static const char *pick_map(void)
 {
     static const char *const maps[] = {"f", "h", "g"};
@@ -217,6 +247,13 @@ static int run(int argc, char **argv)
         vg_jdoc_free(&doc);
         return vg_status_exit_code(VG_ERR_FORMAT);
     }
+    /* The capture's own account of itself must hold together. */
+    double frames = vg_jnum(doc.root, "frames", -1);
+    if (frames != (double)total) {
+        vg_error("%s: \"frames\" is %g but camera.frames holds %d frames: not a complete capture", path, frames, total);
+        vg_jdoc_free(&doc);
+        return vg_status_exit_code(VG_ERR_FORMAT);
+    }
     if (o.frames && (sscanf(o.frames, "%d:%d", &a, &b) != 2 || a < 0 || b < a || b >= total)) {
         vg_error("bake-curve --frames: '%s' is not A:B within the %d captured frames", o.frames, total);
         vg_jdoc_free(&doc);
@@ -226,8 +263,36 @@ static int run(int argc, char **argv)
     scene_state ss = {0};
     pairs p = {0};
     size_t visible = 0;
-    RTCDevice dev = rtcNewDevice(NULL);
-    st = dev ? scene_load(o.scene, &s) : VG_ERR_DEVICE;
+    RTCDevice dev = NULL;
+    st = scene_load(o.scene, &s);
+    if (st == VG_OK)
+        st = same_scene(&doc, path, s);
+    /* Nothing it writes may be an input; the earlier curve goes first. */
+    vg_inputs in = {0};
+    for (int i = 0; st == VG_OK && i < s->file_count; i++)
+        st = vg_inputs_add(&in, "--scene", s->files[i]);
+    if (st == VG_OK)
+        st = vg_inputs_add(&in, "--capture", path);
+    for (int n = a; n <= b && st == VG_OK; n++) {
+        char name[64], file[4096];
+        const char *kinds[2] = {"depth", map};
+        for (int k = 0; k < 2 && st == VG_OK; k++) {
+            snprintf(name, sizeof name, "frame_%04d_%s.pfm", n, kinds[k]);
+            if ((st = vg_path_join(file, sizeof file, o.capture, name)) == VG_OK)
+                st = vg_inputs_add(&in, "--capture", file);
+        }
+    }
+    if (st == VG_OK)
+        st = vg_inputs_check(&in, "--out", o.out);
+    vg_inputs_free(&in);
+    if (st == VG_OK && unlink(o.out) != 0 && errno != ENOENT) {
+        vg_error("%s: cannot remove the earlier curve: %s", o.out, strerror(errno));
+        st = VG_ERR_IO;
+    }
+    if (st == VG_OK && !(dev = rtcNewDevice(NULL))) {
+        vg_error("bake-curve: Embree could not start a device");
+        st = VG_ERR_DEVICE;
+    }
     if (st == VG_OK)
         st = scene_state_init(s, &ss);
     for (int n = a; n <= b && st == VG_OK; n++) {

@@ -5,6 +5,7 @@
 #include "core/cli.h"
 #include "options/game_cli.h"
 #include "play/play_session.h"
+#include "study_log.h"
 
 typedef struct study_opts {
     const vg_cmd *cmd;
@@ -22,7 +23,39 @@ vg_status study_preference_run(const study_opts *o);
 /* Shared by both: "2026-11-22T01:40:05Z" now. */
 void study_utc_now(char *out, size_t cap);
 
-/* The seed of a study: the file's when resuming (every row must agree, and a
- * different --seed is refused), else --seed, else the participant id's. */
-struct study_log;
-vg_status study_pick_seed(const study_opts *o, const struct study_log *log, int column, uint64_t *seed);
+/* What a study's CSV is: its columns, where the seed is, the settings every
+ * row must share with this run (a resumed file's rows were run with them:
+ * trials of another condition must not join it), the measured numbers
+ * (finite), its design's cells per block and its default length. */
+typedef struct study_setting {
+    int column;
+    const char *flag;            /* "--operator", ... */
+    const char *value;           /* as this run writes it */
+} study_setting;
+
+typedef struct study_kind {
+    const char *name;            /* "hit", "preference" */
+    const char *const *columns;
+    int column_count, col_seed;
+    const study_setting *settings;
+    int setting_count;
+    const int *numeric;
+    int numeric_count;
+    int cells, default_trials;
+} study_kind;
+
+/* A study's log (created or resumed), its seed and schedule. */
+typedef struct study_session {
+    study_log log;
+    uint64_t seed;
+    int trials;
+    int *cells;                  /* the schedule: trials cells */
+} study_session;
+
+/* Opens --out (creating it, or resuming it: the seed, the settings and the
+ * numbers of every row read back are checked, and --trials must cover it)
+ * and makes the schedule. */
+vg_status study_begin(const study_opts *o, const study_kind *k, study_session *out);
+/* Closes the log (a file this run created and filled with nothing goes when
+ * st fails); returns st. */
+vg_status study_end(study_session *s, const study_opts *o, const study_kind *k, vg_status st);

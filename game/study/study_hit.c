@@ -4,7 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/log.h"
 #include "observer/observer.h"
@@ -21,20 +20,9 @@ _Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name pe
 
 typedef struct hit_run {
     const study_opts *o;
-    study_log log;
-    uint64_t seed;
-    int trials;
-    int *cells;
+    study_session ss;
     const char *who;              /* "human" or "model" */
 } hit_run;
-
-void study_utc_now(char *out, size_t cap)
-{
-    time_t now = time(NULL);
-    struct tm tm;
-    gmtime_r(&now, &tm);
-    strftime(out, cap, "%Y-%m-%dT%H:%M:%SZ", &tm);
-}
 
 /* ------------------------------------------------------------------------- */
 /* Rows                                                                      */
@@ -48,7 +36,7 @@ static vg_status log_trial(hit_run *r, const play_trial *t)
     snprintf(buf[0], 64, "%s", r->o->participant);
     snprintf(buf[1], 64, "hit");
     snprintf(buf[2], 64, "%d", t->trial);
-    snprintf(buf[3], 64, "%" PRIu64, r->seed);
+    snprintf(buf[3], 64, "%" PRIu64, r->ss.seed);
     snprintf(buf[4], 64, "%s", frame_mode_names[t->mode]);
     snprintf(buf[5], 64, "%s", game_direction_names[th->direction]);
     snprintf(buf[6], 64, "%s", game_path_names[th->path]);
@@ -69,7 +57,7 @@ static vg_status log_trial(hit_run *r, const play_trial *t)
     study_utc_now(buf[25], 64);
     for (int i = 0; i < COL_COUNT; i++)
         f[i] = buf[i];
-    return study_log_append(&r->log, f);
+    return study_log_append(&r->ss.log, f);
 }
 
 static vg_status on_trial(void *user, const play_trial *t)
@@ -77,16 +65,16 @@ static vg_status on_trial(void *user, const play_trial *t)
     hit_run *r = user;
     vg_status st = log_trial(r, t);
     if (st == VG_OK)
-        vg_progress("study hit", t->trial + 1, r->trials);
+        vg_progress("study hit", t->trial + 1, r->ss.trials);
     return st;
 }
 
 /* Every row read back must be the trial the schedule puts there. */
 static vg_status check_rows(hit_run *r)
 {
-    const study_log *l = &r->log;
+    const study_log *l = &r->ss.log;
     for (int i = 0; i < l->rows_read; i++) {
-        game_cell c = game_hit_cell(r->cells[i]);
+        game_cell c = game_hit_cell(r->ss.cells[i]);
         char want[32];
         snprintf(want, sizeof want, "%d", i);
         const char *problem = NULL;
@@ -103,33 +91,6 @@ static vg_status check_rows(hit_run *r)
             return VG_ERR_FORMAT;
         }
     }
-    return VG_OK;
-}
-
-vg_status study_pick_seed(const study_opts *o, const study_log *log, int column, uint64_t *seed)
-{
-    *seed = o->seed >= 0 ? (uint64_t)o->seed : game_seed_from_text(o->participant);
-    if (log->rows_read == 0)
-        return VG_OK;
-    const char *s = study_log_cell(log, 0, column);
-    char *end;
-    unsigned long long v = strtoull(s, &end, 10);
-    if (!*s || *end) {
-        vg_error("%s: line 2 has seed '%s', not a number: the file is corrupt (left as it is)", log->path, s);
-        return VG_ERR_FORMAT;
-    }
-    if (o->seed >= 0 && v != (uint64_t)o->seed) {
-        vg_error("%s was run with --seed %llu, not %d: resume without --seed (or with the same one)",
-                 log->path, v, o->seed);
-        return VG_ERR_ARG;
-    }
-    for (int i = 1; i < log->rows_read; i++)
-        if (strcmp(study_log_cell(log, i, column), s)) {
-            vg_error("%s: line %d has another seed than line 2: the file is corrupt (left as it is)",
-                     log->path, i + 2);
-            return VG_ERR_FORMAT;
-        }
-    *seed = v;
     return VG_OK;
 }
 
@@ -155,9 +116,9 @@ static vg_status run_model(hit_run *r, const char *scene_path)
             .view = {.scene = s, .moving_node = ball, .display = game_display_desc(&o->display),
                      .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
             .weber_k = o->weber_k}, &obs);
-    for (int i = r->log.rows; i < r->trials && st == VG_OK; i++) {
-        game_cell c = game_hit_cell(r->cells[i]);
-        game_rng rt = game_rng_make(r->seed, 2 * (uint64_t)i + 1), rn = game_rng_make(r->seed, 2 * (uint64_t)i + 2);
+    for (int i = r->ss.log.rows; i < r->ss.trials && st == VG_OK; i++) {
+        game_cell c = game_hit_cell(r->ss.cells[i]);
+        game_rng rt = game_rng_make(r->ss.seed, 2 * (uint64_t)i + 1), rn = game_rng_make(r->ss.seed, 2 * (uint64_t)i + 2);
         game_throw th;
         game_throw_make(&(game_throw_desc){.path = c.path, .direction = c.direction, .visible_s = o->visible_s},
                         observer_camera(obs), &rt, &th);
@@ -180,39 +141,31 @@ vg_status study_hit_run(const study_opts *o)
     if (!scene_path)
         return VG_ERR_IO;
     hit_run r = {.o = o, .who = o->observer ? "model" : "human"};
-    vg_status st = study_log_open(&(study_log_desc){
-        .path = o->out, .kind = "hit", .columns = k_columns, .column_count = COL_COUNT,
-        .participant = o->participant, .resume = o->resume}, &r.log);
+    char visible[32];
+    snprintf(visible, sizeof visible, "%.3f", o->visible_s > 0 ? o->visible_s : GAME_VISIBLE_S);
+    const study_setting settings[] = {
+        {7, "--operator", disp_operator_kind_name((disp_operator_kind)o->op)},
+        {8, "--observer", r.who},
+        {9, "--visible", visible},
+    };
+    static const int numeric[] = {10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24};
+    const study_kind kind = {
+        .name = "hit", .columns = k_columns, .column_count = COL_COUNT, .col_seed = COL_SEED,
+        .settings = settings, .setting_count = 3, .numeric = numeric, .numeric_count = 15,
+        .cells = GAME_HIT_CELLS, .default_trials = 48,
+    };
+    vg_status st = study_begin(o, &kind, &r.ss);
     if (st == VG_OK)
-        st = study_pick_seed(o, &r.log, COL_SEED, &r.seed);
-    r.trials = o->trials > 0 ? o->trials : 48;
-    int scheduled = r.trials > r.log.rows_read ? r.trials : r.log.rows_read;
-    if (st == VG_OK && !(r.cells = malloc((size_t)scheduled * sizeof(int))))
-        st = VG_ERR_NOMEM;
-    if (st == VG_OK) {
-        game_schedule(r.seed, GAME_HIT_CELLS, scheduled, r.cells);
         st = check_rows(&r);
-    }
-    if (st == VG_OK && r.log.rows > 0)
-        vg_info("study hit: %s holds %d finished trial(s) of participant %s: continuing at trial %d",
-                o->out, r.log.rows, o->participant, r.log.rows);
-    if (st == VG_OK && r.log.rows < r.trials) {
+    if (st == VG_OK && r.ss.log.rows < r.ss.trials) {
         if (o->observer)
             st = run_model(&r, scene_path);
         else
             st = play_session_run(&(play_session_desc){
                 .win = &o->win, .scene_path = scene_path, .op = (disp_operator_kind)o->op,
-                .display = game_display_desc(&o->display), .visible_s = o->visible_s, .seed = r.seed,
-                .cells = r.cells, .first_trial = r.log.rows, .trial_count = r.trials, .on_trial = on_trial,
-                .user = &r});
+                .display = game_display_desc(&o->display), .visible_s = o->visible_s, .seed = r.ss.seed,
+                .cells = r.ss.cells, .first_trial = r.ss.log.rows, .trial_count = r.ss.trials,
+                .on_trial = on_trial, .user = &r});
     }
-    if (st == VG_OK)
-        vg_info("study hit: participant %s: %d of %d trial(s) in %s (seed %" PRIu64 ")", o->participant,
-                r.log.rows, r.trials, o->out, r.seed);
-    free(r.cells);
-    if (st == VG_OK)
-        study_log_close(&r.log);
-    else
-        study_log_abandon(&r.log);
-    return st;
+    return study_end(&r.ss, o, &kind, st);
 }

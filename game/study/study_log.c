@@ -31,23 +31,24 @@ bool study_participant_valid(const char *id)
 /* Writing                                                                   */
 /* ------------------------------------------------------------------------- */
 
+/* A line reaches the disk whole or not at all: a write that fails part-way
+ * (a full disk) is cut back to the last complete line before the error. */
 static vg_status write_all(study_log *log, const char *text, size_t len)
 {
-    while (len > 0) {
-        ssize_t w = write(log->fd, text, len);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0) {
-            vg_error("%s: cannot write: %s", log->path, strerror(errno));
-            return VG_ERR_IO;
-        }
-        text += w, len -= (size_t)w;
-    }
-    if (fsync(log->fd) != 0) {
+    off_t before = lseek(log->fd, 0, SEEK_END);
+    vg_status st = vg_write_all(log->fd, text, len, log->path);
+    if (st == VG_OK && fsync(log->fd) != 0) {
         vg_error("%s: cannot sync to disk: %s", log->path, strerror(errno));
-        return VG_ERR_IO;
+        st = VG_ERR_IO;
     }
-    return VG_OK;
+    if (st != VG_OK && before >= 0) {
+        if (ftruncate(log->fd, before) == 0 && fsync(log->fd) == 0)
+            vg_info("%s: cut back to its last complete line (%d trial(s))", log->path, log->rows);
+        else
+            vg_error("%s: cannot cut the torn line back: %s (remove its last line before --resume)", log->path,
+                     strerror(errno));
+    }
+    return st;
 }
 
 static vg_status write_row(study_log *log, const char *const *fields, int count)
@@ -55,7 +56,7 @@ static vg_status write_row(study_log *log, const char *const *fields, int count)
     size_t len = 0;
     for (int i = 0; i < count; i++)
         len += strlen(fields[i]) + 1;
-    char *line = malloc(len + 1);
+    char *line = malloc(len + 2);
     if (!line)
         return VG_ERR_NOMEM;
     size_t at = 0;
@@ -63,6 +64,8 @@ static vg_status write_row(study_log *log, const char *const *fields, int count)
         size_t n = strlen(fields[i]);
         memcpy(line + at, fields[i], n);
         at += n;
+        if (i + 1 == count && log->crlf)
+            line[at++] = '\r';
         line[at++] = i + 1 < count ? ',' : '\n';
     }
     /* One write per line: a killed process leaves whole lines only. */
@@ -109,6 +112,9 @@ static vg_status parse(study_log *log, const study_log_desc *d, char *text, size
     int lines = 0;
     for (size_t i = 0; i < size; i++)
         lines += text[i] == '\n';
+    /* Appended lines end as the file's first line does (CRLF or LF). */
+    const char *first_end = memchr(text, '\n', size);
+    log->crlf = first_end && first_end > text && first_end[-1] == '\r';
     if (text[size - 1] != '\n') {
         vg_error("%s: line %d is incomplete (no end of line): the file was cut mid-write; "
                  "it is left as it is: fix or remove that line, then resume", log->path, lines + 1);

@@ -2,7 +2,8 @@
  *
  * One header line, then one line per finished trial. Each line is written
  * with one write() and fsync'd before the next trial starts, so a crash or
- * `kill -9` leaves every finished trial on disk and no torn line. A file is
+ * `kill -9` leaves every finished trial on disk and no torn line; a write
+ * that fails part-way (a full disk) is cut back to the last complete line. A file is
  * never overwritten: a new study creates its file exclusively (and syncs
  * the folder, so the name survives a power cut too); --resume reads the
  * file back, checks it line by line (header, field counts, the participant
@@ -34,6 +35,7 @@ typedef struct study_log {
     char **cells;                /* rows_read x columns fields, pointing into text */
     char *text;
     bool created;                /* this run created the file */
+    bool crlf;                   /* its lines end in CRLF: appended ones do too */
 } study_log;
 
 /* Participant ids are short and CSV-safe: letters, digits, '-', '_', '.'. */

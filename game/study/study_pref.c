@@ -81,22 +81,19 @@ static void model_scene_free(model_scene *m)
 
 typedef struct pref_run {
     const study_opts *o;
-    study_log log;
-    uint64_t seed;
-    int trials;
-    int *cells;
+    study_session ss;
 } pref_run;
 
 static vg_status log_choice(void *user, int trial, int choice_right, double response_s)
 {
     pref_run *r = user;
-    pref_cell c = pref_cell_of(r->cells[trial]);
+    pref_cell c = pref_cell_of(r->ss.cells[trial]);
     char buf[COL_COUNT][64];
     const char *f[COL_COUNT];
     snprintf(buf[0], 64, "%s", r->o->participant);
     snprintf(buf[1], 64, "preference");
     snprintf(buf[2], 64, "%d", trial);
-    snprintf(buf[3], 64, "%" PRIu64, r->seed);
+    snprintf(buf[3], 64, "%" PRIu64, r->ss.seed);
     snprintf(buf[4], 64, "%s", pref_scene_names[c.scene]);
     snprintf(buf[5], 64, "%s", pref_saliency_names[c.saliency]);
     snprintf(buf[6], 64, "%s", k_sides[c.optimized_right]);
@@ -108,9 +105,9 @@ static vg_status log_choice(void *user, int trial, int choice_right, double resp
     study_utc_now(buf[12], 64);
     for (int i = 0; i < COL_COUNT; i++)
         f[i] = buf[i];
-    vg_status st = study_log_append(&r->log, f);
+    vg_status st = study_log_append(&r->ss.log, f);
     if (st == VG_OK)
-        vg_progress("study preference", trial + 1, r->trials);
+        vg_progress("study preference", trial + 1, r->ss.trials);
     return st;
 }
 
@@ -118,12 +115,12 @@ static vg_status run_model(pref_run *r, const char *arena)
 {
     model_scene ms[PREF_SCENES][2] = {{{0}}};
     vg_status st = VG_OK;
-    for (int i = r->log.rows; i < r->trials && st == VG_OK; i++) {
-        pref_cell c = pref_cell_of(r->cells[i]);
+    for (int i = r->ss.log.rows; i < r->ss.trials && st == VG_OK; i++) {
+        pref_cell c = pref_cell_of(r->ss.cells[i]);
         model_scene *m = &ms[c.scene][c.saliency];
         if (!m->obs && (st = model_scene_load(r->o, arena, c.scene, c.saliency, m)) != VG_OK)
             break;
-        game_rng noise = game_rng_make(r->seed, 2 * (uint64_t)i + 2);
+        game_rng noise = game_rng_make(r->ss.seed, 2 * (uint64_t)i + 2);
         frame_mode left = c.optimized_right ? FRAME_MODE_MANIPULATED : FRAME_MODE_OPTIMIZED;
         frame_mode right = c.optimized_right ? FRAME_MODE_OPTIMIZED : FRAME_MODE_MANIPULATED;
         int choice;
@@ -140,9 +137,9 @@ static vg_status run_model(pref_run *r, const char *arena)
 
 static vg_status check_rows(pref_run *r)
 {
-    const study_log *l = &r->log;
+    const study_log *l = &r->ss.log;
     for (int i = 0; i < l->rows_read; i++) {
-        pref_cell c = pref_cell_of(r->cells[i]);
+        pref_cell c = pref_cell_of(r->ss.cells[i]);
         char want[32];
         snprintf(want, sizeof want, "%d", i);
         if (strcmp(study_log_cell(l, i, COL_STUDY), "preference") || strcmp(study_log_cell(l, i, COL_TRIAL), want) ||
@@ -150,7 +147,7 @@ static vg_status check_rows(pref_run *r)
             strcmp(study_log_cell(l, i, COL_SALIENCY), pref_saliency_names[c.saliency]) ||
             strcmp(study_log_cell(l, i, COL_SIDE), k_sides[c.optimized_right])) {
             vg_error("%s: line %d is not trial %d of seed %" PRIu64 "'s schedule: the file is corrupt (left as it "
-                     "is)", l->path, i + 2, i, r->seed);
+                     "is)", l->path, i + 2, i, r->ss.seed);
             return VG_ERR_FORMAT;
         }
     }
@@ -164,36 +161,25 @@ vg_status study_preference_run(const study_opts *o)
     if (!arena)
         return VG_ERR_IO;
     pref_run r = {.o = o};
-    vg_status st = study_log_open(&(study_log_desc){
-        .path = o->out, .kind = "preference", .columns = k_columns, .column_count = COL_COUNT,
-        .participant = o->participant, .resume = o->resume}, &r.log);
+    const study_setting settings[] = {
+        {7, "--operator", disp_operator_kind_name((disp_operator_kind)o->op)},
+        {8, "--observer", o->observer ? "model" : "human"},
+    };
+    static const int numeric[] = {10, 11};
+    const study_kind kind = {
+        .name = "preference", .columns = k_columns, .column_count = COL_COUNT, .col_seed = COL_SEED,
+        .settings = settings, .setting_count = 2, .numeric = numeric, .numeric_count = 2,
+        .cells = PREF_CELLS, .default_trials = 24,
+    };
+    vg_status st = study_begin(o, &kind, &r.ss);
     if (st == VG_OK)
-        st = study_pick_seed(o, &r.log, COL_SEED, &r.seed);
-    r.trials = o->trials > 0 ? o->trials : 24;
-    int scheduled = r.trials > r.log.rows_read ? r.trials : r.log.rows_read;
-    if (st == VG_OK && !(r.cells = malloc((size_t)scheduled * sizeof(int))))
-        st = VG_ERR_NOMEM;
-    if (st == VG_OK) {
-        game_schedule(r.seed, PREF_CELLS, scheduled, r.cells);
         st = check_rows(&r);
-    }
-    if (st == VG_OK && r.log.rows > 0)
-        vg_info("study preference: %s holds %d finished trial(s): continuing at trial %d", o->out, r.log.rows,
-                r.log.rows);
-    if (st == VG_OK && r.log.rows < r.trials)
+    if (st == VG_OK && r.ss.log.rows < r.ss.trials)
         st = o->observer ? run_model(&r, arena)
                          : pref_window_run(&(pref_window_desc){
                                .win = &o->win, .arena_path = arena, .op = (disp_operator_kind)o->op,
-                               .display = game_display_desc(&o->display), .cells = r.cells,
-                               .first_trial = r.log.rows, .trial_count = r.trials, .on_choice = log_choice,
+                               .display = game_display_desc(&o->display), .cells = r.ss.cells,
+                               .first_trial = r.ss.log.rows, .trial_count = r.ss.trials, .on_choice = log_choice,
                                .user = &r});
-    if (st == VG_OK)
-        vg_info("study preference: participant %s: %d of %d trial(s) in %s (seed %" PRIu64 ")", o->participant,
-                r.log.rows, r.trials, o->out, r.seed);
-    free(r.cells);
-    if (st == VG_OK)
-        study_log_close(&r.log);
-    else
-        study_log_abandon(&r.log);
-    return st;
+    return study_end(&r.ss, o, &kind, st);
 }
