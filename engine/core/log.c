@@ -33,6 +33,35 @@ static void end_progress_line(void)
     }
 }
 
+/* Length of the valid UTF-8 sequence at p (0 when it is not one). */
+static int utf8_length(const unsigned char *p)
+{
+    int n = p[0] < 0x80 ? 1 : (p[0] & 0xe0) == 0xc0 ? 2 : (p[0] & 0xf0) == 0xe0 ? 3 : (p[0] & 0xf8) == 0xf0 ? 4 : 0;
+    if (n == 2 && p[0] < 0xc2)
+        return 0; /* overlong */
+    for (int i = 1; i < n; i++)
+        if ((p[i] & 0xc0) != 0x80)
+            return 0;
+    return n;
+}
+
+/* A message quotes what the user gave (file names, bad bytes of a file): it
+ * reaches the terminal as printable UTF-8 only, the rest as \xNN. */
+static void put_clean(const char *text)
+{
+    for (const unsigned char *p = (const unsigned char *)text; *p;) {
+        int n = utf8_length(p);
+        if (n == 1 && (*p < 0x20 || *p == 0x7f))
+            n = 0;
+        if (n == 0) {
+            fprintf(stderr, "\\x%02x", *p++);
+            continue;
+        }
+        fwrite(p, 1, (size_t)n, stderr);
+        p += n;
+    }
+}
+
 void vg_log(vg_log_level level, const char *fmt, ...)
 {
     if (level == VG_LOG_ERROR)
@@ -40,12 +69,14 @@ void vg_log(vg_log_level level, const char *fmt, ...)
     if (level > g_level || g_silent)
         return;
     static const char *const prefix[] = {"", "error: ", "warning: ", "", "debug: "};
-    end_progress_line();
-    fprintf(stderr, "vergence: %s", prefix[level]);
+    char line[2048];
     va_list ap;
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
+    end_progress_line();
+    fprintf(stderr, "vergence: %s", prefix[level]);
+    put_clean(line);
     fputc('\n', stderr);
 }
 

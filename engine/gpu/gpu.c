@@ -191,7 +191,21 @@ static vg_status create_instance(gpu *g, const gpu_desc *desc)
         .enabledExtensionCount = ext_count,
         .ppEnabledExtensionNames = exts,
     };
-    VK_TRY(vkCreateInstance(&info, NULL, &g->instance));
+    VkResult r = vkCreateInstance(&info, NULL, &g->instance);
+    if (r == VK_ERROR_INCOMPATIBLE_DRIVER) {
+        vg_error("no Vulkan driver is installed: install mesa-vulkan-drivers (lavapipe, any CPU) or your GPU's "
+                 "Vulkan driver");
+        return VG_ERR_DEVICE;
+    }
+    if (r == VK_ERROR_LAYER_NOT_PRESENT) {
+        vg_error("the Khronos validation layer is not installed (install vulkan-validationlayers, or run without "
+                 "--validate / VERGENCE_VALIDATE)");
+        return VG_ERR_DEVICE;
+    }
+    if (r != VK_SUCCESS) {
+        gpu_report_failure(__FILE__, __LINE__, "vkCreateInstance", r);
+        return VG_ERR_VULKAN;
+    }
     if (g->validation) {
         messenger_info.pNext = NULL;
         PFN_vkCreateDebugUtilsMessengerEXT create = (PFN_vkCreateDebugUtilsMessengerEXT)

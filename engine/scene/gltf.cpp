@@ -201,7 +201,14 @@ bool parse(const char *path, Model &model, scene_err *e, std::vector<std::string
         bool io = err.find("File not found") != std::string::npos ||
                   err.find("File read error") != std::string::npos;
         std::string msg = one_line(err);
-        if (err.rfind("File not found : ", 0) == 0)
+        if (err.find("'uri' is missing") != std::string::npos) {
+            msg = "a buffer has no \"uri\" (in a .gltf file every buffer needs one: a file name or a data: URI)";
+            io = false;
+        } else if (err.find("Failed to decode 'uri'") != std::string::npos ||
+                   err.rfind("File not found : data:", 0) == 0) {
+            msg = "a buffer's data: URI is not base64 data (\"data:application/octet-stream;base64,...\")";
+            io = false;
+        } else if (err.rfind("File not found : ", 0) == 0)
             msg = "cannot find the buffer file '" + one_line(err.substr(17)) + "'";
         else if (err.rfind("File size mismatch : ", 0) == 0)
             msg = "buffer file of the wrong size (truncated?): " + one_line(err.substr(21));
