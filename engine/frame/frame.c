@@ -334,6 +334,19 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     return d;
 }
 
+bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap)
+{
+    uint32_t st = disparity_gpu_grid_stride(width, height, 0);
+    if ((width + st - 1) / st >= 2 && (height + st - 1) / st >= 2)
+        return true;
+    /* The cell is at least 5 px and grows with the size (192 x 108 cells at most). */
+    uint32_t by_w = disparity_gpu_grid_stride(width, 1, 0), by_h = disparity_gpu_grid_stride(1, height, 0);
+    snprintf(why, cap, "%ux%u gives the disparity solver %ux%u cells of %u px, and it needs at least 2x2: at this "
+             "width the height must be at least %u px, at this height the width at least %u px", width, height,
+             (width + st - 1) / st, (height + st - 1) / st, st, by_w + 1, by_h + 1);
+    return false;
+}
+
 vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **out)
 {
     *out = NULL;

@@ -20,6 +20,10 @@
 typedef struct frame frame;
 
 vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **out);
+/* Whether a frame of width x height can carry the disparity pipeline (its
+ * solver grid needs at least 2 x 2 cells, of at most 192 x 108); when not,
+ * *why says what is allowed. */
+bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap);
 void frame_destroy(frame *f);
 
 /* Renders frame `index` and waits for it (headless). Indices may skip,

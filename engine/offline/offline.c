@@ -647,9 +647,8 @@ vg_status offline_run(const offline_desc *d)
     vg_status st = parse_patterns(&s);
     if (st != VG_OK)
         return st;
-    /* Nothing it writes or removes may be an input; then the earlier result
-     * in --out goes (metrics.json first, then its files). */
-    if ((st = check_outputs(&s)) != VG_OK || (st = vg_manifest_begin(&s.man, d->out_dir, "metrics.json")) != VG_OK)
+    /* Nothing it writes or removes may be an input. */
+    if ((st = check_outputs(&s)) != VG_OK)
         return st;
     if (!s.has_fn && !s.has_fp)
         vg_warn("optimize: no --flow-next or --flow-prev: assuming a static camera and scene (zero flow)");
@@ -662,6 +661,10 @@ vg_status offline_run(const offline_desc *d)
     if ((st = vg_pool_create(&(vg_pool_desc){.threads = d->threads}, &s.pool)) != VG_OK ||
         (st = place_keyframes(&s)) != VG_OK ||
         (st = pass_validate(&s)) != VG_OK)
+        goto done;
+    /* The inputs hold: the earlier result in --out goes (metrics.json first,
+     * then its files). */
+    if ((st = vg_manifest_begin(&s.man, d->out_dir, "metrics.json")) != VG_OK)
         goto done;
     disp_grid_init(&s.grid, s.w, s.h, d->coarse > 0 ? d->coarse : 5);
     if (s.grid.nx < 2 || s.grid.ny < 2) {

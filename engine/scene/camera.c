@@ -195,12 +195,18 @@ static bool from_node(const scene *s, const scene_state *st, int node, float asp
     return true;
 }
 
+int scene_camera_count(const scene *s)
+{
+    int count = 0;
+    for (int i = 0; i < s->node_count; i++)
+        count += s->nodes[i].camera >= 0;
+    return count;
+}
+
 void scene_camera_resolve(const scene *s, const scene_state *st, int index, float aspect, vg_camera *cam)
 {
     memset(cam, 0, sizeof *cam);
-    int count = 0, node = -1;
-    for (int i = 0; i < s->node_count; i++)
-        count += s->nodes[i].camera >= 0;
+    int count = scene_camera_count(s), node = -1;
     if (count > 0 && st && st->world) {
         /* Out-of-range indices clamp to the first or last camera. */
         int want = index < 0 ? 0 : index >= count ? count - 1 : index;

@@ -240,3 +240,5 @@ typedef struct vg_camera {
  * takes the camera's aspectRatio (or 1). An infinite glTF zfar becomes a
  * far plane just beyond the scene bounds. See docs/scene.md. */
 void scene_camera_resolve(const scene *s, const scene_state *st, int index, float aspect, vg_camera *cam);
+/* Camera nodes of the scene (0: the automatic camera only). */
+int scene_camera_count(const scene *s);

@@ -11,6 +11,7 @@
  * table shows that part as "between passes". The frame totals (wall clock
  * around a frame that waits for completion) are exact, and the ratio to the
  * two-camera frame is taken from them. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +23,7 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
+#include "core/manifest.h"
 #include "core/parallel.h"
 #include "core/stats.h"
 #include "disparity/mid_solver.h"
@@ -480,6 +482,13 @@ static int run(int argc, char **argv)
         vg_error("vergence bench: --sizes: '%s' is not two sizes WxH,WxH (16..8192)", o.sizes);
         return 2;
     }
+    for (int k = 0; k < 2; k++) {
+        char why[256];
+        if (!frame_size_ok(sizes[k][0], sizes[k][1], why, sizeof why)) {
+            vg_error("--sizes %s: %s", o.sizes, why);
+            return 2;
+        }
+    }
     double px[8];
     if (o.tess && parse_tess(o.tess, px, 8) < 0) {
         vg_error("vergence bench: --tess: '%s' is not 'none' or a list of up to 8 pixel sizes (0.25..64)", o.tess);
@@ -489,21 +498,35 @@ static int run(int argc, char **argv)
     vg_status st = scene_load(o.scene, &sc);
     if (st != VG_OK)
         return vg_status_exit_code(st);
-    gpu *g;
-    st = gpu_cli_open(&o.gpu, false, &g);
-    if (st != VG_OK) {
-        scene_destroy(sc);
-        return vg_status_exit_code(st);
-    }
+    /* The tables' file: no input, and writable before minutes of work. */
     report r = {0};
     char tmp[4096];
     if (o.markdown) {
-        if (snprintf(tmp, sizeof tmp, "%s.tmp", o.markdown) >= (int)sizeof tmp || !(r.md = fopen(tmp, "w"))) {
-            vg_error("%s: cannot write", o.markdown);
-            gpu_destroy(g);
-            scene_destroy(sc);
-            return 1;
+        vg_inputs in = {0};
+        for (int i = 0; i < sc->file_count && st == VG_OK; i++)
+            st = vg_inputs_add(&in, "--scene", sc->files[i]);
+        if (st == VG_OK)
+            st = vg_inputs_check(&in, "--markdown", o.markdown);
+        vg_inputs_free(&in);
+        if (st == VG_OK && (snprintf(tmp, sizeof tmp, "%s.tmp", o.markdown) >= (int)sizeof tmp ||
+                            !(r.md = fopen(tmp, "w")))) {
+            vg_error("--markdown %s: cannot write there: %s", o.markdown, strerror(errno));
+            st = VG_ERR_IO;
         }
+        if (st != VG_OK) {
+            scene_destroy(sc);
+            return vg_status_exit_code(st);
+        }
+    }
+    gpu *g;
+    st = gpu_cli_open(&o.gpu, false, &g);
+    if (st != VG_OK) {
+        if (r.md) {
+            fclose(r.md);
+            remove(tmp);
+        }
+        scene_destroy(sc);
+        return vg_status_exit_code(st);
     }
     printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
            g->props.deviceName, vg_cpu_count(), o.frames);
@@ -528,12 +551,12 @@ static int run(int argc, char **argv)
         row(&r, false, "process resident set (peak; lavapipe's memory is host memory)", 1, cells);
     }
     if (r.md) {
-        bool ok = fclose(r.md) == 0 && st == VG_OK;
-        if (ok && rename(tmp, o.markdown) != 0) {
-            vg_error("%s: cannot write", o.markdown);
-            ok = false;
+        bool closed = fclose(r.md) == 0;
+        if (st == VG_OK && (!closed || rename(tmp, o.markdown) != 0)) {
+            vg_error("--markdown %s: cannot write: %s", o.markdown, strerror(errno));
+            st = VG_ERR_IO;
         }
-        if (!ok)
+        if (st != VG_OK)
             remove(tmp);
         else
             vg_info("bench: tables written to %s", o.markdown);

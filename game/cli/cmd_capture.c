@@ -313,10 +313,25 @@ static int run(int argc, char **argv)
         return 0;
     if (vg_cli_require(&vg_cmd_capture, "--scene", o.scene) || vg_cli_require(&vg_cmd_capture, "--out", o.out))
         return 2;
+    char why[256];
+    if (o.stereo != FRAME_STEREO_OFF && !frame_size_ok((uint32_t)o.size[0], (uint32_t)o.size[1], why, sizeof why)) {
+        vg_error("--size %dx%d: %s", o.size[0], o.size[1], why);
+        return 2;
+    }
     scene *s;
     vg_status st = scene_load(o.scene, &s);
     if (st != VG_OK)
         return vg_status_exit_code(st);
+    int cameras = scene_camera_count(s);
+    if (o.camera >= (cameras > 0 ? cameras : 1)) {
+        if (cameras)
+            vg_error("--camera %d: %s has %d camera node%s (0 to %d)", o.camera, o.scene, cameras,
+                     cameras == 1 ? "" : "s", cameras - 1);
+        else
+            vg_error("--camera %d: %s has no camera node (0 is the automatic camera)", o.camera, o.scene);
+        scene_destroy(s);
+        return 2;
+    }
     /* Nothing it writes or removes may be one of its inputs. */
     vg_inputs in = {0};
     for (int i = 0; i < s->file_count && st == VG_OK; i++)

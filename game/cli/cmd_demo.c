@@ -244,6 +244,11 @@ static int run(int argc, char **argv)
                  o.analysis_step, o.stride, o.step);
         return 2;
     }
+    char why[256];
+    if (!frame_size_ok((uint32_t)o.size[0], (uint32_t)o.size[1], why, sizeof why)) {
+        vg_error("--size %dx%d: %s", o.size[0], o.size[1], why);
+        return 2;
+    }
     char names[DEMO_MAX_SCENES][DEMO_NAME];
     int count = split_scenes(names);
     if (count < 0)
