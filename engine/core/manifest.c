@@ -189,7 +189,7 @@ vg_status vg_inputs_check_dir(const vg_inputs *in, const char *label, const char
         if (strncmp(it->path, cdir, n) || it->path[n] != '/')
             continue;
         const char *rel = it->path + n + 1;
-        if (!strcmp(rel, manifest) || (writes && writes(rel))) {
+        if ((manifest && !strcmp(rel, manifest)) || (writes && writes(rel))) {
             vg_error("%s %s: the result written there would overwrite the input %s %s; write elsewhere", label, dir,
                      it->label, it->given);
             return VG_ERR_ARG;
@@ -199,7 +199,7 @@ vg_status vg_inputs_check_dir(const vg_inputs *in, const char *label, const char
     char path[2048];
     uint8_t *data;
     size_t size;
-    if (vg_path_join(path, sizeof path, dir, manifest) != VG_OK || access(path, F_OK) != 0 ||
+    if (!manifest || vg_path_join(path, sizeof path, dir, manifest) != VG_OK || access(path, F_OK) != 0 ||
         vg_file_read(path, &data, &size) != VG_OK)
         return VG_OK;
     const char *text = (const char *)data, *end = text + size, *open = strstr(text, VG_MANIFEST_HTML_OPEN);

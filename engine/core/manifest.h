@@ -60,7 +60,8 @@ vg_status vg_inputs_add(vg_inputs *in, const char *label, const char *path);
 vg_status vg_inputs_check(const vg_inputs *in, const char *label, const char *path);
 /* No input lies in the output folder dir under a name the command writes
  * there (writes(name relative to dir)), nor among the files an earlier
- * result's manifest dir/manifest lists (they would be removed). */
+ * result's manifest dir/manifest lists (they would be removed; manifest NULL:
+ * the command writes none). */
 vg_status vg_inputs_check_dir(const vg_inputs *in, const char *label, const char *dir, const char *manifest,
                               bool (*writes)(const char *name));
 void vg_inputs_free(vg_inputs *in);

@@ -76,7 +76,7 @@ bool scene_json_depth_check(const uint8_t *s, size_t n, scene_err *e)
             in_string = true;
         } else if (c == '[' || c == '{') {
             if (++depth > max_depth)
-                return scene_fail(e, VG_ERR_UNSUPPORTED, "JSON nested deeper than %d levels", max_depth);
+                return scene_fail(e, VG_ERR_FORMAT, "JSON nested deeper than %d levels", max_depth);
         } else if (c == ']' || c == '}') {
             depth--;
         }

@@ -14,6 +14,7 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
+#include "core/manifest.h"
 #include "window.h"
 
 #define READY_S 1.0      /* the ball rests at its launch point before a throw */
@@ -475,6 +476,44 @@ static vg_status run_loop(session *ss)
     return st;
 }
 
+static bool writes_dump_f(const char *name)
+{
+    return strncmp(name, "f_", 2) == 0 && strlen(name) > 6 && strcmp(name + strlen(name) - 4, ".pfm") == 0;
+}
+
+vg_status play_check_outputs(const play_window_cli *w, const char *const *scene_paths, int scene_count,
+                             const char *out_label, const char *out_path)
+{
+    vg_inputs in = {0};
+    vg_status st = VG_OK;
+    for (int i = 0; i < scene_count && st == VG_OK; i++) {
+        scene *s;
+        if ((st = scene_load(scene_paths[i], &s)) != VG_OK)
+            break;
+        for (int k = 0; k < s->file_count && st == VG_OK; k++)
+            st = vg_inputs_add(&in, "--scene", s->files[k]);
+        scene_destroy(s);
+    }
+    if (st == VG_OK && w->replay)
+        st = vg_inputs_add(&in, "--replay", w->replay);
+    if (st == VG_OK && w->record)
+        st = vg_inputs_check(&in, "--record", w->record);
+    if (st == VG_OK && out_path)
+        st = vg_inputs_check(&in, out_label, out_path);
+    if (st == VG_OK && w->dump_f)
+        st = vg_inputs_check_dir(&in, "--dump-f", w->dump_f, NULL, writes_dump_f);
+    /* The recording and the study log are two files. */
+    if (st == VG_OK && out_path && w->record) {
+        vg_inputs out = {0};
+        st = vg_inputs_add(&out, out_label, out_path);
+        if (st == VG_OK)
+            st = vg_inputs_check(&out, "--record", w->record);
+        vg_inputs_free(&out);
+    }
+    vg_inputs_free(&in);
+    return st;
+}
+
 vg_status play_session_run(const play_session_desc *d)
 {
     session *ss = calloc(1, sizeof *ss);
@@ -484,7 +523,10 @@ vg_status play_session_run(const play_session_desc *d)
     ss->study = d->cells != NULL;
     ss->trial = d->first_trial;
     ss->mode = d->mode ? d->mode : FRAME_MODE_ORIGINAL;
-    vg_status st = scene_load(d->scene_path, &ss->scene);
+    /* A study has checked its outputs before it opened its log. */
+    vg_status st = ss->study ? VG_OK : play_check_outputs(d->win, &d->scene_path, 1, NULL, NULL);
+    if (st == VG_OK)
+        st = scene_load(d->scene_path, &ss->scene);
     if (st == VG_OK && d->win->frame_ticks > 1 && !d->win->replay) {
         vg_error("--frame-ticks %d needs --replay (live play advances by the wall clock)", d->win->frame_ticks);
         st = VG_ERR_ARG;

@@ -83,3 +83,10 @@ typedef struct play_session_desc {
 
 vg_status play_session_run(const play_session_desc *desc);
 
+/* Before any work: no file a game run writes (--record, --dump-f's
+ * f_*.pfm, a study's --out named by out_label) is one it reads (the scenes
+ * and every file they reference, --replay). One line and VG_ERR_ARG when one
+ * is; the scenes' own errors as scene_load reports them. */
+vg_status play_check_outputs(const play_window_cli *w, const char *const *scene_paths, int scene_count,
+                             const char *out_label, const char *out_path);
+

@@ -154,7 +154,9 @@ vg_status study_hit_run(const study_opts *o)
         .settings = settings, .setting_count = 3, .numeric = numeric, .numeric_count = 15,
         .cells = GAME_HIT_CELLS, .default_trials = 48,
     };
-    vg_status st = study_begin(o, &kind, &r.ss);
+    vg_status st = play_check_outputs(&o->win, &scene_path, 1, "--out", o->out);
+    if (st == VG_OK)
+        st = study_begin(o, &kind, &r.ss);
     if (st == VG_OK)
         st = check_rows(&r);
     if (st == VG_OK && r.ss.log.rows < r.ss.trials) {

@@ -171,7 +171,17 @@ vg_status study_preference_run(const study_opts *o)
         .settings = settings, .setting_count = 2, .numeric = numeric, .numeric_count = 2,
         .cells = PREF_CELLS, .default_trials = 24,
     };
-    vg_status st = study_begin(o, &kind, &r.ss);
+    char paths[PREF_SCENES][1024];
+    const char *scene_paths[PREF_SCENES];
+    vg_status st = VG_OK;
+    for (int i = 0; i < PREF_SCENES && st == VG_OK; i++) {
+        st = pref_scene_path(arena, i, paths[i], sizeof paths[i]);
+        scene_paths[i] = paths[i];
+    }
+    if (st == VG_OK)
+        st = play_check_outputs(&o->win, scene_paths, PREF_SCENES, "--out", o->out);
+    if (st == VG_OK)
+        st = study_begin(o, &kind, &r.ss);
     if (st == VG_OK)
         st = check_rows(&r);
     if (st == VG_OK && r.ss.log.rows < r.ss.trials)
