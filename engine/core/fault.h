@@ -6,7 +6,8 @@
  *     enospc:N       file writes fail with ENOSPC ("no space left") once N bytes
  *                    were written in all (a disk that fills up mid-write)
  *     kill:N         the process kills itself (SIGKILL, as kill -9) right after
- *                    its N-th finished file
+ *                    its N-th finished file (a study: its N-th line, a new
+ *                    file's header included)
  *   VERGENCE_DISABLE=tessellation,multiview,timestamps,indirect
  *
  * A name these lists do not hold is an error (vg_fault_check), not a fault

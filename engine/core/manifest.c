@@ -41,21 +41,35 @@ vg_status vg_manifest_clear(const char *dir, const char *name)
     /* The list: the whole JSON file, or the block an HTML manifest carries. */
     const char *text = (const char *)data, *end = text + size;
     const char *open = strstr(text, VG_MANIFEST_HTML_OPEN);
+    bool html = strstr(name, ".html") != NULL;
     if (open) {
         text = open + strlen(VG_MANIFEST_HTML_OPEN);
         const char *close = strstr(text, VG_MANIFEST_HTML_CLOSE);
         end = close ? close : end;
     }
     vg_jdoc doc = {0};
-    bool listed = vg_json_parse(path, text, (size_t)(end - text), &doc) == VG_OK;
-    if (!listed)
-        vg_warn("%s: an earlier manifest that does not parse: removing it alone", path);
+    bool silent = vg_log_set_silent(true);
+    bool parsed = (!html || open) && vg_json_parse(path, text, (size_t)(end - text), &doc) == VG_OK;
+    vg_log_set_silent(silent);
+    const vg_jvalue *files = parsed ? vg_jget(doc.root, "files") : NULL;
+    /* A file of that name that vergence did not write is the user's: it
+     * stays, and so does everything beside it. An earlier vergence result
+     * without a list (written before lists existed) loses its manifest. */
+    bool ours = files || (parsed && vg_jget(doc.root, "vergence")) ||
+                (html && strstr((const char *)data, "<title>vergence"));
+    if (!ours) {
+        vg_error("%s: not a result of vergence, left as it is: choose another folder or remove it", path);
+        vg_jdoc_free(&doc);
+        free(data);
+        return VG_ERR_ARG;
+    }
+    if (!files)
+        vg_warn("%s: an earlier result without a file list: removing its manifest alone", path);
     /* The manifest first: from here on the folder holds no complete result. */
     if (unlink(path) != 0) {
         vg_error("%s: cannot remove the earlier result's manifest: %s", path, strerror(errno));
         st = VG_ERR_IO;
     }
-    const vg_jvalue *files = listed ? vg_jget(doc.root, "files") : NULL;
     for (size_t i = 0; st == VG_OK && files && i < files->count; i++) {
         const vg_jvalue *f = vg_jat(files, i), *n = f ? vg_jget(f, "name") : NULL;
         const char *fname = n && n->type == VG_JSTRING ? n->string : NULL;

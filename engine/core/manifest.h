@@ -7,7 +7,8 @@
  * result; one without does not. A run into a folder that holds an earlier
  * result first removes that manifest, then every file it listed, before it
  * writes anything: nothing of the old result can pass for the new one, and
- * a run that fails or is killed leaves no manifest. */
+ * a run that fails or is killed leaves no manifest. A file of the manifest's
+ * name that vergence did not write is left alone and the run refused. */
 #pragma once
 #include "io.h"
 #include "json.h"
@@ -36,7 +37,9 @@ void vg_manifest_end(vg_manifest *m);
 
 /* Removes the manifest dir/name and then the files it lists (names with
  * ".." or a leading '/' are skipped: a manifest cannot reach out of its
- * folder); nothing when there is none. */
+ * folder); nothing when there is none. VG_ERR_ARG, removing nothing, when
+ * dir/name is not vergence's (no list, no "vergence" member, no vergence
+ * title). */
 vg_status vg_manifest_clear(const char *dir, const char *name);
 
 /* ------------------------------------------------------------------------- */

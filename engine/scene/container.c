@@ -1,5 +1,6 @@
 /* vergence — checks on raw bytes before and after tinygltf: the GLB
- * container, JSON nesting depth, and base-colour image decoding.
+ * container, JSON nesting depth and node transforms, and base-colour image
+ * decoding.
  *
  * tinygltf 2.7.0 trusts a GLB's chunk lengths (a BIN chunk may end 8 bytes
  * past the file), copies JSON extras recursively (deep nesting overflows the
@@ -11,6 +12,8 @@
 
 #include <stb_image.h>
 
+#include "core/json_read.h"
+#include "core/log.h"
 #include "scene_internal.h"
 
 static uint32_t read_u32(const uint8_t *p)
@@ -60,7 +63,7 @@ bool scene_glb_check(const uint8_t *b, size_t size, scene_err *e, uint32_t *leng
     return true;
 }
 
-bool scene_json_depth_check(const uint8_t *s, size_t n, scene_err *e)
+static bool json_depth_check(const uint8_t *s, size_t n, scene_err *e)
 {
     const int max_depth = 64;
     int depth = 0;
@@ -82,6 +85,33 @@ bool scene_json_depth_check(const uint8_t *s, size_t n, scene_err *e)
         }
     }
     return true;
+}
+
+/* glTF 2.0 spec 5.25: a node has a matrix or TRS properties, not both. */
+static bool json_nodes_check(const uint8_t *s, size_t n, scene_err *e)
+{
+    vg_jdoc doc = {0};
+    bool silent = vg_log_set_silent(true);
+    vg_status st = vg_json_parse("glTF", (const char *)s, n, &doc);
+    vg_log_set_silent(silent);
+    if (st != VG_OK)
+        return true; /* tinygltf reports the syntax */
+    const vg_jvalue *nodes = vg_jget(doc.root, "nodes");
+    bool ok = true;
+    for (size_t i = 0; ok && nodes && nodes->type == VG_JARRAY && i < nodes->count; i++) {
+        const vg_jvalue *nd = vg_jat(nodes, i);
+        if (vg_jget(nd, "matrix") &&
+            (vg_jget(nd, "translation") || vg_jget(nd, "rotation") || vg_jget(nd, "scale")))
+            ok = scene_fail(e, VG_ERR_FORMAT, "node %zu has both a matrix and translation/rotation/scale (glTF: one "
+                            "or the other)", i);
+    }
+    vg_jdoc_free(&doc);
+    return ok;
+}
+
+bool scene_json_check(const uint8_t *s, size_t n, scene_err *e)
+{
+    return json_depth_check(s, n, e) && json_nodes_check(s, n, e);
 }
 
 bool scene_texture_decode(const uint8_t *bytes, size_t size, scene_texture *out, char *why, size_t cap)

@@ -184,9 +184,9 @@ bool parse(const char *path, Model &model, scene_err *e, std::vector<std::string
         const uint8_t *json = nullptr;
         size_t json_size = 0;
         if (scene_glb_check(bytes, size, e, &length, &json, &json_size) &&
-            scene_json_depth_check(json, json_size, e))
+            scene_json_check(json, json_size, e))
             ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes, length, dir);
-    } else if (scene_json_depth_check(bytes, size, e)) {
+    } else if (scene_json_check(bytes, size, e)) {
         ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char *>(bytes),
                                         static_cast<unsigned>(size), dir);
     }
@@ -214,6 +214,8 @@ bool parse(const char *path, Model &model, scene_err *e, std::vector<std::string
             msg = "buffer file of the wrong size (truncated?): " + one_line(err.substr(21));
         else if (err.rfind("JSON string too short", 0) == 0)
             msg = "too short to be a glTF file";
+        else if (err.rfind("[json.exception.", 0) == 0 && err.find("] ") != std::string::npos)
+            msg = "not valid JSON: " + one_line(err.substr(err.find("] ") + 2)); /* nlohmann's tag is no help */
         return scene_fail(e, io ? VG_ERR_IO : VG_ERR_FORMAT, "%s", msg.c_str());
     }
     return true;
@@ -608,9 +610,6 @@ bool convert_node(Ctx &c, int i, scene_node *o)
         return scene_fail(c.e, VG_ERR_FORMAT, "node %d: camera %d does not exist", i, n.camera);
     if (n.skin != -1 && !valid(n.skin, c.m.skins.size()))
         return scene_fail(c.e, VG_ERR_FORMAT, "node %d: skin %d does not exist", i, n.skin);
-    if (!n.matrix.empty() && (!n.translation.empty() || !n.rotation.empty() || !n.scale.empty()))
-        return scene_fail(c.e, VG_ERR_FORMAT, "node %d has both a matrix and translation/rotation/scale (glTF: one "
-                          "or the other)", i);
     o->rotation[3] = 1.0f;
     o->scale[0] = o->scale[1] = o->scale[2] = 1.0f;
     if (!copy_vec(c, n.translation, 3, o->translation, i, "translation") ||

@@ -46,8 +46,10 @@ bool scene_fail(scene_err *e, vg_status status, const char *fmt, ...)
  * *json its JSON chunk. */
 bool scene_glb_check(const uint8_t *b, size_t size, scene_err *e, uint32_t *length, const uint8_t **json,
                      size_t *json_size);
-/* Rejects JSON nested deeper than 64 levels (VG_ERR_UNSUPPORTED). */
-bool scene_json_depth_check(const uint8_t *s, size_t n, scene_err *e);
+/* Checks the glTF JSON before tinygltf reads it: nesting at most 64 levels
+ * deep, and no node with both a matrix and translation/rotation/scale
+ * (tinygltf keeps the matrix and drops the rest silently). VG_ERR_FORMAT. */
+bool scene_json_check(const uint8_t *s, size_t n, scene_err *e);
 /* Decodes an encoded image (PNG, JPEG, ...) into out->rgba/width/height;
  * on failure writes the reason into why. */
 bool scene_texture_decode(const uint8_t *bytes, size_t size, scene_texture *out, char *why, size_t cap);

@@ -285,7 +285,7 @@ static int run(int argc, char **argv)
     if (st == VG_OK)
         st = vg_inputs_check(&in, "--out", o.out);
     vg_inputs_free(&in);
-    if (st == VG_OK && unlink(o.out) != 0 && errno != ENOENT) {
+    if (st == VG_OK && unlink(o.out) != 0 && errno != ENOENT && errno != ENOTDIR) {
         vg_error("%s: cannot remove the earlier curve: %s", o.out, strerror(errno));
         st = VG_ERR_IO;
     }

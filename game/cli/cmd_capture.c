@@ -248,14 +248,10 @@ static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, 
 /* Command                                                                   */
 /* ------------------------------------------------------------------------- */
 
-static vg_status capture(gpu *g, const scene *s, const vg_manifest *m)
+/* Everything that can refuse the run (the device, the frame, the graph dump)
+ * comes before the earlier result in --out is removed (manifest m). */
+static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manifest *m)
 {
-    vg_curve baked;
-    if (o.curve) {
-        vg_status cs = disp_curve_read(o.curve, &baked);
-        if (cs != VG_OK)
-            return cs;
-    }
     frame_desc fd = {
         .width = (uint32_t)o.size[0], .height = (uint32_t)o.size[1], .fps = o.fps,
         .keyframe_stride = o.stride, .camera = o.camera, .readback = true,
@@ -264,7 +260,7 @@ static vg_status capture(gpu *g, const scene *s, const vg_manifest *m)
         .tess_error = o.tess_error, .diffuse = o.diffuse,
         .reference = !o.no_reference && o.stereo != FRAME_STEREO_CAMERAS,
         .measure = true,
-        .curve = o.curve ? &baked : NULL,
+        .curve = curve,
         .op = (disp_operator_kind)o.op, .target_range = o.target_range,
         .solver_iterations = o.solver_iterations,
     };
@@ -276,6 +272,9 @@ static vg_status capture(gpu *g, const scene *s, const vg_manifest *m)
         rg_dump_text(frame_get_graph(f), stdout);
         st = rg_dump_dot(frame_get_graph(f), o.dump_graph);
     }
+    /* The earlier capture in --out goes first (manifest, then its files). */
+    if (st == VG_OK)
+        st = vg_manifest_begin(m, o.out, "capture.json");
     const frame_desc *d = frame_get_desc(f);
     capture_log log = {0};
     if (st == VG_OK)
@@ -343,15 +342,15 @@ static int run(int argc, char **argv)
     if (st == VG_OK)
         st = vg_inputs_check_dir(&in, "--out", o.out, "capture.json", capture_json_writes);
     vg_inputs_free(&in);
-    /* The earlier capture in --out goes first (manifest, then its files). */
+    vg_curve baked;
+    if (st == VG_OK && o.curve)
+        st = disp_curve_read(o.curve, &baked);
     vg_manifest man = {0};
-    if (st == VG_OK)
-        st = vg_manifest_begin(&man, o.out, "capture.json");
     gpu *g = NULL;
     if (st == VG_OK && (st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK)
         g = NULL;
     if (st == VG_OK)
-        st = capture(g, s, &man);
+        st = capture(g, s, o.curve ? &baked : NULL, &man);
     vg_manifest_end(&man);
     int code = g ? gpu_cli_close(g, st) : vg_status_exit_code(st);
     scene_destroy(s);

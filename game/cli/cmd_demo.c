@@ -23,6 +23,7 @@
 #include "core/log.h"
 #include "core/manifest.h"
 #include "demo/demo.h"
+#include "scene/scene.h"
 #include "options/gpu_cli.h"
 
 #define DEMO_MAX_SCENES 8
@@ -201,11 +202,7 @@ static vg_status demo(gpu *g, const demo_opts *d, char names[DEMO_MAX_SCENES][DE
     for (int i = 0; i < count && st == VG_OK; i++) {
         char file[DEMO_MAX_SCENES * DEMO_NAME + 8];
         snprintf(file, sizeof file, "%s.gltf", names[i]);
-        st = vg_path_join(paths[i], sizeof paths[i], o.content, file);
-        if (st == VG_OK && access(paths[i], R_OK) != 0) {
-            vg_error("vergence demo: scene '%s': %s is missing (see --content, --scenes)", names[i], paths[i]);
-            st = VG_ERR_IO;
-        }
+        st = vg_path_join(paths[i], sizeof paths[i], o.content, file); /* run() found it */
     }
     /* The work is counted in rendered frames, known once each scene's clip is. */
     for (int i = 0; i < count && st == VG_OK; i++) {
@@ -272,19 +269,27 @@ static int run(int argc, char **argv)
         char file[DEMO_NAME + 8], path[4096];
         snprintf(file, sizeof file, "%s.gltf", names[i]);
         st = vg_path_join(path, sizeof path, o.content, file);
-        if (st == VG_OK)
-            st = vg_inputs_add(&in, "--scenes", path);
+        scene *s = NULL;
+        if (st == VG_OK && access(path, R_OK) != 0) {
+            vg_error("vergence demo: scene '%s': %s is missing (see --content, --scenes)", names[i], path);
+            st = VG_ERR_IO;
+        }
+        if (st == VG_OK && (st = scene_load(path, &s)) == VG_OK) {
+            for (int k = 0; k < s->file_count && st == VG_OK; k++)
+                st = vg_inputs_add(&in, "--scenes", s->files[k]);
+            scene_destroy(s);
+        }
     }
     if (st == VG_OK)
         st = vg_inputs_check_dir(&in, "--out", o.out, "index.html", demo_writes);
     vg_inputs_free(&in);
+    gpu *g = NULL;
+    if (st == VG_OK && (st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK)
+        g = NULL;
     /* The earlier report in --out goes first (index.html, then its files). */
     vg_manifest man = {0};
     if (st == VG_OK)
         st = vg_manifest_begin(&man, o.out, "index.html");
-    gpu *g = NULL;
-    if (st == VG_OK && (st = gpu_cli_open(&o.gpu, false, &g)) != VG_OK)
-        g = NULL;
     /* A dying ffmpeg must not kill the run: writes to its pipe fail instead. */
     signal(SIGPIPE, SIG_IGN);
     if (st == VG_OK)

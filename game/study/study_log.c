@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "core/fault.h"
 #include "core/io.h"
 #include "core/log.h"
 
@@ -41,6 +42,8 @@ static vg_status write_all(study_log *log, const char *text, size_t len)
         vg_error("%s: cannot sync to disk: %s", log->path, strerror(errno));
         st = VG_ERR_IO;
     }
+    if (st == VG_OK)
+        vg_fault_file_done(); /* tests: VERGENCE_FAULT=kill:N kills after the N-th line */
     if (st != VG_OK && before >= 0) {
         if (ftruncate(log->fd, before) == 0 && fsync(log->fd) == 0)
             vg_info("%s: cut back to its last complete line (%d trial(s))", log->path, log->rows);

@@ -308,19 +308,25 @@ static int saliency_input(void)
 }
 
 /* A missing frame, a truncated one, one of another size: one clear error
- * naming the file, and no metrics.json (a stale one is removed). */
+ * naming the file, found before any work, so the earlier result in --out
+ * (here an empty one) is left as it was (docs/formats.md "Results"). */
 static int check_failure(const char *args, const char *out, const char *file, const char *words)
 {
+    static const char earlier[] = "{\"vergence\": \"0.1.0\", \"files\": []}";
     char stale[1400];
     snprintf(stale, sizeof stale, "%s/metrics.json", out);
     vg_dir_prepare(out);
-    vg_file_write_atomic(stale, "{}", 2);
+    vg_file_write_atomic(stale, earlier, sizeof earlier - 1);
     int code = run_vergence(args);
     printf("  stderr: %s", g_stderr);
     CHECK(code != 0, "must fail");
     CHECK(strstr(g_stderr, file) && strstr(g_stderr, words), "the error must name %s and say '%s'", file, words);
     CHECK(count_errors(g_stderr) == 1, "exactly one error line, got %d", count_errors(g_stderr));
-    CHECK(!exists(stale), "metrics.json must not exist after a failure");
+    uint8_t *data = NULL;
+    size_t size = 0;
+    CHECK(vg_file_read(stale, &data, &size) == VG_OK && size == sizeof earlier - 1 && !memcmp(data, earlier, size),
+          "the earlier result must stay as it was when the inputs are refused");
+    free(data);
     return 0;
 }
 
