@@ -255,9 +255,13 @@ def catalogue_cases(box):
     def add(name, args, code, names=None, env=None, outs=("out",)):
         c.append((name, args, code, names, env, outs))
 
+    def bad_scene(name, file, code, edit=None, **kw):
+        """A glTF of gltf(**kw), edited by edit(doc), given to capture: the error names the file."""
+        w(f"in/{file}", gltf(extra=edit, **kw))
+        add(name, cap(f"in/{file}", "out"), code, file)
+
     # 1. A count of 0 is invalid glTF.
-    w("in/count0.gltf", gltf(indices=None, positions=[], count=0))
-    add("gltf_count_0", cap("in/count0.gltf", "out"), FORMAT, "count0.gltf")
+    bad_scene("gltf_count_0", "count0.gltf", FORMAT, indices=None, positions=[], count=0)
     # 7. Deep nesting: a format error, in glTF and in capture.json alike.
     w("in/deep.gltf", gltf().replace('"asset": {', '"extras": ' + "[" * 200 + "]" * 200 + ', "asset": {', 1))
     add("gltf_deep_nesting", cap("in/deep.gltf", "out"), FORMAT, "deep.gltf")
@@ -313,21 +317,12 @@ def catalogue_cases(box):
     w("in/node_inf.gltf", gltf(extra=node_nan).replace("Infinity", "1e400"))
     add("gltf_node_1e400", cap("in/node_inf.gltf", "out"), FORMAT, "node_inf.gltf")
 
-    def version1(doc):
-        doc["asset"]["version"] = "1.0"
-    w("in/v1.gltf", gltf(extra=version1))
-    add("gltf_version_1", cap("in/v1.gltf", "out"), FORMAT, "v1.gltf")
-
-    def matrix_trs(doc):
-        doc["nodes"][1]["matrix"] = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
-    w("in/matrix_trs.gltf", gltf(extra=matrix_trs))
-    add("gltf_matrix_and_trs", cap("in/matrix_trs.gltf", "out"), FORMAT, "matrix_trs.gltf")
-
-    def morph(doc):
-        doc["meshes"][1]["primitives"][0]["targets"] = [{"POSITION": 2}]
-        doc["meshes"][1]["weights"] = [0.5, 0.5, 0.5]
-    w("in/morph.gltf", gltf(extra=morph))
-    add("gltf_morph_weights", cap("in/morph.gltf", "out"), FORMAT, "morph.gltf")
+    bad_scene("gltf_version_1", "v1.gltf", FORMAT, lambda d: d["asset"].update(version="1.0"))
+    bad_scene("gltf_matrix_and_trs", "matrix_trs.gltf", FORMAT,
+              lambda d: d["nodes"][1].update(matrix=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]))
+    bad_scene("gltf_morph_weights", "morph.gltf", FORMAT,
+              lambda d: (d["meshes"][1]["primitives"][0].update(targets=[{"POSITION": 2}]),
+                         d["meshes"][1].update(weights=[0.5, 0.5, 0.5])))
     hit = open(box.p("fx/hit.csv")).read().splitlines(True)
     cols = hit[0].strip().split(",")
     row = hit[1].rstrip("\n").split(",")
@@ -419,15 +414,9 @@ def catalogue_cases(box):
         {"VK_LAYER_PATH": box.p("in"), "VK_ADD_LAYER_PATH": "", "XDG_DATA_DIRS": box.p("in"),
          "VK_LOADER_LAYERS_DISABLE": "*validation*"})
 
-    def no_uri(doc):
-        del doc["buffers"][0]["uri"]
-    w("in/nouri.gltf", gltf(extra=no_uri))
-    add("gltf_buffer_no_uri", cap("in/nouri.gltf", "out"), FORMAT, "nouri.gltf")
-
-    def bad64(doc):
-        doc["buffers"][0]["uri"] = "data:application/octet-stream;base64,@@@@!!"
-    w("in/bad64.gltf", gltf(extra=bad64))
-    add("gltf_bad_base64", cap("in/bad64.gltf", "out"), FORMAT, "bad64.gltf")
+    bad_scene("gltf_buffer_no_uri", "nouri.gltf", FORMAT, lambda d: d["buffers"][0].pop("uri"))
+    bad_scene("gltf_bad_base64", "bad64.gltf", FORMAT,
+              lambda d: d["buffers"][0].update(uri="data:application/octet-stream;base64,@@@@!!"))
     raw = os.path.join(box.work.encode(), b"in", b"bad\xff\xfename.gltf")
     with open(raw, "wb") as f:
         f.write(b"{")
@@ -446,32 +435,14 @@ def catalogue_cases(box):
     add("gltf_is_folder", cap("in/adir.gltf", "out"), IO, "adir.gltf")
     add("gltf_missing", cap("in/missing.gltf", "out"), IO, "missing.gltf")
 
-    def ext_required(doc):
-        doc["extensionsRequired"] = doc["extensionsUsed"] = ["KHR_draco_mesh_compression"]
-    w("in/draco.gltf", gltf(extra=ext_required))
-    add("gltf_required_extension", cap("in/draco.gltf", "out"), UNSUPPORTED, "draco.gltf")
-
-    def idx_range(doc):
-        doc["accessors"][3]["count"] = 99
-    w("in/idx_range.gltf", gltf(extra=idx_range))
-    add("gltf_index_count_past_view", cap("in/idx_range.gltf", "out"), FORMAT, "idx_range.gltf")
-    w("in/idx_oob.gltf", gltf(indices=(0, 1, 7)))
-    add("gltf_index_out_of_range", cap("in/idx_oob.gltf", "out"), FORMAT, "idx_oob.gltf")
-
-    def cycle(doc):
-        doc["nodes"][1]["children"] = [1]
-    w("in/cycle.gltf", gltf(extra=cycle))
-    add("gltf_node_cycle", cap("in/cycle.gltf", "out"), FORMAT, "cycle.gltf")
-
-    def bad_mesh(doc):
-        doc["nodes"][1]["mesh"] = 9
-    w("in/mesh9.gltf", gltf(extra=bad_mesh))
-    add("gltf_mesh_index", cap("in/mesh9.gltf", "out"), FORMAT, "mesh9.gltf")
-
-    def bad_camera(doc):
-        doc["cameras"][0]["perspective"]["znear"] = -1
-    w("in/znear.gltf", gltf(extra=bad_camera))
-    add("gltf_camera_znear", cap("in/znear.gltf", "out"), FORMAT, "znear.gltf")
+    draco = ["KHR_draco_mesh_compression"]
+    bad_scene("gltf_required_extension", "draco.gltf", UNSUPPORTED,
+              lambda d: d.update(extensionsRequired=draco, extensionsUsed=draco))
+    bad_scene("gltf_index_count_past_view", "idx_range.gltf", FORMAT, lambda d: d["accessors"][3].update(count=99))
+    bad_scene("gltf_index_out_of_range", "idx_oob.gltf", FORMAT, indices=(0, 1, 7))
+    bad_scene("gltf_node_cycle", "cycle.gltf", FORMAT, lambda d: d["nodes"][1].update(children=[1]))
+    bad_scene("gltf_mesh_index", "mesh9.gltf", FORMAT, lambda d: d["nodes"][1].update(mesh=9))
+    bad_scene("gltf_camera_znear", "znear.gltf", FORMAT, lambda d: d["cameras"][0]["perspective"].update(znear=-1))
     w("in/nocam.gltf", gltf(with_camera=False))
     add("camera_1_of_none", cap("in/nocam.gltf", "out", "--camera", "1"), ARG, "--camera")
     # capture's flags.
