@@ -564,8 +564,10 @@ def group_catalogue():
                                ("ro_bake", ["bake-curve", "--scene", "content/balloon.gltf", "--capture", "fx/cap",
                                             "--out", "ro/c.curve"])):
                 RAN[0] += 1
+                keep = ("PATH", "VERGENCE_VALIDATE", "ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS")
                 p = subprocess.run(["runuser", "-u", "nobody", "--", VERGENCE] + args, cwd=box.work,
-                                   capture_output=True, text=True, env={"PATH": os.environ["PATH"]}, timeout=120)
+                                   capture_output=True, text=True, timeout=120,
+                                   env={k: os.environ[k] for k in keep if k in os.environ})
                 errors = [l for l in p.stderr.splitlines() if "error:" in l]
                 print(f"{name}: exit {p.returncode}: {errors[0] if errors else ''}")
                 if p.returncode != IO or len(errors) != 1:
