@@ -159,13 +159,16 @@ vec2 centre_pixel(vec4 clip)
 
 // The warp of one vertex (paper 4.6): the centre-view clip position moved
 // horizontally by half the cascade's disparity, away from the other eye.
-// NDC spans 2 over W pixels, so x moves by side * d / W * w.
+// NDC spans 2 over W pixels, so x moves by side * d / W * w. `precise`: the
+// vertex shader of flat triangles and the tessellation evaluation shader run
+// this on the same corners, and must give the same bits (no contraction
+// into fused multiply-adds in one stage and not the other).
 vec4 warp_vertex(vec3 world, bool right_eye, out vec4 centre_clip, out vec4 stage_one_hot)
 {
-    vec4 clip = u.view_proj * vec4(world, 1.0);
+    precise vec4 clip = u.view_proj * vec4(world, 1.0);
     centre_clip = clip;
     stage_one_hot = vec4(0.0);
-    float d_times_w;
+    precise float d_times_w;
     if (clip.w * curve.inv_depth_near > 1.0) {
         vec2 c = cascade(centre_pixel(clip), clip.w);
         d_times_w = px_from_vergence(c.x) * clip.w;

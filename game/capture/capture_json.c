@@ -129,6 +129,18 @@ void capture_json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m
     vg_json_num(j, "p99_curve", m->error_p99_curve);
     vg_json_object_end(j);
     vg_json_num(j, "hole_fraction", cameras ? 0.0 : m->hole_fraction);
+    vg_json_object_begin(j, "cracks");
+    vg_json_int(j, "pixels", (long long)m->crack_pixels);
+    vg_json_num(j, "fraction", m->crack_fraction);
+    vg_json_int(j, "frame_max", (long long)m->crack_frame_max);
+    vg_json_object_end(j);
+    vg_json_object_begin(j, "speckles");
+    vg_json_int(j, "pixels", (long long)m->speckle_pixels);
+    vg_json_num(j, "fraction", m->speckle_fraction);
+    vg_json_object_end(j);
+    /* The reference shows g: against h or f silhouettes rightly move. */
+    vg_json_num(j, "silhouette_mismatch",
+                cameras ? 0.0 : fd->mode == FRAME_MODE_ORIGINAL ? m->silhouette_mismatch : NAN);
     vg_json_object_begin(j, "psnr_db");
     vg_json_num(j, "left", cameras ? INFINITY : m->psnr[0]);
     vg_json_num(j, "right", cameras ? INFINITY : m->psnr[1]);

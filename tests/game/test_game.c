@@ -9,6 +9,7 @@
 
 #include "../test.h"
 #include "frame/frame.h"
+#include "frame/warp_metrics.h"
 #include "rules/game.h"
 #include "observer/observer.h"
 #include "study/pref_trial.h"
@@ -354,12 +355,80 @@ static int pref_clip(void)
     return 0;
 }
 
+/* The two versions a preference trial shows side by side must be equally
+ * clean: a participant who sees artifacts on one side only can answer
+ * without judging motion. For each scene and saliency cell, the h and the f
+ * clip at the study's CPU defaults (320 x 180 panels, the study preset, the
+ * warp at 0.5 px), their first PREF_QUALITY_FRAMES frames: cracks (warp
+ * metrics) at most PREF_CRACKS pixels per clip and eye, the p99 warp
+ * error of either within PREF_P99_GAP px of the other's, and speckles
+ * (which texture detail seen from an eye's viewpoint makes too: a few per
+ * frame in the original mode) within PREF_SPECKLE_GAP of each other
+ * (relative to the larger count, plus PREF_SPECKLE_SLACK pixels). */
+#define PREF_QUALITY_FRAMES 36
+#define PREF_CRACKS 2
+#define PREF_P99_GAP 0.25
+#define PREF_SPECKLE_GAP 0.25
+#define PREF_SPECKLE_SLACK 36
+
+static vg_status add_metrics(void *user, int k, const frame_outputs *o, bool *stop)
+{
+    warp_metrics *m = user;
+    *stop = k + 1 >= PREF_QUALITY_FRAMES;
+    return warp_metrics_add(m, o, 320, 180);
+}
+
+static int pref_equal_quality(void)
+{
+    gpu *g;
+    CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
+    for (int cell = 0; cell < PREF_SCENES * 2; cell++) {
+        int sc = cell / 2, variant = cell % 2;
+        char path[1024];
+        scene *s;
+        CHECK(pref_scene_path("content/arena.gltf", sc, path, sizeof path) == VG_OK && scene_load(path, &s) == VG_OK,
+              "scene %d", sc);
+        pref_saliency_apply(s, pref_moving_node(s), variant);
+        warp_metrics m[2];
+        memset(m, 0, sizeof m);
+        for (int v = 0; v < 2; v++) {
+            frame_desc fd = pref_clip_frame_desc(
+                g, &(pref_clip_desc){.width = 320, .height = 180,
+                                     .mode = v ? FRAME_MODE_OPTIMIZED : FRAME_MODE_MANIPULATED,
+                                     .compose = FRAME_COMPOSE_ANAGLYPH});
+            fd.measure = true;
+            CHECK(pref_clip_render(g, s, &fd, add_metrics, &m[v]) == VG_OK, "%s clip", path);
+            warp_metrics_finish(&m[v]);
+        }
+        printf("%-8s saliency %-6s  h: cracks %llu px, speckles %4llu px, warp p99 %.3f px  |  "
+               "f: cracks %llu px, speckles %4llu px, warp p99 %.3f px\n",
+               pref_scene_names[sc], pref_saliency_names[variant], (unsigned long long)m[0].crack_pixels,
+               (unsigned long long)m[0].speckle_pixels, m[0].error_p99, (unsigned long long)m[1].crack_pixels,
+               (unsigned long long)m[1].speckle_pixels, m[1].error_p99);
+        double sh = (double)m[0].speckle_pixels, sf = (double)m[1].speckle_pixels;
+        EXPECT(fabs(sf - sh) <= PREF_SPECKLE_GAP * fmax(sh, sf) + PREF_SPECKLE_SLACK, "%s %s: speckles h %.0f, f %.0f",
+               pref_scene_names[sc], pref_saliency_names[variant], sh, sf);
+        for (int v = 0; v < 2; v++)
+            EXPECT(m[v].crack_pixels <= 2 * PREF_CRACKS, "%s %s: %llu crack pixels in the %s clip", pref_scene_names[sc],
+                   pref_saliency_names[variant], (unsigned long long)m[v].crack_pixels, v ? "f" : "h");
+        EXPECT(fabs(m[1].error_p99 - m[0].error_p99) <= PREF_P99_GAP, "%s %s: warp p99 h %.3f px, f %.3f px",
+               pref_scene_names[sc], pref_saliency_names[variant], m[0].error_p99, m[1].error_p99);
+        warp_metrics_free(&m[0]);
+        warp_metrics_free(&m[1]);
+        scene_destroy(s);
+    }
+    gpu_destroy(g);
+    int v = gpu_validation_messages();
+    CHECK(v == 0, "%d validation messages", v);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
         {"click_error", click_error},     {"throws", throws},           {"schedule", schedule},
         {"click_mapping", click_mapping}, {"pose_hook", pose_hook},     {"observer_exact", observer_exact},
-        {"observer_conditions", observer_conditions}, {"csv_log", csv_log},
+        {"observer_conditions", observer_conditions}, {"csv_log", csv_log}, {"pref_equal_quality", pref_equal_quality},
         {"pref_clip", pref_clip},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
