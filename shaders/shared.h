@@ -132,7 +132,10 @@ VG_STRUCT(vg_classify_push) {
  * the scene pipelines' set 0 too. */
 #define VG_BINDING_TESS_LEVELS 16
 
-/* compose modes (frame_compose minus one) and push constants. */
+/* compose modes (frame_compose minus one) and push constants. The packed
+ * layouts (side by side, top-bottom, their halves, frame packing,
+ * cross-eyed) are one case: each eye into its rectangle of the output
+ * (frame_compose_layout), averaged down where it is squeezed. */
 #define VG_COMPOSE_SBS 0
 #define VG_COMPOSE_SBS_HALF 1
 #define VG_COMPOSE_TB 2
@@ -143,10 +146,17 @@ VG_STRUCT(vg_classify_push) {
 #define VG_COMPOSE_ANAGLYPH_PLAIN 7
 #define VG_COMPOSE_LEFT 8
 #define VG_COMPOSE_RIGHT 9
+#define VG_COMPOSE_TB_HALF 10
+#define VG_COMPOSE_ANAGLYPH_GREEN_MAGENTA 11
+#define VG_COMPOSE_ANAGLYPH_AMBER_BLUE 12
+#define VG_COMPOSE_FRAME_PACKING 13
+#define VG_COMPOSE_CROSS_EYED 14
 VG_STRUCT(vg_compose_push) {
     VG_UINT mode;             /* VG_COMPOSE_* */
-    VG_UINT swap;             /* 1: exchange the eyes */
+    VG_UINT swap;             /* 1: exchange the eyes (overlaid modes; packed ones swap rectangles) */
     VG_UINT width, height;    /* of one eye */
+    VG_UINT packed;           /* 1: each eye into its rectangle */
+    VG_UINT rect[8];          /* packed: x, y, w, h of the left eye's, then the right eye's */
 };
 
 #endif

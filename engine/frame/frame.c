@@ -15,6 +15,7 @@
 #include "render/gbuffer_gpu.h"
 #include "shared.h"
 #include "output/compose_gpu.h"
+#include "output/overlay_gpu.h"
 #include "output/present_gpu.h"
 #include "warp/warp_gpu.h"
 
@@ -37,6 +38,8 @@ struct frame {
     disparity_gpu *disparity;
     warp_gpu *warp;
     compose_gpu *compose;
+    overlay_gpu *overlay;        /* stereo frames that draw a HUD (windowed, or desc.overlay) */
+    frame_hud *hud;              /* headless: what frame_set_hud gave */
     present_gpu *present;
     rg_res r_swapchain;
 
@@ -125,6 +128,8 @@ static vg_status build_graph(frame *f)
             return VG_ERR_UNSUPPORTED;
         }
         warp_gpu_add(f->warp, g, res, target);
+        if (f->overlay)
+            overlay_gpu_add(f->overlay, g, res);
         compose_gpu_add(f->compose, g, res);
         frame_compose_size(fc->desc.compose, w, h, &sw, &sh);
     }
@@ -377,6 +382,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
             st = warp_gpu_create(fc, &f->warp);
         if (st == VG_OK)
             st = compose_gpu_create(fc, &f->compose);
+        if (st == VG_OK && (fc->desc.overlay || fc->desc.present_format != VK_FORMAT_UNDEFINED))
+            st = overlay_gpu_create(fc, &f->overlay);
     }
     if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED)
         st = present_gpu_create(fc, fc->desc.present_format,
@@ -400,6 +407,8 @@ void frame_destroy(frame *f)
     vkDeviceWaitIdle(g->device);
     rg_destroy(f->graph);
     present_gpu_destroy(f->present);
+    overlay_gpu_destroy(f->overlay);
+    free(f->hud);
     compose_gpu_destroy(f->compose);
     warp_gpu_destroy(f->warp);
     disparity_gpu_destroy(f->disparity);
@@ -597,6 +606,8 @@ vg_status frame_render(frame *f, long index)
     }
     VkCommandBuffer cmd;
     vg_status st = frame_begin(f, index);
+    if (st == VG_OK && f->overlay)
+        overlay_gpu_update(f->overlay, f->hud);
     if (st == VG_OK && f->profile)
         return render_profiled(f);
     if (st == VG_OK)
@@ -620,6 +631,18 @@ vg_status frame_render(frame *f, long index)
     return VG_OK;
 }
 
+vg_status frame_set_hud(frame *f, const frame_hud *hud)
+{
+    if (!f->overlay) {
+        vg_error("frame_set_hud: the frame draws no overlay (frame_desc.overlay, stereo)");
+        return VG_ERR_ARG;
+    }
+    if (!f->hud && !(f->hud = malloc(sizeof *f->hud)))
+        return VG_ERR_NOMEM;
+    *f->hud = *hud;
+    return VG_OK;
+}
+
 vg_status frame_present(frame *f, long index, const frame_target *target, const struct frame_hud *hud)
 {
     if (!f->present) {
@@ -631,7 +654,8 @@ vg_status frame_present(frame *f, long index, const frame_target *target, const 
     vg_status st = frame_begin(f, index);
     if (st != VG_OK)
         return st;
-    present_gpu_update(f->present, hud);
+    if (f->overlay)
+        overlay_gpu_update(f->overlay, hud);
     rg_bind_image(f->graph, f->r_swapchain, target->image, target->view);
     if ((st = frame_record(f, &cmd)) != VG_OK)
         return st;

@@ -37,6 +37,10 @@ const vg_camera *frame_get_camera(const frame *f);  /* at the frame's time */
 const frame_desc *frame_get_desc(const frame *f);
 rg_graph *frame_get_graph(frame *f);
 
+/* Headless frames with desc.overlay: the HUD frame_render draws into each
+ * eye from now on (copied). */
+vg_status frame_set_hud(frame *f, const frame_hud *hud);
+
 /* Windowed: render frame `index` into an acquired swapchain image and submit
  * without waiting (two frames in flight). The HUD may be NULL. */
 vg_status frame_present(frame *f, long index, const frame_target *target, const frame_hud *hud);

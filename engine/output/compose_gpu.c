@@ -15,7 +15,8 @@ struct compose_gpu {
     uint32_t out_w, out_h;
 };
 
-_Static_assert(FRAME_COMPOSE_SBS - 1 == VG_COMPOSE_SBS && FRAME_COMPOSE_RIGHT - 1 == VG_COMPOSE_RIGHT,
+_Static_assert(FRAME_COMPOSE_SBS - 1 == VG_COMPOSE_SBS && FRAME_COMPOSE_RIGHT - 1 == VG_COMPOSE_RIGHT &&
+                   FRAME_COMPOSE_CROSS_EYED - 1 == VG_COMPOSE_CROSS_EYED,
                "compose mode numbering differs between C and GLSL");
 
 static void compose_execute(const rg_context *ctx, void *user)
@@ -29,12 +30,18 @@ static void compose_execute(const rg_context *ctx, void *user)
     };
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     const frame_desc *d = &c->fc->desc;
+    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
     vg_compose_push push = {
         .mode = (uint32_t)(d->compose == FRAME_COMPOSE_DEFAULT ? FRAME_COMPOSE_SBS : d->compose) - 1,
         .swap = d->swap_eyes,
         .width = d->width,
         .height = d->height,
+        .packed = !l.overlaid,
     };
+    for (int e = 0; e < 2; e++) {
+        const frame_eye_rect *r = &l.eye[e];
+        push.rect[4 * e] = r->x, push.rect[4 * e + 1] = r->y, push.rect[4 * e + 2] = r->w, push.rect[4 * e + 3] = r->h;
+    }
     gpu_binding b[3] = {GPU_STORAGE_IMAGE(&img[0]), GPU_STORAGE_IMAGE(&img[1]), GPU_STORAGE_IMAGE(&img[2])};
     gpu_compute_kit_bind_list(c->fc->gpu, cmd, &c->kit, 0, b, 3, &push);
     vkCmdDispatch(cmd, (c->out_w + 7) / 8, (c->out_h + 7) / 8, 1);

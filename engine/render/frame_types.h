@@ -41,6 +41,11 @@ typedef enum frame_compose {
     FRAME_COMPOSE_ANAGLYPH_PLAIN,/* red from left, green and blue from right */
     FRAME_COMPOSE_LEFT,
     FRAME_COMPOSE_RIGHT,
+    FRAME_COMPOSE_TB_HALF,       /* top-bottom, half height each (W x H: 3D TVs' "top and bottom") */
+    FRAME_COMPOSE_ANAGLYPH_GREEN_MAGENTA, /* green left, magenta right, Dubois' matrices */
+    FRAME_COMPOSE_ANAGLYPH_AMBER_BLUE,    /* amber left, blue right (ColorCode 3-D), Dubois' matrices */
+    FRAME_COMPOSE_FRAME_PACKING, /* HDMI 1.4a frame packing: left above right, H/24 blank rows between (1080p: 1920x2205) */
+    FRAME_COMPOSE_CROSS_EYED,    /* side by side with the right eye on the left, for free viewing cross-eyed */
     FRAME_COMPOSE_COUNT,
 } frame_compose;
 
@@ -71,6 +76,7 @@ typedef struct frame_desc {
     bool diffuse;                /* no specular: eyes shade identically from any viewpoint */
     bool reference;              /* also render the two-camera reference (holes, PSNR) */
     bool measure;                /* eyes compute their disparity error per pixel (aux.z) */
+    bool overlay;                /* headless: draw frame_set_hud's text into the eyes (windowed: always) */
     VkFormat present_format;     /* windowed: the swapchain format, UNDEFINED = headless */
     uint32_t present_width, present_height; /* windowed: the swapchain extent */
     const struct vg_curve *curve; /* a baked global curve instead of the per-frame one (copied) */
@@ -125,20 +131,62 @@ typedef struct frame_target {
 
 #define FRAME_HUD_MAX_LINES 24
 #define FRAME_HUD_LINE 96
+#define FRAME_HUD_MAX_MARKERS 4
 
-/* Text a windowed frame draws on top of the picture; lines[0] is the title line. */
+/* A marker at a point of the centre image: a cross (where the player
+ * clicked) or a box (the true landing spot), with a label under it. */
+typedef enum frame_hud_shape {
+    FRAME_HUD_CROSS,
+    FRAME_HUD_BOX,
+} frame_hud_shape;
+
+typedef struct frame_hud_marker {
+    float u, v;                  /* centre image, 0..1 */
+    frame_hud_shape shape;
+    uint8_t rgb[3];
+    char label[24];
+} frame_hud_marker;
+
+/* Text drawn into each eye before the eyes are composed (output/overlay_gpu.c),
+ * so every layout shows it once and whole: a panel of lines at the top
+ * left (lines[0] the title), a banner in the middle, a badge at the top
+ * right, markers at points of the picture. It stands at `parallax` eye pixels (left eye shifted by -p/2, right
+ * by +p/2: positive behind the screen, negative in front; 0 = screen depth). */
 typedef struct frame_hud {
     bool visible;
     int line_count;
     char lines[FRAME_HUD_MAX_LINES][FRAME_HUD_LINE];
-    float scale;                 /* 0 = 2 (font pixels per output pixel) */
+    float scale;                 /* eye pixels per font pixel, 0 = from the eye width (1 per 480) */
     /* A banner in the middle of the picture (pause, feedback), empty for none. */
     char banner[FRAME_HUD_LINE];
+    /* A badge at the top right (the game's mode), empty for none; its colour. */
+    char badge[32];
+    uint8_t badge_rgb[3];
+    int marker_count;
+    frame_hud_marker markers[FRAME_HUD_MAX_MARKERS];
+    float parallax;              /* eye pixels, 0 = screen depth */
 } frame_hud;
 
 /* The keyframe interval a frame is in: floor(index / stride), also below 0. */
 long frame_keyframe_of(long index, int stride);
 /* Keyframe times around a frame number. */
 frame_times frame_times_at(long index, double fps, int stride);
+/* Where each eye lies in the composed output: a packed layout gives each
+ * eye a rectangle of the output (squeezed to half width or height by the
+ * half layouts), the others lay both eyes over the whole output
+ * (interleaved, anaglyph, one eye): `overlaid`. Eye 0 is the left eye; with
+ * swap_eyes the eyes exchange places. What draws on the output (a click's
+ * eye pixel, a study's labels) reads the places from here. */
+typedef struct frame_eye_rect {
+    uint32_t x, y, w, h;
+} frame_eye_rect;
+
+typedef struct frame_layout {
+    uint32_t width, height;      /* the output */
+    frame_eye_rect eye[2];       /* left, right */
+    bool overlaid;
+} frame_layout;
+
+frame_layout frame_compose_layout(frame_compose mode, bool swap_eyes, uint32_t width, uint32_t height);
 /* Output size of a layout for eyes of width x height. */
 void frame_compose_size(frame_compose mode, uint32_t width, uint32_t height, uint32_t *out_w, uint32_t *out_h);

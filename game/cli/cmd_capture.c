@@ -36,6 +36,8 @@ typedef struct capture_opts {
     bool swap_eyes, diffuse, no_reference, write_aux;
     const char *curve;
     double tess_px, tess_error;
+    const char *caption;
+    double caption_parallax;
     gpu_cli gpu;
 } capture_opts;
 
@@ -67,6 +69,10 @@ static const vg_opt k_opts[] = {
     {"--curve", VG_OPT_STRING, &o.curve, "FILE", "use a global curve baked by 'vergence bake-curve'", NULL, 0, 0},
     {"--no-reference", VG_OPT_FLAG, &o.no_reference, NULL, "skip the two-camera reference (no holes or PSNR figures)", NULL, 0, 0},
     {"--write-aux", VG_OPT_FLAG, &o.write_aux, NULL, "also write frame_NNNN_{left,right}_aux.pfm (centre x, disparity error px, cascade stage)", NULL, 0, 0},
+    {"--caption", VG_OPT_STRING, &o.caption, "TEXT", "draw TEXT at the top left of each eye (an overlay: "
+     "in the eye images and their measures too)", NULL, 0, 0},
+    {"--caption-parallax", VG_OPT_FLOAT, &o.caption_parallax, "PX", "the caption's parallax in eye pixels: "
+     "positive behind the screen, negative in front (default 0: screen depth)", NULL, -1000, 1000},
     {"--dump-graph", VG_OPT_STRING, &o.dump_graph, "FILE", "print the compiled frame graph and write it as Graphviz DOT to FILE", NULL, 0, 0},
     GPU_CLI_OPTIONS(o.gpu),
 };
@@ -239,6 +245,10 @@ static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, 
     capture_json_passes(&j, log);
     if (fd->stereo != FRAME_STEREO_OFF)
         capture_json_stereo(&j, fd, &log->warp);
+    if (o.caption) {
+        vg_json_str(&j, "caption", o.caption);
+        vg_json_num(&j, "caption_parallax_px", o.caption_parallax);
+    }
     if (log->science)
         capture_json_metrics(&j, fd, &log->info, &log->result);
     return capture_json_finish(&j, m);
@@ -263,11 +273,17 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         .curve = curve,
         .op = (disp_operator_kind)o.op, .target_range = o.target_range,
         .solver_iterations = o.solver_iterations,
+        .overlay = o.caption != NULL,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);
     if (st != VG_OK)
         return st;
+    if (o.caption) {
+        frame_hud hud = {.visible = true, .line_count = 1, .parallax = (float)o.caption_parallax};
+        snprintf(hud.lines[0], sizeof hud.lines[0], "%s", o.caption);
+        st = frame_set_hud(f, &hud);
+    }
     if (o.dump_graph) {
         rg_dump_text(frame_get_graph(f), stdout);
         st = rg_dump_dot(frame_get_graph(f), o.dump_graph);
@@ -312,6 +328,11 @@ static int run(int argc, char **argv)
         return 0;
     if (vg_cli_require(&vg_cmd_capture, "--scene", o.scene) || vg_cli_require(&vg_cmd_capture, "--out", o.out))
         return 2;
+    if (o.caption && (o.stereo == FRAME_STEREO_OFF || strlen(o.caption) >= FRAME_HUD_LINE)) {
+        vg_error("--caption: %s", o.stereo == FRAME_STEREO_OFF ? "is drawn into the eyes: it needs a stereo render"
+                                                                : "longer than 95 characters");
+        return 2;
+    }
     char why[256];
     if (o.stereo != FRAME_STEREO_OFF && !frame_size_ok((uint32_t)o.size[0], (uint32_t)o.size[1], why, sizeof why)) {
         vg_error("--size %dx%d: %s", o.size[0], o.size[1], why);

@@ -43,6 +43,8 @@ typedef struct session {
     bool unavailable[FRAME_MODE_OPTIMIZED + 1];
     frame_mode mode;
     uint32_t rw, rh;             /* eye image size */
+    frame_compose compose;       /* the output layout (L cycles it) */
+    bool swap_eyes;              /* E */
     /* game */
     double clock;                /* game seconds */
     bool paused, quit, hud_tech;
@@ -52,6 +54,7 @@ typedef struct session {
     int throw_no, trial, throws_scored, score;
     double miss_sum, last_miss;
     double picked_m, landed_m;   /* feedback: ground distances of the click and of the landing spot */
+    double click_u, click_v;     /* feedback: where the player clicked (centre image) */
     /* display */
     frame_hud hud;
     char notice[FRAME_HUD_LINE];
@@ -60,6 +63,9 @@ typedef struct session {
 } session;
 
 static const char *const k_mode_text[] = {"", "original (g)", "manipulated (h)", "optimized (f)"};
+/* The mode badge (free play; a study shows no condition). */
+static const char *const k_mode_badge[] = {"", "ORIGINAL  g", "MANIPULATED  h", "OPTIMIZED  f"};
+static const uint8_t k_mode_rgb[][3] = {{0, 0, 0}, {150, 200, 255}, {255, 182, 92}, {124, 230, 150}};
 
 /* ------------------------------------------------------------------------- */
 /* The ball (scene pose hook)                                                */
@@ -134,7 +140,7 @@ static vg_status on_click(session *ss, double x, double y)
         return VG_OK;
     }
     if (ss->ph != PHASE_AIM || ss->paused ||
-        !game_click_to_image((frame_compose)ss->d->win->compose, ss->rw, ss->rh, e.width, e.height, x, y, &u, &v))
+        !game_click_to_image(ss->compose, ss->rw, ss->rh, e.width, e.height, x, y, &u, &v))
         return VG_OK;
     double err = game_click_error(&ss->cam, u, v, ss->th.ground);
     vg_info("play: click at (%.3f, %.3f) of the picture: missed by %.2f m (%s, %s, %s)", u, v, err,
@@ -152,6 +158,7 @@ static vg_status on_click(session *ss, double x, double y)
         throw_next(ss);
         return VG_OK;
     }
+    ss->click_u = u, ss->click_v = v;
     /* Where the click meets the ground (the sky: nowhere) and where the ball landed. */
     double o[3], dir[3];
     game_ray(&ss->cam, u, v, o, dir);
@@ -198,13 +205,11 @@ static void frames_drop(session *ss)
 static void choose_render_size(session *ss, bool announce)
 {
     const play_window_cli *w = ss->d->win;
-    frame_compose c = (frame_compose)w->compose;
+    frame_compose c = ss->compose;
     VkExtent2D e = window_extent(ss->win);
-    double ew = e.width, eh = e.height;
-    if (c == FRAME_COMPOSE_SBS)
-        ew /= 2;
-    else if (c == FRAME_COMPOSE_TB)
-        eh /= 2;
+    /* Eyes of the window's size compose to l: scale them so that it fits. */
+    frame_layout l = frame_compose_layout(c, false, e.width, e.height);
+    double ew = (double)e.width * e.width / l.width, eh = (double)e.height * e.height / l.height;
     bool interleaved = c == FRAME_COMPOSE_ROWS || c == FRAME_COMPOSE_COLUMNS || c == FRAME_COMPOSE_CHECKER;
     bool cpu = window_gpu(ss->win)->is_cpu;
     if (w->render[0] > 0) {
@@ -243,7 +248,7 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     frame_desc fd = {
         .width = ss->rw, .height = ss->rh, .fps = 60, .keyframe_stride = 10, .camera = 0,
         .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = mode,
-        .compose = (frame_compose)d->win->compose,
+        .compose = ss->compose, .swap_eyes = ss->swap_eyes,
         .present_format = window_format(ss->win), .present_width = e.width, .present_height = e.height,
         /* A study compresses as the paper's did (more than the display needs); play for comfort. */
         .op = d->op, .op_preset = ss->study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
@@ -255,6 +260,30 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     return st;
 }
 
+static void notice(session *ss, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void notice(session *ss, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ss->notice, sizeof ss->notice, fmt, ap);
+    va_end(ap);
+    ss->notice_until = ss->clock + NOTICE_S;
+}
+
+/* L and E: the frames are made again for the new layout or eye order (the
+ * eye size follows the layout). */
+static void layout_pick(session *ss, frame_compose c, bool swap)
+{
+    frames_drop(ss);
+    ss->compose = c;
+    ss->swap_eyes = swap;
+    memset(ss->unavailable, 0, sizeof ss->unavailable);
+    choose_render_size(ss, false);
+    notice(ss, "output %s%s   (L layout, E swap eyes)", frame_compose_names[c], swap ? ", eyes swapped" : "");
+    vg_info("play: output %s%s, %ux%u per eye", frame_compose_names[c], swap ? " with the eyes swapped" : "",
+            ss->rw, ss->rh);
+}
+
 /* Switches mode, or says on screen why not. */
 static void mode_pick(session *ss, frame_mode mode)
 {
@@ -264,8 +293,7 @@ static void mode_pick(session *ss, frame_mode mode)
     vg_status st = ss->unavailable[mode] ? VG_ERR_UNSUPPORTED : frame_for(ss, mode, &f);
     if (st != VG_OK) {
         ss->unavailable[mode] = true;
-        snprintf(ss->notice, sizeof ss->notice, "%s is not available in this build", k_mode_text[mode]);
-        ss->notice_until = ss->clock + NOTICE_S;
+        notice(ss, "%s is not available in this build", k_mode_text[mode]);
         vg_info("play: mode %s not available: staying with %s", k_mode_text[mode], k_mode_text[ss->mode]);
         return;
     }
@@ -308,6 +336,10 @@ static vg_status handle(session *ss, const window_event *ev)
             }
         }
         break;
+    case GLFW_KEY_L: /* the next layout; "default" is sbs again */
+        layout_pick(ss, (frame_compose)(ss->compose % (FRAME_COMPOSE_COUNT - 1) + 1), ss->swap_eyes);
+        break;
+    case GLFW_KEY_E: layout_pick(ss, ss->compose, !ss->swap_eyes); break;
     case GLFW_KEY_1:
     case GLFW_KEY_2:
     case GLFW_KEY_3: mode_pick(ss, (frame_mode)(FRAME_MODE_ORIGINAL + ev->key - GLFW_KEY_1)); break;
@@ -331,8 +363,20 @@ static void hud_build(session *ss, frame *f)
 {
     frame_hud *h = &ss->hud;
     memset(h, 0, sizeof *h);
-    h->visible = true;
-    h->scale = window_extent(ss->win).width >= 1000 ? 2.0f : 1.0f;
+    h->visible = true; /* at screen depth, at the scale of the eye image (overlay_gpu.c) */
+    if (!ss->study) {
+        snprintf(h->badge, sizeof h->badge, "%s", k_mode_badge[ss->mode]);
+        memcpy(h->badge_rgb, k_mode_rgb[ss->mode], 3);
+    }
+    if (ss->ph == PHASE_FEEDBACK) {
+        /* Where the player clicked, and the true landing spot (the ball lies there). */
+        double lu, lv;
+        h->markers[h->marker_count++] = (frame_hud_marker){(float)ss->click_u, (float)ss->click_v, FRAME_HUD_CROSS,
+                                                            {255, 255, 255}, "you"};
+        if (game_project(&ss->cam, ss->th.ground, &lu, &lv) > 0)
+            h->markers[h->marker_count++] = (frame_hud_marker){(float)lu, (float)lv, FRAME_HUD_BOX, {255, 96, 64},
+                                                                "landed"};
+    }
     if (ss->study)
         hud_add(ss, "VERGENCE STUDY  |  trial %d of %d", ss->trial + 1, ss->d->trial_count);
     else if (ss->throws_scored)
@@ -355,7 +399,7 @@ static void hud_build(session *ss, frame *f)
     if (ss->hud_tech) {
         hud_add(ss, "mode: %s%s", k_mode_text[ss->mode], ss->study ? "   (set by the study)" : "   M cycles, 1-3 pick");
         hud_add(ss, "operator: %s   output: %s %ux%u", disp_operator_kind_name(ss->d->op),
-                frame_compose_names[ss->d->win->compose], ss->rw, ss->rh);
+                frame_compose_names[ss->compose], ss->rw, ss->rh);
         const char *names[RG_MAX_PASSES];
         double ms[RG_MAX_PASSES], total = 0;
         uint32_t n = frame_pass_timings(f, names, ms, RG_MAX_PASSES);
@@ -383,7 +427,7 @@ static void hud_build(session *ss, frame *f)
             hud_add(ss, "  %s", line);
         if (small)
             hud_add(ss, "  (%d more passes under 0.05 ms)", small);
-        hud_add(ss, "H hud   P pause   %sQ quit", ss->study ? "" : "R restart   ");
+        hud_add(ss, "H hud   P pause   %sL layout   E swap eyes   Q quit", ss->study ? "" : "R restart   ");
     }
     if (ss->paused)
         snprintf(h->banner, sizeof h->banner, "PAUSED  -  P to continue");
@@ -523,6 +567,8 @@ vg_status play_session_run(const play_session_desc *d)
     ss->study = d->cells != NULL;
     ss->trial = d->first_trial;
     ss->mode = d->mode ? d->mode : FRAME_MODE_ORIGINAL;
+    ss->compose = (frame_compose)d->win->compose;
+    ss->swap_eyes = d->win->swap_eyes;
     /* A study has checked its outputs before it opened its log. */
     vg_status st = ss->study ? VG_OK : play_check_outputs(d->win, &d->scene_path, 1, NULL, NULL);
     if (st == VG_OK)

@@ -9,8 +9,9 @@
  * of game time, so the frame's look-ahead keyframes see its motion.
  *
  * Keys: M cycles original / manipulated / optimized, 1-3 pick one (free
- * play), H the technical HUD (mode, operator, fps, GPU ms per pass), P or
- * Space pause, R restart, Esc or Q quit. A mode the build cannot render yet
+ * play), H the technical HUD (mode, operator, fps, GPU ms per pass), L the
+ * next output layout, E swaps the eyes, P or Space pause, R restart, Esc or
+ * Q quit. A mode the build cannot render yet
  * is announced on screen and skipped. */
 #pragma once
 #include <stdint.h>
@@ -26,6 +27,7 @@ typedef struct play_window_cli {
     int render[2];               /* eye image; 0 = from the window (smaller on a CPU device) */
     bool fullscreen;
     int compose;                 /* frame_compose */
+    bool swap_eyes;              /* the right eye where the layout puts the left */
     const char *replay, *record;
     int ticks;                   /* quit after this many ticks (1/60 s), 0 = never */
     int frame_ticks;             /* replay: ticks per frame (tests: a device at 60 / N fps), 0 = 1 */
@@ -38,6 +40,8 @@ typedef struct play_window_cli {
 #define PLAY_WINDOW_OPTIONS(w)                                                                          \
     {"--output", VG_OPT_ENUM, &(w).compose, "LAYOUT", "how the eyes are shown (default anaglyph; "      \
      "rows for passive polarised panels)", frame_compose_names, 0, 0},                              \
+    {"--swap-eyes", VG_OPT_FLAG, &(w).swap_eyes, NULL, "exchange left and right (E while playing)",    \
+     NULL, 0, 0},                                                                                       \
     {"--size", VG_OPT_SIZE, (w).size, "WxH", "window size (default 1280x720)", NULL, 0, 0},             \
     {"--render-size", VG_OPT_SIZE, (w).render, "WxH", "eye image size (default: fit the window; "      \
      "at most 480 wide on a CPU device)", NULL, 0, 0},                                                  \

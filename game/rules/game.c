@@ -113,29 +113,30 @@ double game_click_error(const vg_camera *cam, double u, double v, const double t
 bool game_click_to_image(frame_compose compose, uint32_t width, uint32_t height, uint32_t win_w, uint32_t win_h,
                          double x, double y, double *u, double *v)
 {
-    uint32_t sw, sh;
-    frame_compose_size(compose, width, height, &sw, &sh);
+    frame_layout l = frame_compose_layout(compose, false, width, height);
     /* The picture is fitted into the window keeping its aspect, centred
      * (output/present_gpu.c place_picture). */
-    double s = fmin((double)win_w / sw, (double)win_h / sh);
-    double pw = floor(sw * s + 0.5), ph = floor(sh * s + 0.5);
+    double s = fmin((double)win_w / l.width, (double)win_h / l.height);
+    double pw = floor(l.width * s + 0.5), ph = floor(l.height * s + 0.5);
     double x0 = floor((win_w - pw) / 2), y0 = floor((win_h - ph) / 2);
-    double cx = (x * win_w - x0) / pw * sw, cy = (y * win_h - y0) / ph * sh;
-    if (cx < 0 || cy < 0 || cx >= sw || cy >= sh)
+    double cx = (x * win_w - x0) / pw * l.width, cy = (y * win_h - y0) / ph * l.height;
+    if (cx < 0 || cy < 0 || cx >= l.width || cy >= l.height)
         return false;
-    /* Each eye sits in its own part of the composed image; in the
-     * interleaved and anaglyph layouts a point of the picture is that point
-     * of both eyes. The eye image stands for the centre image: a click is
-     * one eye's pixel, half its disparity from the centre view. */
-    switch (compose) {
-    case FRAME_COMPOSE_SBS: cx = fmod(cx, width); break;
-    case FRAME_COMPOSE_SBS_HALF: cx = fmod(cx, width / 2.0) * 2.0; break;
-    case FRAME_COMPOSE_TB: cy = fmod(cy, height); break;
-    default: break;
+    /* Each eye sits in its own rectangle of the composed image (squeezed
+     * by the half layouts); in the interleaved and anaglyph layouts a point
+     * of the picture is that point of both eyes. The eye image stands for
+     * the centre image: a click is one eye's pixel, half its disparity from
+     * the centre view. A click between the eyes (frame packing's blank
+     * rows) is outside. */
+    for (int e = 0; e < 2; e++) {
+        const frame_eye_rect *r = &l.eye[e];
+        if (cx >= r->x && cy >= r->y && cx < r->x + r->w && cy < r->y + r->h) {
+            *u = (cx - r->x) / r->w;
+            *v = (cy - r->y) / r->h;
+            return true;
+        }
     }
-    *u = cx / width;
-    *v = cy / height;
-    return true;
+    return false;
 }
 
 /* ------------------------------------------------------------------------- */

@@ -67,7 +67,7 @@ frame_desc pref_clip_frame_desc(const gpu *g, const pref_clip_desc *d)
 {
     frame_desc fd = {
         .width = d->width, .height = d->height, .fps = 60, .keyframe_stride = 10, .readback = true,
-        .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = d->mode, .compose = d->compose,
+        .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = d->mode, .compose = d->compose, .swap_eyes = d->swap_eyes,
         .op = d->op, .op_preset = DISP_PRESET_STUDY,
     };
     game_frame_defaults(g, d->tess_error, &fd);

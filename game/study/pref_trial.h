@@ -37,6 +37,7 @@ typedef struct pref_clip_desc {
     uint32_t width, height;     /* one panel's eye image */
     frame_mode mode;
     frame_compose compose;
+    bool swap_eyes;
     disp_operator_kind op;
     stereo_display_desc display;
     double tess_error;          /* 0 = game_frame_defaults' */

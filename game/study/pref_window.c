@@ -25,6 +25,9 @@ typedef struct layout {
     int ew, eh;              /* eye image of the whole window */
     int pw, ph;              /* one panel's eye image */
     int x[3], y;             /* panel corners in the eye image (even: interleaving keeps parity) */
+    bool swap;
+    frame_layout win;        /* the eyes of the whole window in the window */
+    frame_layout panel;      /* one panel's eyes in its composed image */
 } layout;
 
 typedef struct pref {
@@ -43,11 +46,11 @@ static void layout_make(pref *p)
     layout *l = &p->lay;
     VkExtent2D e = window_extent(p->win);
     l->compose = (frame_compose)p->d->win->compose;
-    l->ew = (int)e.width, l->eh = (int)e.height;
-    if (l->compose == FRAME_COMPOSE_SBS)
-        l->ew /= 2;
-    else if (l->compose == FRAME_COMPOSE_TB)
-        l->eh /= 2;
+    l->swap = p->d->win->swap_eyes;
+    /* Eyes of the window's size compose to o: scale them so that it fits. */
+    frame_layout o = frame_compose_layout(l->compose, false, e.width, e.height);
+    l->ew = (int)((double)e.width * e.width / o.width), l->eh = (int)((double)e.height * e.height / o.height);
+    l->win = frame_compose_layout(l->compose, l->swap, (uint32_t)l->ew, (uint32_t)l->eh);
     int pw = (l->ew - 2 * GAP) / 3, ph = pw * 9 / 16;
     if (ph > l->eh - 64) {
         ph = l->eh - 64;
@@ -62,6 +65,9 @@ static void layout_make(pref *p)
     for (int i = 0; i < 3; i++)
         l->x[i] = x0 + i * (l->pw + GAP);
     l->y = ((l->eh - l->ph) / 2) & ~1;
+    /* Where the output layout puts one panel's eyes (frame_compose_layout
+     * for the panel), for blit_panel. */
+    l->panel = frame_compose_layout(l->compose, l->swap, (uint32_t)l->pw, (uint32_t)l->ph);
 }
 
 /* ------------------------------------------------------------------------- */
@@ -69,28 +75,32 @@ static void layout_make(pref *p)
 /* ------------------------------------------------------------------------- */
 
 /* The window positions of an eye-image position: one for the interleaved
- * and anaglyph layouts, one per eye for the side-by-side ones. */
+ * and anaglyph layouts, one per eye for the packed ones (squeezed by the
+ * half layouts). */
 static int eye_places(const layout *l, int ex, int ey, int xs[2], int ys[2])
 {
-    switch (l->compose) {
-    case FRAME_COMPOSE_SBS: xs[0] = ex, xs[1] = l->ew + ex, ys[0] = ys[1] = ey; return 2;
-    case FRAME_COMPOSE_SBS_HALF: xs[0] = ex / 2, xs[1] = l->ew / 2 + ex / 2, ys[0] = ys[1] = ey; return 2;
-    case FRAME_COMPOSE_TB: xs[0] = xs[1] = ex, ys[0] = ey, ys[1] = l->eh + ey; return 2;
-    default: xs[0] = ex, ys[0] = ey; return 1;
+    if (l->win.overlaid) {
+        xs[0] = ex, ys[0] = ey;
+        return 1;
     }
+    for (int e = 0; e < 2; e++) {
+        const frame_eye_rect *r = &l->win.eye[e];
+        xs[e] = (int)r->x + ex * (int)r->w / l->ew;
+        ys[e] = (int)r->y + ey * (int)r->h / l->eh;
+    }
+    return 2;
 }
 
 static void text_eyes(pref *p, int ex, int ey, int scale, const char *text, const uint8_t rgb[3], bool centred)
 {
     int xs[2], ys[2], n = eye_places(&p->lay, ex, ey, xs, ys);
-    int w = centred ? picture_text_width(text, scale) : 0;
-    if (p->lay.compose == FRAME_COMPOSE_SBS_HALF)
-        w /= 2;
+    int w = centred ? picture_text_width(text, scale) * (int)p->lay.win.eye[0].w / p->lay.ew : 0;
     for (int i = 0; i < n; i++)
         picture_text(p->pic, xs[i] - w / 2, ys[i], scale, text, rgb);
 }
 
-/* Copies a composed panel into the picture at panel slot i. */
+/* Copies a composed panel into the picture at panel slot i: each eye's
+ * rectangle of the panel to that eye's place in the window. */
 static void blit_panel(pref *p, int slot, const uint8_t *rgb)
 {
     const layout *l = &p->lay;
@@ -98,27 +108,25 @@ static void blit_panel(pref *p, int slot, const uint8_t *rgb)
     uint8_t *px = picture_begin(p->pic);
     int r, g, b;
     picture_channels(p->pic, &r, &g, &b);
-    for (uint32_t sy = 0; sy < p->sh; sy++)
-        for (uint32_t sx = 0; sx < p->sw; sx++) {
-            int dx = l->x[slot] + (int)sx, dy = l->y + (int)sy;
-            switch (l->compose) {
-            case FRAME_COMPOSE_SBS:
-                dx = sx < (uint32_t)l->pw ? l->x[slot] + (int)sx : l->ew + l->x[slot] + (int)sx - l->pw;
-                break;
-            case FRAME_COMPOSE_SBS_HALF:
-                dx = sx < (uint32_t)l->pw / 2 ? l->x[slot] / 2 + (int)sx : l->ew / 2 + l->x[slot] / 2 + (int)sx - l->pw / 2;
-                break;
-            case FRAME_COMPOSE_TB:
-                dy = sy < (uint32_t)l->ph ? l->y + (int)sy : l->eh + l->y + (int)sy - l->ph;
-                break;
-            default: break;
-            }
-            if (dx < 0 || dy < 0 || dx >= (int)e.width || dy >= (int)e.height)
-                continue;
-            const uint8_t *s = rgb + ((size_t)sy * p->sw + sx) * 3;
-            uint8_t *q = px + ((size_t)dy * e.width + (size_t)dx) * 4;
-            q[r] = s[0], q[g] = s[1], q[b] = s[2], q[3] = 255;
+    int places = l->win.overlaid ? 1 : 2;
+    for (int k = 0; k < places; k++) {
+        const frame_eye_rect *src = l->win.overlaid ? &(frame_eye_rect){0, 0, p->sw, p->sh} : &l->panel.eye[k];
+        int ox, oy;
+        {
+            int xs[2], ys[2];
+            eye_places(l, l->x[slot], l->y, xs, ys);
+            ox = xs[k], oy = ys[k];
         }
+        for (uint32_t sy = src->y; sy < src->y + src->h && sy < p->sh; sy++)
+            for (uint32_t sx = src->x; sx < src->x + src->w && sx < p->sw; sx++) {
+                int dx = ox + (int)(sx - src->x), dy = oy + (int)(sy - src->y);
+                if (dx < 0 || dy < 0 || dx >= (int)e.width || dy >= (int)e.height)
+                    continue;
+                const uint8_t *s = rgb + ((size_t)sy * p->sw + sx) * 3;
+                uint8_t *q = px + ((size_t)dy * e.width + (size_t)dx) * 4;
+                q[r] = s[0], q[g] = s[1], q[b] = s[2], q[3] = 255;
+            }
+    }
 }
 
 static void background(pref *p)
@@ -205,7 +213,7 @@ static vg_status prerender(pref *p, int trial, scene *s, const frame_mode modes[
     vg_status st = VG_OK;
     for (int v = 0; v < 3 && st == VG_OK && !window_closed(p->win); v++) {
         frame_desc fd = pref_clip_frame_desc(g, &(pref_clip_desc){
-            .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .mode = modes[v], .compose = p->lay.compose,
+            .width = (uint32_t)p->lay.pw, .height = (uint32_t)p->lay.ph, .mode = modes[v], .compose = p->lay.compose, .swap_eyes = p->lay.swap,
             .op = d->op, .display = d->display, .tess_error = d->win->tess_error});
         st = pref_clip_render(g, s, &fd, clip_frame, &(clip_ctx){p, trial, v});
     }

@@ -16,6 +16,9 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
   frame_ticks        live play at 3 ticks per frame (a device at 20 fps), with
                      a pause that draws the same frame again, shows at every
                      frame the f of one tick per frame (issue 13)
+  play_keys          the mode badge (its colour follows M / 1-3), the markers
+                     on the click and the landing spot, L (next layout) and
+                     E (swap eyes), each seen on screen and in the log
   device_lost        the device is lost (VERGENCE_FAULT) after a trial of the
                      windowed hit study: one clear error, the finished trial
                      stays in the CSV, --resume continues after it
@@ -160,6 +163,53 @@ def case_play_live():
     for pattern in (r"^\d+ key H$", r"^\d+ key M$", r"^\d+ key 3$", r"^\d+ click [\d.]+ [\d.]+$"):
         if not re.search(pattern, recorded, re.M):
             fail(f"the recording lacks '{pattern}'")
+
+
+def near(img, rgb, tol=12):
+    return (np.abs(img.astype(int) - np.array(rgb)).max(axis=2) <= tol)
+
+
+def case_play_keys():
+    # sbs at 320x180: eyes of 160x180 shown 1:1, so overlay colours are exact.
+    g = Game(["play", "--size", "320x180", "--seed", "4", "--mode", "optimized", "--output", "sbs"])
+    g.window()
+    optimized, original = (124, 230, 150), (150, 200, 255)
+    # Eyes of 160 pixels have no room beside the HUD panel: the badge sits
+    # under it at the right.
+    badge = lambda rgb: lambda img: near(img[0:60, 80:160], rgb).sum() + near(img[0:60, 240:320], rgb).sum()
+    img = g.poll(lambda img: badge(optimized)(img) > 60, "the optimized badge in both eyes")
+    left, right = near(img[0:60, 80:160], optimized).sum(), near(img[0:60, 240:320], optimized).sum()
+    print(f"badge 'OPTIMIZED f': {left} and {right} pixels of its colour in the left and right eye")
+    if abs(int(left) - int(right)) > 4:
+        fail("the badge is not whole in both eyes")
+    g.key("1")
+    g.wait_for(r"play: mode original \(g\)")
+    g.poll(lambda img: badge(original)(img) > 60 and badge(optimized)(img) == 0, "the badge to say original")
+    # A click once the ball is gone: the cross where it was, the box on the landing spot.
+    landing = (255, 96, 64)
+    below = lambda img: int(near(img[40:, :], landing, 16).sum())
+    before = below(g.grab())
+    for _ in range(60):
+        g.xdo("mousemove", "--window", g.wid, "80", "150", "click", "1")
+        if "click at" in g.text():
+            break
+        time.sleep(1)
+    g.wait_for(r"missed by \d")
+    img = g.poll(lambda img: below(img) > before + 40, "the landing marker")
+    cross = int(near(img[140:160, 70:90], (255, 255, 255), 8).sum())
+    print(f"landing marker: {below(img)} pixels of its colour below the HUD (before the click {before}); "
+          f"click cross: {cross} white pixels around the click")
+    if cross < 10:
+        fail("no cross where the player clicked")
+    # L: the next layout (sbs-half); E: the eyes swap. Each makes the frames again.
+    g.key("l")
+    g.wait_for(r"play: output sbs-half, \d+x\d+ per eye")
+    g.key("e")
+    g.wait_for(r"play: output sbs-half with the eyes swapped")
+    g.key("q")
+    log = g.finish()
+    if "validation" in log.lower():
+        fail("a validation message")
 
 
 def case_play_replay():
@@ -313,7 +363,7 @@ if __name__ == "__main__":
     VERGENCE = os.path.abspath(sys.argv[1])
     os.chdir(ROOT)
     os.environ.setdefault("XDG_RUNTIME_DIR", "/tmp")
-    {"play_live": case_play_live, "play_replay": case_play_replay, "golden": case_golden,
+    {"play_live": case_play_live, "play_keys": case_play_keys, "play_replay": case_play_replay, "golden": case_golden,
      "preference_window": case_preference_window, "study_window": case_study_window,
      "device_lost": case_device_lost, "frame_ticks": case_frame_ticks}[sys.argv[2]]()
     print("ok")

@@ -135,6 +135,16 @@ static int click_mapping(void)
           fabs(u - 0.25) < 1e-9, "sbs-half u %g", u);
     CHECK(game_click_to_image(FRAME_COMPOSE_TB, 320, 180, 320, 360, 0.5, 0.75, &u, &v) && fabs(v - 0.5) < 1e-9,
           "tb v %g", v);
+    CHECK(game_click_to_image(FRAME_COMPOSE_TB_HALF, 320, 180, 320, 180, 0.5, 0.75, &u, &v) && fabs(v - 0.5) < 1e-9,
+          "tb-half v %g", v);
+    CHECK(game_click_to_image(FRAME_COMPOSE_CROSS_EYED, 320, 180, 640, 180, 0.25, 0.5, &u, &v) &&
+              fabs(u - 0.5) < 1e-9, "cross-eyed left half u %g", u);
+    /* frame packing: 180 + 8 blank + 180 rows; the right eye's middle row,
+     * and a click on the blank rows between the eyes misses */
+    CHECK(game_click_to_image(FRAME_COMPOSE_FRAME_PACKING, 320, 180, 320, 368, 0.5, (188 + 90) / 368.0, &u, &v) &&
+              fabs(v - 0.5) < 1e-9, "frame packing v %g", v);
+    CHECK(!game_click_to_image(FRAME_COMPOSE_FRAME_PACKING, 320, 180, 320, 368, 0.5, 184 / 368.0, &u, &v),
+          "a click on frame packing's blank rows");
     /* letterbox: a 16:9 picture in a square window has bars above and below */
     CHECK(!game_click_to_image(FRAME_COMPOSE_ANAGLYPH, 320, 180, 400, 400, 0.5, 0.1, &u, &v), "click on a bar");
     /* 400 x 225 at y 87 (integer placement, as the blit): row 200 is 113 / 225 down */
