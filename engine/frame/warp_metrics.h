@@ -39,7 +39,8 @@
 
 /* Two depths within this fraction belong to one surface. */
 #define WARP_SAME_SURFACE 0.02f
-/* A pixel this far (luma, of 255) from the median of its neighbours stands out. */
+/* An eye pixel this far (luma, of 255) from the centre view's colour at its
+ * surface point, its neighbours within a third of it, is a speckle. */
 #define WARP_SPECKLE_LUMA 40
 
 typedef struct warp_metrics {

@@ -34,14 +34,13 @@ frame_layout frame_compose_layout(frame_compose mode, bool swap_eyes, uint32_t w
     /* HDMI 1.4a frame packing: an active space of 45 lines at 1080p, 30 at 720p. */
     uint32_t gap = (h + 12) / 24;
     switch (mode) {
+    case FRAME_COMPOSE_CROSS_EYED: /* side by side, the other way round */
+        swap_eyes = !swap_eyes;
+        /* fall through */
     case FRAME_COMPOSE_DEFAULT:
     case FRAME_COMPOSE_SBS:
         l.width = 2 * w;
         l.eye[1].x = w;
-        break;
-    case FRAME_COMPOSE_CROSS_EYED:
-        l.width = 2 * w;
-        l.eye[0].x = w;
         break;
     case FRAME_COMPOSE_SBS_HALF:
         l.eye[0].w = l.eye[1].w = w / 2;
@@ -69,6 +68,14 @@ frame_layout frame_compose_layout(frame_compose mode, bool swap_eyes, uint32_t w
         l.eye[1] = t;
     }
     return l;
+}
+
+void frame_compose_eye_size(frame_compose mode, uint32_t out_w, uint32_t out_h, double *eye_w, double *eye_h)
+{
+    /* Eyes of the output's size compose to l: scaled by out / l they fill it. */
+    frame_layout l = frame_compose_layout(mode, false, out_w, out_h);
+    *eye_w = (double)out_w * out_w / l.width;
+    *eye_h = (double)out_h * out_h / l.height;
 }
 
 void frame_compose_size(frame_compose mode, uint32_t w, uint32_t h, uint32_t *out_w, uint32_t *out_h)

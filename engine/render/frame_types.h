@@ -188,5 +188,8 @@ typedef struct frame_layout {
 } frame_layout;
 
 frame_layout frame_compose_layout(frame_compose mode, bool swap_eyes, uint32_t width, uint32_t height);
+/* The eye size whose composed output fills out_w x out_h (frame packing's
+ * blank band: about), e.g. a window's. */
+void frame_compose_eye_size(frame_compose mode, uint32_t out_w, uint32_t out_h, double *eye_w, double *eye_h);
 /* Output size of a layout for eyes of width x height. */
 void frame_compose_size(frame_compose mode, uint32_t width, uint32_t height, uint32_t *out_w, uint32_t *out_h);

@@ -207,9 +207,8 @@ static void choose_render_size(session *ss, bool announce)
     const play_window_cli *w = ss->d->win;
     frame_compose c = ss->compose;
     VkExtent2D e = window_extent(ss->win);
-    /* Eyes of the window's size compose to l: scale them so that it fits. */
-    frame_layout l = frame_compose_layout(c, false, e.width, e.height);
-    double ew = (double)e.width * e.width / l.width, eh = (double)e.height * e.height / l.height;
+    double ew, eh;
+    frame_compose_eye_size(c, e.width, e.height, &ew, &eh);
     bool interleaved = c == FRAME_COMPOSE_ROWS || c == FRAME_COMPOSE_COLUMNS || c == FRAME_COMPOSE_CHECKER;
     bool cpu = window_gpu(ss->win)->is_cpu;
     if (w->render[0] > 0) {

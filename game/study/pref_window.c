@@ -47,9 +47,9 @@ static void layout_make(pref *p)
     VkExtent2D e = window_extent(p->win);
     l->compose = (frame_compose)p->d->win->compose;
     l->swap = p->d->win->swap_eyes;
-    /* Eyes of the window's size compose to o: scale them so that it fits. */
-    frame_layout o = frame_compose_layout(l->compose, false, e.width, e.height);
-    l->ew = (int)((double)e.width * e.width / o.width), l->eh = (int)((double)e.height * e.height / o.height);
+    double ew, eh;
+    frame_compose_eye_size(l->compose, e.width, e.height, &ew, &eh);
+    l->ew = (int)ew, l->eh = (int)eh;
     l->win = frame_compose_layout(l->compose, l->swap, (uint32_t)l->ew, (uint32_t)l->eh);
     int pw = (l->ew - 2 * GAP) / 3, ph = pw * 9 / 16;
     if (ph > l->eh - 64) {
@@ -108,18 +108,12 @@ static void blit_panel(pref *p, int slot, const uint8_t *rgb)
     uint8_t *px = picture_begin(p->pic);
     int r, g, b;
     picture_channels(p->pic, &r, &g, &b);
-    int places = l->win.overlaid ? 1 : 2;
+    int xs[2], ys[2], places = eye_places(l, l->x[slot], l->y, xs, ys);
     for (int k = 0; k < places; k++) {
         const frame_eye_rect *src = l->win.overlaid ? &(frame_eye_rect){0, 0, p->sw, p->sh} : &l->panel.eye[k];
-        int ox, oy;
-        {
-            int xs[2], ys[2];
-            eye_places(l, l->x[slot], l->y, xs, ys);
-            ox = xs[k], oy = ys[k];
-        }
         for (uint32_t sy = src->y; sy < src->y + src->h && sy < p->sh; sy++)
             for (uint32_t sx = src->x; sx < src->x + src->w && sx < p->sw; sx++) {
-                int dx = ox + (int)(sx - src->x), dy = oy + (int)(sy - src->y);
+                int dx = xs[k] + (int)(sx - src->x), dy = ys[k] + (int)(sy - src->y);
                 if (dx < 0 || dy < 0 || dx >= (int)e.width || dy >= (int)e.height)
                     continue;
                 const uint8_t *s = rgb + ((size_t)sy * p->sw + sx) * 3;
