@@ -56,7 +56,7 @@ struct frame {
     frame_outputs outputs;
     double pass_ms[RG_MAX_PASSES];   /* the last completed frame */
     uint32_t pass_count;
-    bool profile;                    /* VERGENCE_PROFILE_PASSES: each pass alone, wall-clock ms */
+    bool timed;                      /* the pass clock is on (frame_time_passes) */
 };
 
 
@@ -100,6 +100,14 @@ static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint
 /* Graph                                                                     */
 /* ------------------------------------------------------------------------- */
 
+/* Two real cameras showing g need no disparity map: only their measures
+ * and the readback of the maps do. Every other stereo frame draws one. */
+static bool frame_needs_maps(const frame_desc *d)
+{
+    return d->stereo != FRAME_STEREO_OFF &&
+           (d->stereo != FRAME_STEREO_CAMERAS || d->mode != FRAME_MODE_ORIGINAL || d->measure || d->readback);
+}
+
 static vg_status build_graph(frame *f)
 {
     frame_ctx *fc = &f->fc;
@@ -118,11 +126,14 @@ static vg_status build_graph(frame *f)
     bool stereo = fc->desc.stereo != FRAME_STEREO_OFF;
     uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
     if (stereo) {
-        disparity_gpu_add(f->disparity, g, res);
-        rg_res target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
-                        : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
-                                                                : res->g;
-        if (!target.id) {
+        rg_res target = {0};
+        if (f->disparity) {
+            disparity_gpu_add(f->disparity, g, res);
+            target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
+                     : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
+                                                             : res->g;
+        }
+        if (!target.id && frame_needs_maps(&fc->desc)) {
             vg_error("mode '%s' is not available: the disparity passes did not produce its map",
                      frame_mode_names[fc->desc.mode]);
             return VG_ERR_UNSUPPORTED;
@@ -358,8 +369,6 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     frame *f = calloc(1, sizeof *f);
     if (!f)
         return VG_ERR_NOMEM;
-    const char *profile = getenv("VERGENCE_PROFILE_PASSES");
-    f->profile = profile && *profile && *profile != '0';
     frame_ctx *fc = &f->fc;
     fc->gpu = g;
     fc->scene = s;
@@ -377,7 +386,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     if (st == VG_OK)
         st = gbuffer_gpu_create(fc, &f->gbuffer);
     if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
-        st = disparity_gpu_create(fc, &f->disparity);
+        if (frame_needs_maps(&fc->desc))
+            st = disparity_gpu_create(fc, &f->disparity);
         if (st == VG_OK)
             st = warp_gpu_create(fc, &f->warp);
         if (st == VG_OK)
@@ -514,6 +524,13 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
     stereo_setup(fc, u);
 }
 
+/* The timestamps of a completed slot; a CPU device writes none (the pass
+ * clock times its passes). */
+static void read_timestamps(frame *f, int slot)
+{
+    f->pass_count = f->fc.gpu->is_cpu ? 0 : rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
+}
+
 /* Takes the next slot once the GPU is done with it, evaluates the scene
  * and fills the slot's constants. */
 static vg_status frame_begin(frame *f, long index)
@@ -526,7 +543,7 @@ static vg_status frame_begin(frame *f, long index)
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
         f->submitted[slot] = false;
-        f->pass_count = rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
+        read_timestamps(f, slot);
     }
     fc->times = frame_times_at(index, fc->desc.fps, fc->desc.keyframe_stride);
     scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
@@ -557,7 +574,6 @@ static void frame_bind(frame *f)
 static vg_status frame_record(frame *f, VkCommandBuffer *out)
 {
     int slot = f->fc.slot;
-    frame_bind(f);
     VkCommandBuffer cmd = f->cmd[slot];
     VK_TRY(vkResetCommandBuffer(cmd, 0));
     VK_TRY(vkBeginCommandBuffer(cmd, &(VkCommandBufferBeginInfo){
@@ -569,16 +585,18 @@ static vg_status frame_record(frame *f, VkCommandBuffer *out)
     return VG_OK;
 }
 
-/* The profiler (VERGENCE_PROFILE_PASSES=1): each ordered pass recorded,
- * submitted and waited for on its own, timed by the wall clock. lavapipe's
- * timestamps miss work it defers (docs/PERFORMANCE.md); this does not, at
- * the price of the overlap between passes. */
-static vg_status render_profiled(frame *f)
+/* The pass clock on a CPU device: each ordered pass recorded, submitted and
+ * waited for on its own and timed by the wall clock, so the passes' ms add
+ * up to the frame's. lavapipe's timestamps cannot do this: llvmpipe bins
+ * draws and rasterises them later, on other threads, so a draw's work lands
+ * in a later pass's timestamps or in none (docs/PERFORMANCE.md). The
+ * semaphores go on the first and last submission. */
+static vg_status submit_timed(frame *f, const frame_target *target)
 {
     gpu *g = f->fc.gpu;
     int slot = f->fc.slot;
     VkCommandBuffer cmd = f->cmd[slot];
-    frame_bind(f);
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     uint32_t n = rg_order_count(f->graph);
     for (uint32_t o = 0; o < n && o < RG_MAX_PASSES; o++) {
         double t0 = vg_now_ms();
@@ -588,7 +606,17 @@ static vg_status render_profiled(frame *f)
             .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT}));
         rg_execute_pass(f->graph, cmd, o);
         VK_TRY(vkEndCommandBuffer(cmd));
-        VkSubmitInfo submit = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
+        bool wait = target && target->wait && o == 0, signal = target && target->signal && o + 1 == n;
+        VkSubmitInfo submit = {
+            .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+            .waitSemaphoreCount = wait ? 1 : 0,
+            .pWaitSemaphores = wait ? &target->wait : NULL,
+            .pWaitDstStageMask = wait ? &wait_stage : NULL,
+            .commandBufferCount = 1,
+            .pCommandBuffers = &cmd,
+            .signalSemaphoreCount = signal ? 1 : 0,
+            .pSignalSemaphores = signal ? &target->signal : NULL,
+        };
         VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
@@ -598,37 +626,57 @@ static vg_status render_profiled(frame *f)
     return VG_OK;
 }
 
+/* Records the whole graph and submits it once (timestamps around each pass
+ * when the device has them); `wait_done`: headless, wait for it. */
+static vg_status submit_frame(frame *f, const frame_target *target, bool wait_done)
+{
+    if (f->timed && f->fc.gpu->is_cpu)
+        return submit_timed(f, target);
+    VkCommandBuffer cmd;
+    vg_status st = frame_record(f, &cmd);
+    if (st != VG_OK)
+        return st;
+    gpu *g = f->fc.gpu;
+    int slot = f->fc.slot;
+    /* The acquire semaphore is waited on where the graph expects the image
+     * (import_track in graph.c: colour attachment output). */
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    bool wait = target && target->wait, signal = target && target->signal;
+    VkSubmitInfo submit = {
+        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+        .waitSemaphoreCount = wait ? 1 : 0,
+        .pWaitSemaphores = wait ? &target->wait : NULL,
+        .pWaitDstStageMask = wait ? &wait_stage : NULL,
+        .commandBufferCount = 1,
+        .pCommandBuffers = &cmd,
+        .signalSemaphoreCount = signal ? 1 : 0,
+        .pSignalSemaphores = signal ? &target->signal : NULL,
+    };
+    VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
+    f->submitted[slot] = true;
+    if (!wait_done)
+        return VG_OK;
+    VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
+    VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
+    f->submitted[slot] = false;
+    read_timestamps(f, slot);
+    return VG_OK;
+}
+
 vg_status frame_render(frame *f, long index)
 {
     if (f->present) {
         vg_error("frame_render: this frame presents to a window; use frame_present");
         return VG_ERR_ARG;
     }
-    VkCommandBuffer cmd;
     vg_status st = frame_begin(f, index);
-    if (st == VG_OK && f->overlay)
-        overlay_gpu_update(f->overlay, f->hud);
-    if (st == VG_OK && f->profile)
-        return render_profiled(f);
-    if (st == VG_OK)
-        st = frame_record(f, &cmd);
     if (st != VG_OK)
         return st;
-    gpu *g = f->fc.gpu;
-    int slot = f->fc.slot;
-    VkSubmitInfo submit = {
-        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .commandBufferCount = 1,
-        .pCommandBuffers = &cmd,
-    };
-    VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
-    f->submitted[slot] = true;
+    if (f->overlay)
+        overlay_gpu_update(f->overlay, f->hud);
+    frame_bind(f);
     /* Headless: wait, so outputs and timings belong to this frame. */
-    VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
-    VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
-    f->submitted[slot] = false;
-    f->pass_count = rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
-    return VG_OK;
+    return submit_frame(f, NULL, true);
 }
 
 vg_status frame_set_hud(frame *f, const frame_hud *hud)
@@ -649,33 +697,17 @@ vg_status frame_present(frame *f, long index, const frame_target *target, const 
         vg_error("frame_present: the frame was created without a swapchain format and extent");
         return VG_ERR_ARG;
     }
-    frame_ctx *fc = &f->fc;
-    VkCommandBuffer cmd;
     vg_status st = frame_begin(f, index);
     if (st != VG_OK)
         return st;
     if (f->overlay)
         overlay_gpu_update(f->overlay, hud);
     rg_bind_image(f->graph, f->r_swapchain, target->image, target->view);
-    if ((st = frame_record(f, &cmd)) != VG_OK)
-        return st;
-    /* The acquire semaphore is waited on where the graph expects the image
-     * (import_track in graph.c: colour attachment output). */
-    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    VkSubmitInfo submit = {
-        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .waitSemaphoreCount = target->wait ? 1 : 0,
-        .pWaitSemaphores = &target->wait,
-        .pWaitDstStageMask = &wait_stage,
-        .commandBufferCount = 1,
-        .pCommandBuffers = &cmd,
-        .signalSemaphoreCount = target->signal ? 1 : 0,
-        .pSignalSemaphores = &target->signal,
-    };
-    VK_TRY(gpu_queue_submit(fc->gpu, 1, &submit, f->fence[fc->slot]));
-    f->submitted[fc->slot] = true;
-    return VG_OK;
+    frame_bind(f);
+    return submit_frame(f, target, false);
 }
+
+void frame_time_passes(frame *f, bool on) { f->timed = on; }
 
 /* Waits for every frame in flight (before resizing or reading timings). */
 vg_status frame_wait_idle(frame *f)
@@ -685,7 +717,7 @@ vg_status frame_wait_idle(frame *f)
             VK_TRY(vkWaitForFences(f->fc.gpu->device, 1, &f->fence[i], VK_TRUE, UINT64_MAX));
             VK_TRY(vkResetFences(f->fc.gpu->device, 1, &f->fence[i]));
             f->submitted[i] = false;
-            f->pass_count = rg_timings(f->graph, (uint32_t)i, f->pass_ms, RG_MAX_PASSES);
+            read_timestamps(f, i);
         }
     return VG_OK;
 }

@@ -50,7 +50,15 @@ void frame_restart(frame *f);
 /* Waits until no frame is in flight. */
 vg_status frame_wait_idle(frame *f);
 
-/* GPU ms of each pass of the last frame; returns the number of passes. */
+/* The pass clock, the one way passes are timed (every bench, capture.json,
+ * the HUD). On a CPU device (lavapipe) each pass is then submitted alone
+ * and timed by the wall clock until it completes, so the passes add up to
+ * the frame (it costs the overlap between passes: 5-10 % of a frame there);
+ * off, such a device reports no passes. Other devices time every frame
+ * with GPU timestamps, on or off. */
+void frame_time_passes(frame *f, bool on);
+/* ms of each pass of the last completed frame (the pass clock); returns the
+ * number of passes, 0 when none were timed. */
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap);
 
 /* What the frame resolved beyond its desc (frame_get_desc: every default

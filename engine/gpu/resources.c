@@ -146,6 +146,16 @@ vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out)
         return st;
     }
     VK_TRY(vkBindImageMemory(g->device, out->image, out->memory, 0));
+    out->format = desc->format;
+    out->width = desc->width;
+    out->height = desc->height;
+    out->layers = layers;
+    /* An image only copied to and from has no view. */
+    const VkImageUsageFlags viewed = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    if (!(desc->usage & viewed))
+        return VG_OK;
     VkImageViewCreateInfo view = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
         .image = out->image,
@@ -155,10 +165,6 @@ vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out)
     };
     VK_TRY(vkCreateImageView(g->device, &view, NULL, &out->view));
     GPU_NAME(g, VK_OBJECT_TYPE_IMAGE_VIEW, out->view, "%s view", name);
-    out->format = desc->format;
-    out->width = desc->width;
-    out->height = desc->height;
-    out->layers = layers;
     return VG_OK;
 }
 

@@ -49,7 +49,9 @@ vg_status rg_realize(rg_graph *g, gpu *gpu)
         if (st != VG_OK)
             return st;
     }
-    if (gpu->features.timestamps && g->order_count) {
+    /* A CPU device's timestamps say when llvmpipe queued a pass's draws,
+     * not when they ran: the frame times its passes by the wall clock there. */
+    if (gpu->features.timestamps && !gpu->is_cpu && g->order_count) {
         VkQueryPoolCreateInfo q = {
             .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
             .queryType = VK_QUERY_TYPE_TIMESTAMP,

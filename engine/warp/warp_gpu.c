@@ -233,6 +233,14 @@ static void draw_warped(warp_gpu *w, const rg_context *ctx, uint32_t flags)
 /* Eyes                                                                      */
 /* ------------------------------------------------------------------------- */
 
+/* Two real cameras need the disparity maps (and the curve) only to measure
+ * themselves; without them the frame makes no maps (frame.c) and the graph
+ * culls the G-buffer. */
+static bool eye_reads_maps(const warp_gpu *w, eye_kind kind)
+{
+    return w->target.id && (kind != EYE_CAMERAS || w->fc->desc.measure);
+}
+
 static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
 {
     const frame_ctx *fc = w->fc;
@@ -263,7 +271,7 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
      * others the shadow map and the curve, the warp its edge levels. */
     VkWriteDescriptorSet used[8];
     uint32_t n = 0;
-    bool maps = kind != EYE_CAMERAS || fc->desc.measure;
+    bool maps = eye_reads_maps(w, kind);
     used[n++] = wr[0];
     if (maps) {
         used[n++] = wr[2];
@@ -335,9 +343,7 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = name, .type = RG_PASS_GRAPHICS, .execute = eye_execute,
                                                .user = e});
     rg_use(g, p, res->ubo, RG_UNIFORM);
-    /* Two real cameras need the disparity maps only to measure themselves;
-     * without them the graph culls the G-buffer and disparity passes. */
-    bool maps = e->kind != EYE_CAMERAS || w->fc->desc.measure;
+    bool maps = eye_reads_maps(w, e->kind);
     if (maps) {
         rg_use(g, p, res->depth, RG_SAMPLED);
         rg_use(g, p, w->target, RG_SAMPLED);
@@ -378,7 +384,9 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
 
     /* warp.curve: the last stage of the cascade (and of the error measurement),
      * built from this frame's target map unless a baked one was given. */
-    if (w->baked.buffer) {
+    if (!target.id) {
+        /* Two cameras with nothing to measure: no curve. */
+    } else if (w->baked.buffer) {
         res->curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve.baked", sizeof(vg_curve)},
                                       &(rg_import_desc){.initial = RG_STORAGE_READ});
     } else {

@@ -39,6 +39,7 @@ static uint32_t pass_slot(capture_log *log, const char *name)
 
 vg_status capture_log_render(capture_log *log, frame *f, long index)
 {
+    frame_time_passes(f, true); /* capture.json's per-pass ms */
     double t0 = vg_now_ms();
     vg_status st = frame_render(f, index);
     if (st != VG_OK || log->frames >= log->capacity)

@@ -320,6 +320,9 @@ static vg_status handle(session *ss, const window_event *ev)
         break;
     case GLFW_KEY_H:
         ss->hud_tech = !ss->hud_tech;
+        for (int m = 0; m <= FRAME_MODE_OPTIMIZED; m++)
+            if (ss->frames[m])
+                frame_time_passes(ss->frames[m], ss->hud_tech);
         vg_info("play: technical HUD %s", ss->hud_tech ? "on" : "off");
         break;
     case GLFW_KEY_R:
@@ -401,10 +404,11 @@ static void hud_build(session *ss, frame *f)
                 frame_compose_names[ss->compose], ss->rw, ss->rh);
         const char *names[RG_MAX_PASSES];
         double ms[RG_MAX_PASSES], total = 0;
+        frame_time_passes(f, true); /* from the next frame on; off with the HUD (it costs the overlap) */
         uint32_t n = frame_pass_timings(f, names, ms, RG_MAX_PASSES);
         for (uint32_t i = 0; i < n; i++)
             total += ms[i];
-        hud_add(ss, "fps %.1f   GPU %.1f ms", ss->fps, total);
+        hud_add(ss, "fps %.1f   passes %.1f ms", ss->fps, total);
         char line[FRAME_HUD_LINE] = "";
         int small = 0;
         for (uint32_t i = 0; i < n; i++) {
