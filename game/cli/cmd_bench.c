@@ -17,6 +17,8 @@
 #include <string.h>
 #include <sys/resource.h>
 
+#include "bench_game.h"
+#include "bench_report.h"
 #include "commands.h"
 #include "core/bandwidth.h"
 #include "core/clock.h"
@@ -33,13 +35,13 @@
 
 static struct {
     const char *scene, *sizes, *tess, *markdown;
-    int frames, tess_frames;
-    bool no_solver, all_passes;
+    int frames, tess_frames, game_frames, frame_ticks;
+    bool no_solver, all_passes, game;
     gpu_cli gpu;
 } o;
 
 static const vg_opt k_opts[] = {
-    {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF scene to render (default: content/balloon.gltf)", NULL, 0, 0},
+    {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF scene to render (default: content/balloon.gltf; --game: content/arena.gltf)", NULL, 0, 0},
     {"--frames", VG_OPT_INT, &o.frames, "N", "frames per setting, medians (default 10: one keyframe interval)",
      NULL, 1, 1000},
     {"--sizes", VG_OPT_STRING, &o.sizes, "WxH,WxH", "the two frame sizes (default 960x540,1920x1080)", NULL, 0, 0},
@@ -48,6 +50,13 @@ static const vg_opt k_opts[] = {
     {"--tess-frames", VG_OPT_INT, &o.tess_frames, "N",
      "frames per tess-px setting (default 1: 1-px tessellation takes minutes a frame on a CPU)", NULL, 1, 1000},
     {"--all-passes", VG_OPT_FLAG, &o.all_passes, NULL, "also list every pass of the optimised frame", NULL, 0, 0},
+    {"--game", VG_OPT_FLAG, &o.game, NULL,
+     "only the game: its frame rate in each mode at its defaults, the same replay every run (--scene: the arena)",
+     NULL, 0, 0},
+    {"--game-frames", VG_OPT_INT, &o.game_frames, "N", "with --game: frames a mode (default 120: 6 s, two throws)",
+     NULL, 2, 10000},
+    {"--frame-ticks", VG_OPT_INT, &o.frame_ticks, "T",
+     "with --game: 1/60 s ticks the clock advances a frame (default 3: a 20 fps game)", NULL, 1, 60},
     {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL, "skip the CPU solver and memory bandwidth figures", NULL, 0, 0},
     {"--markdown", VG_OPT_STRING, &o.markdown, "FILE", "also write the tables as Markdown (docs/PERFORMANCE.md)",
      NULL, 0, 0},
@@ -223,57 +232,6 @@ static vg_status run_interleaved(gpu *g, const scene *sc, const frame_desc *desc
 }
 
 /* ------------------------------------------------------------------------- */
-/* Output: plain text, and the same tables as Markdown                        */
-/* ------------------------------------------------------------------------- */
-
-typedef struct report {
-    FILE *md; /* NULL: text only */
-} report;
-
-static void heading(report *r, const char *title)
-{
-    printf("\n%s\n", title);
-    if (r->md)
-        fprintf(r->md, "\n### %s\n\n", title);
-}
-
-/* One table row: a label and up to 4 cells already formatted. */
-static void row(report *r, bool header, const char *label, int n, char cells[][32])
-{
-    printf("  %-40s", label);
-    for (int i = 0; i < n; i++)
-        printf(" %14s", cells[i]);
-    printf("\n");
-    if (!r->md)
-        return;
-    fprintf(r->md, "| %s |", label);
-    for (int i = 0; i < n; i++)
-        fprintf(r->md, " %s |", cells[i]);
-    fprintf(r->md, "\n");
-    if (header) {
-        fprintf(r->md, "|---|");
-        for (int i = 0; i < n; i++)
-            fprintf(r->md, "---:|");
-        fprintf(r->md, "\n");
-    }
-}
-
-static void row_values(report *r, const char *label, int n, const double *v, const char *fmt)
-{
-    char cells[4][32];
-    for (int i = 0; i < n; i++)
-        snprintf(cells[i], sizeof cells[i], fmt, v[i]);
-    row(r, false, label, n, cells);
-}
-
-static void note(report *r, const char *text)
-{
-    printf("  %s\n", text);
-    if (r->md)
-        fprintf(r->md, "\n%s\n", text);
-}
-
-/* ------------------------------------------------------------------------- */
 /* The command                                                               */
 /* ------------------------------------------------------------------------- */
 
@@ -311,7 +269,7 @@ static int parse_tess(const char *text, double *px, int cap)
     return n;
 }
 
-static vg_status bench_frames(gpu *g, const scene *sc, uint32_t sizes[2][2], report *r)
+static vg_status bench_frames(gpu *g, const scene *sc, uint32_t sizes[2][2], bench_report *r)
 {
     frame_desc base = {.stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED, .diffuse = true};
     figures fig[2][2]; /* [size][optimised, cameras] */
@@ -330,51 +288,51 @@ static vg_status bench_frames(gpu *g, const scene *sc, uint32_t sizes[2][2], rep
             return st;
     }
     char cells[4][32];
-    heading(r, "Per-pass ms, optimised stereo frame (warp, error-driven tessellation 0.025 px)");
+    bench_heading(r, "Per-pass ms, optimised stereo frame (warp, error-driven tessellation 0.025 px)");
     for (int k = 0; k < 2; k++)
         snprintf(cells[k], sizeof cells[k], "%ux%u", sizes[k][0], sizes[k][1]);
-    row(r, true, "pass (median ms)", 2, cells);
+    bench_row(r, true, "pass (median ms)", 2, cells);
     for (int gi = 0; gi < G_COUNT; gi++) {
         double v[2] = {fig[0][0].group[gi], fig[1][0].group[gi]};
         if (gi == G_OTHER && v[0] == 0 && v[1] == 0)
             continue;
-        row_values(r, k_group_names[gi], 2, v, "%.1f");
+        bench_row_values(r, k_group_names[gi], 2, v, "%.1f");
     }
     double v[2];
     v[0] = fig[0][0].gpu, v[1] = fig[1][0].gpu;
-    row_values(r, "all passes (sum)", 2, v, "%.1f");
+    bench_row_values(r, "all passes (sum)", 2, v, "%.1f");
     v[0] = fig[0][0].wall, v[1] = fig[1][0].wall;
-    row_values(r, "frame, wall clock (passes timed)", 2, v, "%.1f");
+    bench_row_values(r, "frame, wall clock (passes timed)", 2, v, "%.1f");
     v[0] = 100 * fig[0][0].gpu / fig[0][0].wall, v[1] = 100 * fig[1][0].gpu / fig[1][0].wall;
-    row_values(r, "passes / wall", 2, v, "%.1f%%");
+    bench_row_values(r, "passes / wall", 2, v, "%.1f%%");
     v[0] = fig[0][0].untimed, v[1] = fig[1][0].untimed;
-    row_values(r, "frame, wall clock (clock off: as played)", 2, v, "%.1f");
+    bench_row_values(r, "frame, wall clock (clock off: as played)", 2, v, "%.1f");
     v[0] = fig[0][1].gpu, v[1] = fig[1][1].gpu;
-    row_values(r, "two cameras: all passes (sum)", 2, v, "%.1f");
+    bench_row_values(r, "two cameras: all passes (sum)", 2, v, "%.1f");
     v[0] = fig[0][1].wall, v[1] = fig[1][1].wall;
-    row_values(r, "two cameras: frame, wall (passes timed)", 2, v, "%.1f");
+    bench_row_values(r, "two cameras: frame, wall (passes timed)", 2, v, "%.1f");
     v[0] = 100 * fig[0][1].gpu / fig[0][1].wall, v[1] = 100 * fig[1][1].gpu / fig[1][1].wall;
-    row_values(r, "two cameras: passes / wall", 2, v, "%.1f%%");
+    bench_row_values(r, "two cameras: passes / wall", 2, v, "%.1f%%");
     v[0] = fig[0][1].untimed, v[1] = fig[1][1].untimed;
-    row_values(r, "two cameras: frame, wall (clock off)", 2, v, "%.1f");
+    bench_row_values(r, "two cameras: frame, wall (clock off)", 2, v, "%.1f");
     v[0] = fig[0][0].untimed / fig[0][1].untimed, v[1] = fig[1][0].untimed / fig[1][1].untimed;
-    row_values(r, "ratio optimised / two cameras (clock off)", 2, v, "%.2fx");
+    bench_row_values(r, "ratio optimised / two cameras (clock off)", 2, v, "%.2fx");
     v[0] = fig[0][0].eyes / 2, v[1] = fig[1][0].eyes / 2;
-    row_values(r, "warp ms per eye", 2, v, "%.1f");
+    bench_row_values(r, "warp ms per eye", 2, v, "%.1f");
     v[0] = fig[0][0].solve_mean * 10, v[1] = fig[1][0].solve_mean * 10;
-    row_values(r, "mid.solve per window (mean x 10 frames)", 2, v, "%.1f");
+    bench_row_values(r, "mid.solve per window (mean x 10 frames)", 2, v, "%.1f");
     v[0] = fig[0][0].device_mb, v[1] = fig[1][0].device_mb;
-    row_values(r, "device memory of the frame (MB)", 2, v, "%.1f");
+    bench_row_values(r, "device memory of the frame (MB)", 2, v, "%.1f");
     v[0] = fig[0][1].device_mb, v[1] = fig[1][1].device_mb;
-    row_values(r, "two cameras: device memory (MB)", 2, v, "%.1f");
+    bench_row_values(r, "two cameras: device memory (MB)", 2, v, "%.1f");
     if (o.all_passes && fig[0][0].passes == fig[1][0].passes) {
-        heading(r, "Every pass of the optimised frame (median ms)");
+        bench_heading(r, "Every pass of the optimised frame (median ms)");
         for (int k = 0; k < 2; k++)
             snprintf(cells[k], sizeof cells[k], "%ux%u", sizes[k][0], sizes[k][1]);
-        row(r, true, "pass", 2, cells);
+        bench_row(r, true, "pass", 2, cells);
         for (int p = 0; p < fig[0][0].passes; p++) {
             v[0] = fig[0][0].pass[p], v[1] = fig[1][0].pass[p];
-            row_values(r, fig[0][0].pass_name[p], 2, v, "%.1f");
+            bench_row_values(r, fig[0][0].pass_name[p], 2, v, "%.1f");
         }
     }
     char big[512];
@@ -387,20 +345,20 @@ static vg_status bench_frames(gpu *g, const scene *sc, uint32_t sizes[2][2], rep
              fig[1][0].untimed / fig[1][1].untimed, 100 * fig[0][0].gpu / fig[0][0].wall,
              100 * fig[1][0].gpu / fig[1][0].wall, 100 * fig[0][1].gpu / fig[0][1].wall,
              100 * fig[1][1].gpu / fig[1][1].wall);
-    note(r, big);
+    bench_note(r, big);
     return VG_OK;
 }
 
-static vg_status bench_tessellation(gpu *g, const scene *sc, uint32_t w, uint32_t h, report *r)
+static vg_status bench_tessellation(gpu *g, const scene *sc, uint32_t w, uint32_t h, bench_report *r)
 {
     double px[8];
     int n = parse_tess(o.tess ? o.tess : "1,2,4,8", px, 8);
     char cells[4][32], label[64];
-    heading(r, "Warp ms per eye against tessellation (optimised f)");
+    bench_heading(r, "Warp ms per eye against tessellation (optimised f)");
     snprintf(cells[0], sizeof cells[0], "%ux%u ms/eye", w, h);
     snprintf(cells[1], sizeof cells[1], "frame ms (wall)");
     snprintf(cells[2], sizeof cells[2], "frames");
-    row(r, true, "tessellation", 3, cells);
+    bench_row(r, true, "tessellation", 3, cells);
     for (int i = 0; i <= n; i++) {
         frame_desc d = {.width = w, .height = h, .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED,
                         .diffuse = true};
@@ -434,12 +392,12 @@ static vg_status bench_tessellation(gpu *g, const scene *sc, uint32_t w, uint32_
         snprintf(cells[0], sizeof cells[0], "%.1f", f.eyes / 2);
         snprintf(cells[1], sizeof cells[1], "%.1f", f.wall);
         snprintf(cells[2], sizeof cells[2], "%d", frames);
-        row(r, false, label, 3, cells);
+        bench_row(r, false, label, 3, cells);
     }
     return VG_OK;
 }
 
-static vg_status bench_solver(report *r)
+static vg_status bench_solver(bench_report *r)
 {
     int threads = vg_cpu_count();
     vg_pool *pool = NULL;
@@ -469,23 +427,23 @@ static vg_status bench_solver(report *r)
         return st;
     double m = vg_median(ms, 5, 1), gbs = stats.bytes / (m * 1e6);
     char cells[4][32], label[96];
-    heading(r, "Solver bandwidth");
+    bench_heading(r, "Solver bandwidth");
     snprintf(cells[0], sizeof cells[0], "ms");
     snprintf(cells[1], sizeof cells[1], "GB/s");
     snprintf(cells[2], sizeof cells[2], "of triad");
-    row(r, true, "measure", 3, cells);
+    bench_row(r, true, "measure", 3, cells);
     snprintf(label, sizeof label, "memory bandwidth, STREAM triad (%d threads)", threads);
     cells[0][0] = 0;
     snprintf(cells[1], sizeof cells[1], "%.2f", triad);
     snprintf(cells[2], sizeof cells[2], "100%%");
-    row(r, false, label, 3, cells);
+    bench_row(r, false, label, 3, cells);
     snprintf(label, sizeof label, "CPU solver, Gauss-Newton 4x8 (%dx%dx%d window)", MID_SYNTH_NX, MID_SYNTH_NY,
              MID_SYNTH_NT);
     snprintf(cells[0], sizeof cells[0], "%.1f", m);
     snprintf(cells[1], sizeof cells[1], "%.2f", gbs);
     snprintf(cells[2], sizeof cells[2], "%.0f%%", 100 * gbs / triad);
-    row(r, false, label, 3, cells);
-    note(r, "GB/s: the compulsory traffic of the solver's passes (every array element read or written once "
+    bench_row(r, false, label, 3, cells);
+    bench_note(r, "GB/s: the compulsory traffic of the solver's passes (every array element read or written once "
             "per pass) over its wall time; the GPU solve (mid.solve above) runs the same passes.");
     return VG_OK;
 }
@@ -493,8 +451,10 @@ static vg_status bench_solver(report *r)
 static int run(int argc, char **argv)
 {
     memset(&o, 0, sizeof o);
-    o.scene = "content/balloon.gltf";
+    o.scene = NULL;
     o.sizes = "960x540,1920x1080";
+    o.game_frames = 120;
+    o.frame_ticks = 3;
     o.frames = 10;
     o.tess_frames = 1;
     o.gpu.device = -1;
@@ -520,12 +480,14 @@ static int run(int argc, char **argv)
         vg_error("vergence bench: --tess: '%s' is not 'none' or a list of up to 8 pixel sizes (0.25..64)", o.tess);
         return 2;
     }
+    if (!o.scene)
+        o.scene = o.game ? "content/arena.gltf" : "content/balloon.gltf";
     scene *sc;
     vg_status st = scene_load(o.scene, &sc);
     if (st != VG_OK)
         return vg_status_exit_code(st);
     /* The tables' file: no input, and writable before minutes of work. */
-    report r = {0};
+    bench_report r = {0};
     char tmp[4096];
     if (o.markdown) {
         vg_inputs in = {0};
@@ -554,27 +516,34 @@ static int run(int argc, char **argv)
         scene_destroy(sc);
         return vg_status_exit_code(st);
     }
-    printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
-           g->props.deviceName, vg_cpu_count(), o.frames);
-    if (r.md)
-        fprintf(r.md, "Scene `%s` on %s, %d CPU cores; medians of %d frames per setting.\n", o.scene,
-                g->props.deviceName, vg_cpu_count(), o.frames);
-    st = bench_frames(g, sc, sizes, &r);
-    if (st == VG_OK)
-        st = bench_tessellation(g, sc, sizes[0][0], sizes[0][1], &r);
-    if (st == VG_OK && !o.no_solver)
-        st = bench_solver(&r);
+    if (o.game) {
+        printf("vergence bench --game: %s on %s, %d CPU cores\n", o.scene, g->props.deviceName, vg_cpu_count());
+        if (r.md)
+            fprintf(r.md, "Scene `%s` on %s, %d CPU cores.\n", o.scene, g->props.deviceName, vg_cpu_count());
+        st = bench_game(g, sc, o.scene, o.game_frames, o.frame_ticks, &r);
+    } else {
+        printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
+               g->props.deviceName, vg_cpu_count(), o.frames);
+        if (r.md)
+            fprintf(r.md, "Scene `%s` on %s, %d CPU cores; medians of %d frames per setting.\n", o.scene,
+                    g->props.deviceName, vg_cpu_count(), o.frames);
+        st = bench_frames(g, sc, sizes, &r);
+        if (st == VG_OK)
+            st = bench_tessellation(g, sc, sizes[0][0], sizes[0][1], &r);
+        if (st == VG_OK && !o.no_solver)
+            st = bench_solver(&r);
+    }
     if (st == VG_OK) {
         struct rusage ru;
         getrusage(RUSAGE_SELF, &ru);
         char cells[4][32];
-        heading(&r, "Peak memory");
+        bench_heading(&r, "Peak memory");
         snprintf(cells[0], sizeof cells[0], "MB");
-        row(&r, true, "measure", 1, cells);
+        bench_row(&r, true, "measure", 1, cells);
         snprintf(cells[0], sizeof cells[0], "%.1f", (double)g->memory_peak / (1024.0 * 1024.0));
-        row(&r, false, "device memory allocated (peak)", 1, cells);
+        bench_row(&r, false, "device memory allocated (peak)", 1, cells);
         snprintf(cells[0], sizeof cells[0], "%.1f", (double)ru.ru_maxrss / 1024.0);
-        row(&r, false, "process resident set (peak; lavapipe's memory is host memory)", 1, cells);
+        bench_row(&r, false, "process resident set (peak; lavapipe's memory is host memory)", 1, cells);
     }
     if (r.md) {
         bool closed = fclose(r.md) == 0;

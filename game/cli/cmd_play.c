@@ -12,6 +12,7 @@
 #include "core/log.h"
 #include "options/game_cli.h"
 #include "play/play_session.h"
+#include "rules/game.h"
 
 typedef struct play_opts {
     const char *scene;
@@ -23,7 +24,7 @@ typedef struct play_opts {
 
 static play_opts o = {
     .mode = FRAME_MODE_ORIGINAL, .op = DISP_OPERATOR_LANG,
-    .win = {.size = {1280, 720}, .compose = FRAME_COMPOSE_ANAGLYPH, .seed = -1, .gpu = {.device = -1}},
+    .win = {.size = {GAME_WINDOW_W, GAME_WINDOW_H}, .compose = GAME_LAYOUT, .seed = -1, .gpu = {.device = -1}},
 };
 
 static const vg_opt k_opts[] = {

@@ -75,19 +75,10 @@ static void ball_pose(void *user, const scene *s, float t, float *local)
 {
     (void)s;
     const session *ss = user;
-    float *l = local + (size_t)ss->ball * 10;
-    double p[3];
     bool shown = ss->ph != PHASE_DEFAULT && ss->ph != PHASE_DONE;
-    if (t < ss->t_launch)
-        memcpy(p, ss->th.start, sizeof p);
-    else
-        game_throw_position(&ss->th, t - ss->t_launch, p);
     if (t >= ss->t_hide && t < ss->t_landed)
         shown = false; /* the paper's "shown only for a short initial interval" */
-    for (int k = 0; k < 3; k++) {
-        l[k] = (float)p[k];
-        l[7 + k] = shown ? ss->ball_scale[k] : 0.0f; /* scale 0: no pixels, bounds unchanged */
-    }
+    game_ball_local(&ss->th, ss->t_launch, t, shown, ss->ball_scale, local + (size_t)ss->ball * 10);
 }
 
 /* ------------------------------------------------------------------------- */
@@ -207,18 +198,14 @@ static void choose_render_size(session *ss, bool announce)
     const play_window_cli *w = ss->d->win;
     frame_compose c = ss->compose;
     VkExtent2D e = window_extent(ss->win);
-    double ew, eh;
-    frame_compose_eye_size(c, e.width, e.height, &ew, &eh);
     bool interleaved = c == FRAME_COMPOSE_ROWS || c == FRAME_COMPOSE_COLUMNS || c == FRAME_COMPOSE_CHECKER;
     bool cpu = window_gpu(ss->win)->is_cpu;
     if (w->render[0] > 0) {
-        ew = w->render[0], eh = w->render[1];
-    } else if (cpu && !interleaved && ew > 480) {
-        eh *= 480 / ew;
-        ew = 480;
+        ss->rw = (uint32_t)fmax(16, w->render[0]);
+        ss->rh = (uint32_t)fmax(16, w->render[1]);
+    } else {
+        game_render_size(window_gpu(ss->win), c, e.width, e.height, &ss->rw, &ss->rh);
     }
-    ss->rw = (uint32_t)fmax(16, round(ew));
-    ss->rh = (uint32_t)fmax(16, round(eh));
     frame_desc fd = {0};
     game_frame_defaults(window_gpu(ss->win), w->tess_error, &fd);
     if (announce && cpu)
@@ -244,16 +231,13 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     const play_session_desc *d = ss->d;
     gpu *g = window_gpu(ss->win);
     VkExtent2D e = window_extent(ss->win);
-    frame_desc fd = {
-        .width = ss->rw, .height = ss->rh, .fps = 60, .keyframe_stride = 10, .camera = 0,
-        .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = mode,
-        .compose = ss->compose, .swap_eyes = ss->swap_eyes,
-        .present_format = window_format(ss->win), .present_width = e.width, .present_height = e.height,
-        /* A study compresses as the paper's did (more than the display needs); play for comfort. */
-        .op = d->op, .op_preset = ss->study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
-        .readback = d->win->dump_f && mode == FRAME_MODE_OPTIMIZED,
-    };
-    game_frame_defaults(g, d->win->tess_error, &fd);
+    frame_desc fd = game_frame_desc(g, d->win->tess_error, mode, ss->rw, ss->rh, ss->compose, d->op, ss->study);
+    fd.display = d->display;
+    fd.swap_eyes = ss->swap_eyes;
+    fd.present_format = window_format(ss->win);
+    fd.present_width = e.width;
+    fd.present_height = e.height;
+    fd.readback = d->win->dump_f && mode == FRAME_MODE_OPTIMIZED;
     vg_status st = frame_create(g, ss->scene, &fd, &ss->frames[mode]);
     *out = ss->frames[mode];
     return st;

@@ -264,3 +264,40 @@ void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd)
     fd->tess_error = tess_error > 0 ? tess_error : g->is_cpu ? 0.5 : 0.0; /* 0: the engine's */
     fd->shadow_size = g->is_cpu ? 1024 : 0;
 }
+
+frame_desc game_frame_desc(const gpu *g, double tess_error, frame_mode mode, uint32_t w, uint32_t h,
+                           frame_compose layout, disp_operator_kind op, bool study)
+{
+    frame_desc fd = {
+        .width = w, .height = h, .fps = 60, .keyframe_stride = 10, .camera = 0, .stereo = FRAME_STEREO_WARP,
+        .mode = mode, .compose = layout, .op = op, .op_preset = study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
+    };
+    game_frame_defaults(g, tess_error, &fd);
+    return fd;
+}
+
+void game_render_size(const gpu *g, frame_compose c, uint32_t win_w, uint32_t win_h, uint32_t *w, uint32_t *h)
+{
+    double ew, eh;
+    frame_compose_eye_size(c, win_w, win_h, &ew, &eh);
+    bool interleaved = c == FRAME_COMPOSE_ROWS || c == FRAME_COMPOSE_COLUMNS || c == FRAME_COMPOSE_CHECKER;
+    if (g->is_cpu && !interleaved && ew > 480) {
+        eh *= 480 / ew;
+        ew = 480;
+    }
+    *w = (uint32_t)fmax(16, round(ew));
+    *h = (uint32_t)fmax(16, round(eh));
+}
+
+void game_ball_local(const game_throw *th, double t_launch, double t, bool shown, const float scale[3], float *local)
+{
+    double p[3];
+    if (t < t_launch)
+        memcpy(p, th->start, sizeof p);
+    else
+        game_throw_position(th, t - t_launch, p);
+    for (int k = 0; k < 3; k++) {
+        local[k] = (float)p[k];
+        local[7 + k] = shown ? scale[k] : 0.0f;
+    }
+}

@@ -133,3 +133,22 @@ game_cell game_hit_cell(int cell);
  * error-driven tessellation at 0.5 px (tess_error overrides; 0 = default)
  * and a 1024 px shadow map, to stay interactive; a GPU the engine's. */
 void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd);
+/* `vergence play`'s window and layout by default. */
+#define GAME_WINDOW_W 1280
+#define GAME_WINDOW_H 720
+#define GAME_LAYOUT FRAME_COMPOSE_ANAGLYPH
+/* The frame the game renders in a mode: eyes of w x h at 60 Hz, keyframes
+ * every 10th frame (paper 4.4), the tessellated warp, the layout, the
+ * manipulation op (a study's compresses as the paper's did, play's for
+ * comfort) and game_frame_defaults. The caller adds display and window. */
+frame_desc game_frame_desc(const gpu *g, double tess_error, frame_mode mode, uint32_t w, uint32_t h,
+                           frame_compose layout, disp_operator_kind op, bool study);
+/* The eye size of `vergence play` in a window of win_w x win_h: the eyes fill
+ * it in the layout, and a CPU rasteriser gets at most 480 pixels across
+ * (not the interleaved layouts: they need 1:1 pixels). */
+void game_render_size(const gpu *g, frame_compose c, uint32_t win_w, uint32_t win_h, uint32_t *w, uint32_t *h);
+/* The ball's local transform (scene_pose_fn layout: translation 0-2, scale
+ * 7-9) at scene time t of a throw launched at t_launch: at its start before,
+ * on its path after; scale 0 (no pixels, bounds unchanged) when not shown. */
+void game_ball_local(const game_throw *th, double t_launch, double t, bool shown, const float scale[3],
+                     float *local);

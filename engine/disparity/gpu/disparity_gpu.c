@@ -180,7 +180,6 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     d->depth = res->depth;
     d->g = res->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, w, h, 1});
     res->h = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, w, h, 1});
-    res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
     d->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", operator_gpu_state_size(d->op)}, &rw);
     d->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", d->store.size}, &rw);
     d->r_published = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", d->published.size}, &rw);
@@ -217,6 +216,13 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->g, RG_STORAGE_READ);
     rg_use(g, p, d->state, RG_STORAGE_READ);
     rg_use(g, p, res->h, RG_STORAGE_WRITE);
+    d->graph = g;
+    /* Steps 6 and 7 only where f is shown or measured: a frame showing g or
+     * h (the game's other modes) leaves the solve out. */
+    const frame_desc *fd = &d->fc->desc;
+    if (fd->mode != FRAME_MODE_OPTIMIZED && !fd->measure && !fd->readback)
+        return;
+    res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
     /* The last window's unfinished items (frames were skipped), then the
      * new window's build. */
     p = compute_pass(g, "mid.window", window_execute, d);
@@ -241,7 +247,6 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, d->r_published, RG_STORAGE_READ);
     rg_use(g, p, d->ratio, RG_STORAGE_READ);
     rg_use(g, p, res->f, RG_STORAGE_WRITE);
-    d->graph = g;
 }
 
 /* ------------------------------------------------------------------------- */

@@ -1,0 +1,12 @@
+/* vergence bench --game: the game's frame rate in each mode at its
+ * defaults, with the same replay every run (bench_game.c). */
+#pragma once
+#include "bench_report.h"
+#include "core/status.h"
+#include "gpu/gpu.h"
+#include "scene/scene.h"
+
+/* `frames` frames a mode after a warm-up frame, the clock advanced `ticks`
+ * 1/60 s ticks a frame; the table goes to `rep`. The scene (play's arena)
+ * needs a node named 'ball'; its pose hook is the bench's until it returns. */
+vg_status bench_game(gpu *g, scene *sc, const char *scene_path, int frames, int ticks, bench_report *rep);
