@@ -82,6 +82,7 @@ def case_bad_inputs():
     expect_error(["bench", "--sizes", "960x540"], "--sizes")
     expect_error(["bench", "--tess", "1,x"], "--tess")
     expect_error(["bench", "--scene", os.path.join(tmp, "missing.gltf")], "missing.gltf")
+    expect_error(["bench", "--game", "--scene", "content/cubes.gltf"], "ball")
     expect_error(["no-such-command"], "no-such-command")
     expect_error(["info", "--gpu", "9"], "--gpu")
 
@@ -337,6 +338,19 @@ def case_validation_sweep():
                      "--tess", "8", "--no-solver", "--markdown", os.path.join(tmp, "bench.md")] + V,
            check=lambda p: None if "ratio optimised / two cameras" in p.stdout
            and os.path.isfile(os.path.join(tmp, "bench.md")) else "bench printed no ratio or wrote no table")
+
+    # bench --game: two frames a mode; the passes (pass clock) add up to
+    # something, every mode has a frame rate.
+    def game_table(p):
+        rows = {l.rsplit(None, 3)[0].strip(): l.split()[-3:] for l in p.stdout.splitlines()
+                if l.startswith("  ") and len(l.split()) > 3}
+        fps, share = rows.get("fps (frames / wall seconds)"), rows.get("passes / wall (timed frames)")
+        if not fps or not share or "warp.classify (mean ms)" not in rows:
+            return "bench --game printed no fps, passes / wall or warp.classify row"
+        if not all(float(v) > 0 for v in fps) or not all(0 < float(v.rstrip("%")) <= 100 for v in share):
+            return "bench --game: fps %s, passes / wall %s" % (fps, share)
+        return None
+    sw.run("bench --game", ["bench", "--game", "--game-frames", "2"] + V, check=game_table)
 
     # play needs a window: under a virtual display, a replay that switches
     # the three modes and the HUD, then quits.
