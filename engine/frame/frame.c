@@ -585,12 +585,30 @@ static vg_status frame_record(frame *f, VkCommandBuffer *out)
     return VG_OK;
 }
 
+/* One command buffer; the window's semaphores where `first` / `last` (none
+ * headless). The acquire semaphore is waited on where the graph expects the
+ * image (import_track in graph.c: colour attachment output). */
+static VkSubmitInfo submit_info(const VkCommandBuffer *cmd, const frame_target *t, bool first, bool last,
+                                const VkPipelineStageFlags *wait_stage)
+{
+    bool wait = t && t->wait && first, signal = t && t->signal && last;
+    return (VkSubmitInfo){
+        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+        .waitSemaphoreCount = wait ? 1 : 0,
+        .pWaitSemaphores = wait ? &t->wait : NULL,
+        .pWaitDstStageMask = wait ? wait_stage : NULL,
+        .commandBufferCount = 1,
+        .pCommandBuffers = cmd,
+        .signalSemaphoreCount = signal ? 1 : 0,
+        .pSignalSemaphores = signal ? &t->signal : NULL,
+    };
+}
+
 /* The pass clock on a CPU device: each ordered pass recorded, submitted and
  * waited for on its own and timed by the wall clock, so the passes' ms add
  * up to the frame's. lavapipe's timestamps cannot do this: llvmpipe bins
  * draws and rasterises them later, on other threads, so a draw's work lands
- * in a later pass's timestamps or in none (docs/PERFORMANCE.md). The
- * semaphores go on the first and last submission. */
+ * in a later pass's timestamps or in none (docs/PERFORMANCE.md). */
 static vg_status submit_timed(frame *f, const frame_target *target)
 {
     gpu *g = f->fc.gpu;
@@ -606,17 +624,7 @@ static vg_status submit_timed(frame *f, const frame_target *target)
             .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT}));
         rg_execute_pass(f->graph, cmd, o);
         VK_TRY(vkEndCommandBuffer(cmd));
-        bool wait = target && target->wait && o == 0, signal = target && target->signal && o + 1 == n;
-        VkSubmitInfo submit = {
-            .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-            .waitSemaphoreCount = wait ? 1 : 0,
-            .pWaitSemaphores = wait ? &target->wait : NULL,
-            .pWaitDstStageMask = wait ? &wait_stage : NULL,
-            .commandBufferCount = 1,
-            .pCommandBuffers = &cmd,
-            .signalSemaphoreCount = signal ? 1 : 0,
-            .pSignalSemaphores = signal ? &target->signal : NULL,
-        };
+        VkSubmitInfo submit = submit_info(&cmd, target, o == 0, o + 1 == n, &wait_stage);
         VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
@@ -638,20 +646,8 @@ static vg_status submit_frame(frame *f, const frame_target *target, bool wait_do
         return st;
     gpu *g = f->fc.gpu;
     int slot = f->fc.slot;
-    /* The acquire semaphore is waited on where the graph expects the image
-     * (import_track in graph.c: colour attachment output). */
     VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    bool wait = target && target->wait, signal = target && target->signal;
-    VkSubmitInfo submit = {
-        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .waitSemaphoreCount = wait ? 1 : 0,
-        .pWaitSemaphores = wait ? &target->wait : NULL,
-        .pWaitDstStageMask = wait ? &wait_stage : NULL,
-        .commandBufferCount = 1,
-        .pCommandBuffers = &cmd,
-        .signalSemaphoreCount = signal ? 1 : 0,
-        .pSignalSemaphores = signal ? &target->signal : NULL,
-    };
+    VkSubmitInfo submit = submit_info(&cmd, target, true, true, &wait_stage);
     VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
     f->submitted[slot] = true;
     if (!wait_done)
