@@ -1,22 +1,34 @@
 #!/usr/bin/env python3
 """Analyse vergence study CSV files (paper Sec. 5, Fig. 7).
 
-usage: analyze_study.py FILE.csv [FILE.csv ...] --out DIR
+usage: analyze_study.py FILE.csv [FILE.csv ...] --out DIR [--pool-observers]
 
-Hit study (`vergence study hit`): mean error per condition with 95 % confidence
-intervals (Student t), a one-way ANOVA over the three conditions overall and
-per direction (F, degrees of freedom, p), Welch t-tests between conditions,
-and a plot like the paper's Fig. 7 (hit_errors.png).
+Hit study (`vergence study hit`):
+- a linear mixed model of the miss distance (error_m) with condition,
+  direction and path as fixed effects and participant as a random intercept
+  (statsmodels MixedLM, REML; one participant: ordinary least squares, said so);
+- its estimated marginal means per condition (averaged over direction and
+  path, equal weights) with 95 % Wald confidence intervals;
+- the three pairwise condition contrasts from the model, Holm-corrected, with
+  a model-based effect size d = contrast / sqrt(participant variance +
+  residual variance);
+- the paper's one-way ANOVAs beside it (overall: the paper's F(2, 333) = 3.99;
+  per direction: its F(2, 165) figures), and the raw means with 95 % CIs;
+- hit_errors.png: mean error with 95 % CI by condition, overall and per
+  direction (the paper's Fig. 7).
 
 Preference study (`vergence study preference`): how often the optimized
 version was chosen, a two-sided exact binomial test against chance (the
-paper: 85.6 %, p < 0.01), per scene and saliency, and preference.png.
+paper: 85.6 %, p < 0.01), overall, per scene and per saliency; across
+participants, a one-sample t-test of each participant's fraction against 50 %
+(two or more participants); preference.png.
 
 Writes DIR/summary.md (for people) and DIR/summary.json (for scripts).
-Several files (participants) are pooled; every file must be a vergence study
-CSV. Needs Debian's python3-numpy, python3-scipy, python3-matplotlib: run
-under /usr/bin/python3 (it re-runs itself there when the current python
-lacks them).
+Several files (participants) are analysed together. Simulated (observer
+"model") and human trials are never pooled unless --pool-observers says so;
+the report names the observers. Needs Debian's python3-numpy, python3-scipy,
+python3-matplotlib, python3-statsmodels: run under /usr/bin/python3 (it
+re-runs itself there when the current python lacks them).
 """
 import csv
 import json
@@ -40,13 +52,14 @@ def ensure_scientific_python():
         import numpy  # noqa: F401
         import scipy  # noqa: F401
         import matplotlib  # noqa: F401
+        import statsmodels  # noqa: F401
     except ImportError as e:
         debian = "/usr/bin/python3"
         if os.path.realpath(sys.executable) != os.path.realpath(debian) and os.path.exists(debian) \
                 and not os.environ.get("VG_ANALYZE_REEXEC"):
             os.environ["VG_ANALYZE_REEXEC"] = "1"
             os.execv(debian, [debian] + sys.argv)
-        die(f"{e.name} is missing: install python3-numpy python3-scipy python3-matplotlib "
+        die(f"{e.name} is missing: install python3-numpy python3-scipy python3-matplotlib python3-statsmodels "
             f"(Debian) and run under /usr/bin/python3", 3)
 
 
@@ -54,8 +67,9 @@ def ensure_scientific_python():
 # Reading
 # ---------------------------------------------------------------------------
 
-def read_rows(paths):
+def read_rows(paths, pool_observers=False):
     rows = {"hit": [], "preference": []}
+    observers = {}
     for path in paths:
         try:
             with open(path, newline="") as f:
@@ -74,6 +88,12 @@ def read_rows(paths):
             if needs is None or any(r.get(k) in (None, "") for k in needs):
                 die(f"{path}:{n}: not a complete hit or preference trial", 4)
             rows[kind].append(r)
+            observers.setdefault(r.get("observer") or "human", path)
+    if len(observers) > 1 and not pool_observers:
+        (a, pa), (b, pb) = sorted(observers.items())[:2]
+        die(f"{pb}: its {b} trials would pool with the {a} trials of {pa}: analyse them apart, "
+            f"or pass --pool-observers", 2)
+    rows["observers"] = sorted(observers)
     return rows
 
 
@@ -107,8 +127,91 @@ def anova(groups):
     return {"F": float(res.statistic), "df": [len(g) - 1, n - len(g)], "p": float(res.pvalue)}
 
 
-def analyze_hit(rows):
+def holm(pvalues):
+    """Holm's step-down adjustment (Holm 1979): the k-th smallest of m p-values
+    times (m - k + 1), made monotone, capped at 1."""
+    order = sorted(range(len(pvalues)), key=lambda i: pvalues[i])
+    out, running = [0.0] * len(pvalues), 0.0
+    for rank, i in enumerate(order):
+        running = max(running, min(1.0, (len(pvalues) - rank) * pvalues[i]))
+        out[i] = running
+    return out
+
+
+PAIRS = [("original", "manipulated"), ("original", "optimized"), ("manipulated", "optimized")]
+FORMULA = "error_m ~ C(condition, Treatment('original')) + C(direction) + C(path)"
+
+
+def mixed_model(rows):
+    """error_m ~ condition + direction + path, participant random intercept.
+    Returns the fit's figures, the estimated marginal means and the pairwise
+    contrasts (Holm), or None when the design cannot be fitted."""
+    import numpy as np
+    import pandas as pd
+    import statsmodels.formula.api as smf
     from scipy import stats
+    import warnings
+    df = pd.DataFrame({"error_m": [float(r["error_m"]) for r in rows],
+                       "condition": [r["condition"] for r in rows],
+                       "direction": [r["direction"] for r in rows],
+                       "path": [r["path"] for r in rows],
+                       "participant": [r["participant"] for r in rows]})
+    if df["condition"].nunique() < 3 or df["direction"].nunique() < 2 or df["path"].nunique() < 2:
+        return None
+    participants = df["participant"].nunique()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # convergence chatter; the figures say what was fitted
+        if participants >= 2:
+            fit = smf.mixedlm(FORMULA, df, groups=df["participant"]).fit(reml=True)
+            kind = "linear mixed model (REML), participant random intercept"
+            group_var = float(fit.cov_re.iloc[0, 0])
+            resid_var = float(fit.scale)
+            names = list(fit.fe_params.index)
+            beta = fit.fe_params.values
+            cov = fit.cov_params().loc[names, names].values
+        else:
+            fit = smf.ols(FORMULA, df).fit()
+            kind = "ordinary least squares (one participant: no random effect)"
+            group_var, resid_var = 0.0, float(fit.scale)
+            names = list(fit.params.index)
+            beta = fit.params.values
+            cov = fit.cov_params().values
+    # A design row averaged over direction and path (equal weights) for each condition.
+    def row_for(condition):
+        v = np.zeros(len(names))
+        for i, n in enumerate(names):
+            if n == "Intercept":
+                v[i] = 1.0
+            elif n.startswith("C(condition"):
+                v[i] = 1.0 if n.endswith(f"[T.{condition}]") else 0.0
+            elif n.startswith("C(direction)") or n.startswith("C(path)"):
+                v[i] = 0.5  # two levels each: the non-reference one half the time
+        return v
+    z = stats.norm.ppf(0.975)
+    emm = {}
+    for c in CONDITIONS:
+        L = row_for(c)
+        m, se = float(L @ beta), float(np.sqrt(L @ cov @ L))
+        emm[c] = {"emm": m, "se": se, "ci95": [m - z * se, m + z * se]}
+    sd = math.sqrt(group_var + resid_var)
+    contrasts, raw = {}, []
+    for a, b in PAIRS:
+        L = row_for(b) - row_for(a)
+        est, se = float(L @ beta), float(np.sqrt(L @ cov @ L))
+        zval = est / se
+        p = float(2 * stats.norm.sf(abs(zval)))
+        contrasts[f"{b} - {a}"] = {"estimate": est, "se": se, "z": zval, "p": p,
+                                   "ci95": [est - z * se, est + z * se], "d": est / sd if sd > 0 else None}
+        raw.append(p)
+    for (k, v), ph in zip(contrasts.items(), holm(raw)):
+        v["p_holm"] = ph
+    coef = {n: {"estimate": float(beta[i]), "se": float(np.sqrt(cov[i, i]))} for i, n in enumerate(names)}
+    return {"model": kind, "formula": FORMULA, "participants": participants, "n": len(df),
+            "participant_variance": group_var, "residual_variance": resid_var, "fixed_effects": coef,
+            "emm": emm, "contrasts": contrasts}
+
+
+def analyze_hit(rows):
     errors = {c: {d: [] for d in DIRECTIONS + ["all"]} for c in CONDITIONS}
     for r in rows:
         c, d = r["condition"], r["direction"]
@@ -118,16 +221,11 @@ def analyze_hit(rows):
         errors[c][d].append(e)
         errors[c]["all"].append(e)
     out = {"trials": len(rows), "participants": sorted({r["participant"] for r in rows}), "conditions": {},
-           "anova": {}, "welch": {}}
+           "anova": {}, "mixed": mixed_model(rows)}
     for c in CONDITIONS:
         out["conditions"][c] = {d: mean_ci(errors[c][d]) for d in DIRECTIONS + ["all"]}
     for d in ["all"] + DIRECTIONS:
         out["anova"][d] = anova([errors[c][d] for c in CONDITIONS])
-    for a, b in [("original", "manipulated"), ("original", "optimized"), ("manipulated", "optimized")]:
-        x, y = errors[a]["all"], errors[b]["all"]
-        if len(x) > 1 and len(y) > 1:
-            t = stats.ttest_ind(x, y, equal_var=False)
-            out["welch"][f"{a}-{b}"] = {"t": float(t.statistic), "p": float(t.pvalue)}
     return out, errors
 
 
@@ -145,7 +243,16 @@ def analyze_preference(rows):
                 "ci95": [float(ci.low), float(ci.high)]}
 
     out = {"trials": len(rows), "participants": sorted({r["participant"] for r in rows}), "all": test(rows),
-           "by_scene": {}, "by_saliency": {}}
+           "by_scene": {}, "by_saliency": {}, "across_participants": None}
+    # Across participants: each one's fraction, one-sample t-test against 50 %.
+    fractions = []
+    for who in out["participants"]:
+        mine = [int(r["chose_optimized"]) for r in rows if r["participant"] == who]
+        fractions.append(sum(mine) / len(mine))
+    if len(fractions) >= 2:
+        t = stats.ttest_1samp(fractions, 0.5)
+        out["across_participants"] = {"participants": len(fractions), "mean_fraction": sum(fractions) / len(fractions),
+                                      "t": float(t.statistic), "df": len(fractions) - 1, "p": float(t.pvalue)}
     for s in sorted({r["scene"] for r in rows}):
         out["by_scene"][s] = test([r for r in rows if r["scene"] == s])
     for s in sorted({r["saliency"] for r in rows}):
@@ -230,8 +337,11 @@ def fmt_anova(a):
     return "-" if not a else f"F({a['df'][0]}, {a['df'][1]}) = {a['F']:.3f}, p = {a['p']:.4g}"
 
 
-def summary_md(files, hit, pref):
-    lines = ["# Study analysis", "", "Files: " + ", ".join(f"`{f}`" for f in files), ""]
+def summary_md(files, hit, pref, observers):
+    names = {"model": "simulated (observer model)", "human": "human"}
+    lines = ["# Study analysis", "", "Files: " + ", ".join(f"`{f}`" for f in files), "",
+             "Observers: " + ", ".join(names.get(o, o) for o in observers) +
+             (" (pooled on request)" if len(observers) > 1 else "") + ".", ""]
     if hit:
         lines += ["## Hit prediction (paper Sec. 5, Fig. 7)", "",
                   f"{hit['trials']} trials, participants: {', '.join(hit['participants'])}.", "",
@@ -240,13 +350,30 @@ def summary_md(files, hit, pref):
         for c in CONDITIONS:
             s = hit["conditions"][c]
             lines.append(f"| {c} | {fmt_ci(s['all'])} | {fmt_ci(s['near-to-far'])} | {fmt_ci(s['far-to-near'])} |")
-        lines += ["", "One-way ANOVA over the three conditions:", "",
+        mm = hit["mixed"]
+        if mm:
+            lines += ["", f"Model: {mm['model']}, `{mm['formula']}`, {mm['n']} trials of {mm['participants']} "
+                      f"participant(s); participant variance {mm['participant_variance']:.4g}, residual variance "
+                      f"{mm['residual_variance']:.4g} (m^2).", "",
+                      "Estimated marginal means (equal weights over direction and path), 95 % Wald CI:", "",
+                      "| condition | EMM (m) | SE | 95 % CI |", "|---|---:|---:|---|"]
+            for c in CONDITIONS:
+                e = mm["emm"][c]
+                lines.append(f"| {c} | {e['emm']:.3f} | {e['se']:.3f} | [{e['ci95'][0]:.3f}, {e['ci95'][1]:.3f}] |")
+            lines += ["", "Pairwise contrasts from the model, Holm-corrected; d = contrast / sqrt(participant + "
+                      "residual variance):", "", "| contrast | estimate (m) | 95 % CI | z | p | p (Holm) | d |",
+                      "|---|---:|---|---:|---:|---:|---:|"]
+            for k, v in mm["contrasts"].items():
+                d_ = "-" if v["d"] is None else f"{v['d']:.3f}"
+                lines.append(f"| {k} | {v['estimate']:.3f} | [{v['ci95'][0]:.3f}, {v['ci95'][1]:.3f}] | "
+                             f"{v['z']:.2f} | {v['p']:.4g} | {v['p_holm']:.4g} | {d_} |")
+        else:
+            lines += ["", "Model: not fitted (every condition, both directions and both paths are needed)."]
+        lines += ["", "The paper's one-way ANOVAs over the three conditions, for comparison (paper: all throws "
+                  "F(2, 333) = 3.99; per direction F(2, 165)):", "",
                   f"- all throws: {fmt_anova(hit['anova']['all'])}"]
         for d in DIRECTIONS:
             lines.append(f"- {d}: {fmt_anova(hit['anova'][d])}")
-        if hit["welch"]:
-            lines += ["", "Welch t-tests: " + "; ".join(
-                f"{k}: t = {v['t']:.2f}, p = {v['p']:.3g}" for k, v in hit["welch"].items())]
         lines += ["", "![hit errors](hit_errors.png)", ""]
     if pref:
         a = pref["all"]
@@ -260,12 +387,17 @@ def summary_md(files, hit, pref):
             for k, v in group.items():
                 lines.append(f"| {name} {k} | {v['chose_optimized']} / {v['n']} | {100 * v['fraction']:.1f} | "
                              f"{v['p']:.4g} |")
+        ap = pref["across_participants"]
+        lines += ["", "Across participants: " + (
+            f"mean fraction {100 * ap['mean_fraction']:.1f} % over {ap['participants']}, one-sample t-test "
+            f"against 50 %: t({ap['df']}) = {ap['t']:.3f}, p = {ap['p']:.4g}." if ap else
+            "one participant: no test across participants.")]
         lines += ["", "![preference](preference.png)", ""]
     return "\n".join(lines)
 
 
 def main(argv):
-    files, out = [], None
+    files, out, pool = [], None, False
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -278,6 +410,10 @@ def main(argv):
             out = argv[i + 1]
             i += 2
             continue
+        if a == "--pool-observers":
+            pool = True
+            i += 1
+            continue
         if a.startswith("-"):
             die(f"unknown option {a} (see --help)")
         files.append(a)
@@ -285,12 +421,12 @@ def main(argv):
     if not files or not out:
         die("usage: analyze_study.py FILE.csv [FILE.csv ...] --out DIR")
     ensure_scientific_python()
-    rows = read_rows(files)
+    rows = read_rows(files, pool)
     try:
         os.makedirs(out, exist_ok=True)
     except OSError as e:
         die(f"{out}: {e.strerror}", 3)
-    result = {"files": files}
+    result = {"files": files, "observers": rows["observers"]}
     hit = pref = None
     if rows["hit"]:
         hit, _ = analyze_hit(rows["hit"])
@@ -302,7 +438,7 @@ def main(argv):
         result["preference"] = pref
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(result, f, indent=1)
-    md = summary_md(files, hit, pref)
+    md = summary_md(files, hit, pref, rows["observers"])
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write(md + "\n")
     print(md)

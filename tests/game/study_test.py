@@ -144,10 +144,103 @@ def case_analysis():
     print(f"preference: tool {t['chose_optimized']}/{t['n']}, p = {t['p']:.6g}; scipy {k}/{n}, p = {b.pvalue:.6g}")
     if t["n"] != n or t["chose_optimized"] != k or abs(t["p"] - b.pvalue) > 1e-12:
         fail("the tool's binomial test differs")
+    check_mixed_model(tmp)
+    check_pooling_and_participants(tmp, pref)
     for bad, code in ((os.path.join(tmp, "missing.csv"), 3), (os.path.join(HERE, "study_test.py"), 4)):
         p = subprocess.run([sys.executable, TOOL, bad, "--out", tmp], capture_output=True, text=True)
         if p.returncode != code or len([l for l in p.stderr.splitlines() if "error:" in l]) != 1:
             fail(f"analyze_study.py {bad}: exit {p.returncode} (want {code}), {p.stderr}")
+
+
+def check_mixed_model(tmp):
+    """The tool's mixed model, marginal means and Holm-corrected contrasts
+    against statsmodels' array API, a design matrix built here and
+    statsmodels' own Holm (4 simulated participants, 192 trials)."""
+    import numpy as np
+    import statsmodels.api as sm
+    from statsmodels.stats.multitest import multipletests
+    path = os.path.join(HERE, "data", "hit_participants.csv")
+    out = os.path.join(tmp, "mixed")
+    p = subprocess.run([sys.executable, TOOL, path, "--out", out], capture_output=True, text=True, timeout=300)
+    if p.returncode:
+        fail(f"analyze_study.py exited {p.returncode}\n{p.stderr}")
+    mm = json.load(open(os.path.join(out, "summary.json")))["hit"]["mixed"]
+    data = list(csv.DictReader(open(path)))
+    y = np.array([float(r["error_m"]) for r in data])
+    # Columns: intercept, manipulated, optimized, near-to-far, straight (references: original,
+    # far-to-near, ballistic: the alphabetically first, as patsy picks them).
+    X = np.array([[1.0, r["condition"] == "manipulated", r["condition"] == "optimized",
+                   r["direction"] == "near-to-far", r["path"] == "straight"] for r in data], dtype=float)
+    groups = np.array([r["participant"] for r in data])
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = sm.MixedLM(y, X, groups).fit(reml=True)
+    beta, cov = np.asarray(fit.fe_params), np.asarray(fit.cov_params())[:5, :5]
+    tool = [v["estimate"] for v in mm["fixed_effects"].values()]
+    print(f"mixed model: tool {np.round(tool, 6)}; statsmodels arrays {np.round(beta, 6)}")
+    if mm["participants"] != 4 or not np.allclose(tool, beta, rtol=1e-5, atol=1e-7):
+        fail("the tool's mixed-model coefficients differ")
+    rows = {c: np.array([1, c == "manipulated", c == "optimized", 0.5, 0.5], dtype=float)
+            for c in ("original", "manipulated", "optimized")}
+    for c, L in rows.items():
+        e = mm["emm"][c]
+        if abs(e["emm"] - L @ beta) > 1e-6 or abs(e["se"] - np.sqrt(L @ cov @ L)) > 1e-6:
+            fail(f"EMM {c}: tool {e}, here {L @ beta} +- {np.sqrt(L @ cov @ L)}")
+    raw, tool_holm = [], []
+    for a, b in (("original", "manipulated"), ("original", "optimized"), ("manipulated", "optimized")):
+        v = mm["contrasts"][f"{b} - {a}"]
+        L = rows[b] - rows[a]
+        est, se = L @ beta, np.sqrt(L @ cov @ L)
+        if abs(v["estimate"] - est) > 1e-6 or abs(v["se"] - se) > 1e-6:
+            fail(f"contrast {b} - {a}: tool {v}, here {est} +- {se}")
+        sd = np.sqrt(float(np.asarray(fit.cov_re)[0, 0]) + fit.scale)
+        if abs(v["d"] - est / sd) > 1e-6:
+            fail(f"effect size {b} - {a}: tool {v['d']}, here {est / sd}")
+        raw.append(v["p"])
+        tool_holm.append(v["p_holm"])
+    ref = multipletests(raw, method="holm")[1]
+    print(f"Holm: tool {np.round(tool_holm, 8)}, statsmodels {np.round(ref, 8)}")
+    if not np.allclose(tool_holm, ref, rtol=1e-12, atol=1e-15):
+        fail("the tool's Holm correction differs from statsmodels'")
+
+
+def check_pooling_and_participants(tmp, pref):
+    """A human and a simulated CSV are refused together, accepted with
+    --pool-observers (and the report says so); the preference test across
+    participants is scipy's one-sample t-test of their fractions."""
+    from scipy import stats
+    human = os.path.join(tmp, "human.csv")
+    with open(os.path.join(HERE, "data", "hit_fixed.csv")) as f, open(human, "w") as g:
+        g.write(f.read().replace(",model,", ",human,"))
+    sim = os.path.join(HERE, "data", "hit_participants.csv")
+    out = os.path.join(tmp, "pool")
+    p = subprocess.run([sys.executable, TOOL, sim, human, "--out", out], capture_output=True, text=True)
+    errors = [l for l in p.stderr.splitlines() if "error:" in l]
+    print(f"simulated + human -> exit {p.returncode}: {p.stderr.strip()}")
+    if p.returncode != 2 or len(errors) != 1 or "--pool-observers" not in errors[0]:
+        fail("mixing simulated and human trials was not refused with one line")
+    p = subprocess.run([sys.executable, TOOL, sim, human, "--out", out, "--pool-observers"], capture_output=True,
+                       text=True, timeout=300)
+    if p.returncode or "pooled on request" not in p.stdout:
+        fail(f"--pool-observers: exit {p.returncode}, the report does not say the observers were pooled")
+    two = os.path.join(tmp, "pref_two.csv")
+    data = list(csv.DictReader(open(pref)))
+    for i, r in enumerate(data):
+        r["participant"] = "a" if i % 2 else "b"
+    with open(two, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(data[0].keys()))
+        w.writeheader()
+        w.writerows(data)
+    p = subprocess.run([sys.executable, TOOL, two, "--out", out], capture_output=True, text=True, timeout=300)
+    ap = json.load(open(os.path.join(out, "summary.json")))["preference"]["across_participants"]
+    fr = [sum(int(r["chose_optimized"]) for r in data if r["participant"] == w) /
+          sum(1 for r in data if r["participant"] == w) for w in ("a", "b")]
+    t = stats.ttest_1samp(fr, 0.5)
+    print(f"across participants: tool t = {ap['t']:.6f}, p = {ap['p']:.6g}; scipy t = {t.statistic:.6f}, "
+          f"p = {t.pvalue:.6g}")
+    if ap["participants"] != 2 or abs(ap["t"] - t.statistic) > 1e-9 or abs(ap["p"] - t.pvalue) > 1e-9:
+        fail("the tool's test across participants differs from scipy's")
 
 
 def case_durability():
