@@ -539,6 +539,7 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_num(&j, "range_lo", s->lo);
     vg_json_num(&j, "range_hi", s->hi);
     vg_json_object_end(&j);
+    stereo_display_json(&j, &s->d->display);
     /* metrics.json is the manifest of the result, written last. */
     st = vg_manifest_files(&s->man, &j);
     vg_json_object_end(&j);

@@ -1,5 +1,7 @@
 #include "stereo_display.h"
 
+#include "core/json.h"
+
 #include <math.h>
 
 #define ARCMIN_PER_RAD (60.0 * 180.0 / M_PI)
@@ -135,4 +137,20 @@ void stereo_camera_vergence_image(const stereo_camera *cam, const stereo_display
 {
     for (int i = 0; i < n; i++)
         vergence[i] = (float)stereo_camera_vergence(cam, d, depth_m[i]);
+}
+
+void stereo_display_json(vg_json *j, const stereo_display_desc *desc)
+{
+    stereo_display d;
+    stereo_display_init(&d, desc);
+    vg_json_object_begin(j, "display");
+    vg_json_num(j, "diagonal_in", desc->diagonal_in > 0 ? desc->diagonal_in : 24);
+    vg_json_int(j, "width_px", d.res_x);
+    vg_json_int(j, "height_px", d.res_y);
+    vg_json_num(j, "width_m", d.width_m);
+    vg_json_num(j, "height_m", d.height_m);
+    vg_json_num(j, "distance_m", d.distance_m);
+    vg_json_num(j, "ipd_m", d.ipd_m);
+    vg_json_num(j, "screen_vergence_arcmin", d.screen_vergence);
+    vg_json_object_end(j);
 }

@@ -29,6 +29,10 @@ typedef struct stereo_display {
 
 /* Resolves the zero defaults (paper Sec. 5 setup: 24" 16:9, 1920x1080, 0.80 m). */
 void stereo_display_init(stereo_display *d, const stereo_display_desc *desc);
+/* The resolved display as the JSON object "display" (capture.json,
+ * metrics.json): a valid `--display FILE` (docs/formats.md). */
+struct vg_json;
+void stereo_display_json(struct vg_json *j, const stereo_display_desc *desc);
 
 double stereo_vergence_from_distance(const stereo_display *d, double z_m);
 double stereo_distance_from_vergence(const stereo_display *d, double a_arcmin);

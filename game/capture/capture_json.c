@@ -38,18 +38,7 @@ void capture_json_header(vg_json *j, const char *scene_path, const scene *s, con
     vg_json_str(j, "name", g->props.deviceName);
     vg_json_str(j, "type", gpu_device_type_text(g->props.deviceType));
     vg_json_object_end(j);
-    stereo_display d;
-    stereo_display_init(&d, &fd->display);
-    vg_json_object_begin(j, "display");
-    vg_json_num(j, "diagonal_in", fd->display.diagonal_in > 0 ? fd->display.diagonal_in : 24);
-    vg_json_int(j, "width_px", d.res_x);
-    vg_json_int(j, "height_px", d.res_y);
-    vg_json_num(j, "width_m", d.width_m);
-    vg_json_num(j, "height_m", d.height_m);
-    vg_json_num(j, "distance_m", d.distance_m);
-    vg_json_num(j, "ipd_m", d.ipd_m);
-    vg_json_num(j, "screen_vergence_arcmin", d.screen_vergence);
-    vg_json_object_end(j);
+    stereo_display_json(j, &fd->display);
 }
 
 void capture_json_cameras(vg_json *j, const capture_log *log)

@@ -82,7 +82,8 @@ static double percentile(double *v, int n, double p)
     return x;
 }
 
-vg_status bench_game(gpu *g, scene *sc, const char *scene_path, int frames, int ticks, bench_report *rep)
+vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int frames, int ticks,
+                     bench_report *rep)
 {
     static const frame_mode modes[MODES] = {FRAME_MODE_ORIGINAL, FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED};
     static const char *const labels[MODES] = {"original g", "manipulated h", "optimized f"};
@@ -108,6 +109,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, int frames, int 
     mode_samples ms[MODES] = {0};
     for (int m = 0; m < MODES && st == VG_OK; m++) {
         frame_desc fd = game_frame_desc(g, 0, modes[m], w, h, GAME_LAYOUT, DISP_OPERATOR_DEFAULT, false);
+        fd.display = display;
         st = frame_create(g, sc, &fd, &f[m]);
         if (st == VG_OK && !(ms[m].wall = calloc((size_t)frames, sizeof(double))))
             st = VG_ERR_NOMEM;

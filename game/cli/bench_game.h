@@ -5,8 +5,10 @@
 #include "core/status.h"
 #include "gpu/gpu.h"
 #include "scene/scene.h"
+#include "stereo/stereo_display.h"
 
 /* `frames` frames a mode after a warm-up frame, the clock advanced `ticks`
  * 1/60 s ticks a frame; the table goes to `rep`. The scene (play's arena)
  * needs a node named 'ball'; its pose hook is the bench's until it returns. */
-vg_status bench_game(gpu *g, scene *sc, const char *scene_path, int frames, int ticks, bench_report *rep);
+vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int frames, int ticks,
+                     bench_report *rep);

@@ -29,6 +29,7 @@
 #include "core/stats.h"
 #include "disparity/mid_solver.h"
 #include "disparity/mid_synth.h"
+#include "options/display_cli.h"
 #include "options/gpu_cli.h"
 #include "frame/frame.h"
 #include "scene/scene.h"
@@ -38,6 +39,7 @@ static struct {
     int frames, tess_frames, game_frames, frame_ticks;
     bool no_solver, all_passes, game;
     gpu_cli gpu;
+    display_cli display;
 } o;
 
 static const vg_opt k_opts[] = {
@@ -60,6 +62,7 @@ static const vg_opt k_opts[] = {
     {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL, "skip the CPU solver and memory bandwidth figures", NULL, 0, 0},
     {"--markdown", VG_OPT_STRING, &o.markdown, "FILE", "also write the tables as Markdown (docs/PERFORMANCE.md)",
      NULL, 0, 0},
+    DISPLAY_CLI_OPTIONS(o.display),
     GPU_CLI_OPTIONS(o.gpu),
 };
 
@@ -271,7 +274,8 @@ static int parse_tess(const char *text, double *px, int cap)
 
 static vg_status bench_frames(gpu *g, const scene *sc, uint32_t sizes[2][2], bench_report *r)
 {
-    frame_desc base = {.stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED, .diffuse = true};
+    frame_desc base = {.stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED, .diffuse = true,
+                       .display = display_cli_desc(&o.display)};
     figures fig[2][2]; /* [size][optimised, cameras] */
     for (int k = 0; k < 2; k++) {
         frame_desc d[2] = {base, base};
@@ -361,7 +365,7 @@ static vg_status bench_tessellation(gpu *g, const scene *sc, uint32_t w, uint32_
     bench_row(r, true, "tessellation", 3, cells);
     for (int i = 0; i <= n; i++) {
         frame_desc d = {.width = w, .height = h, .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED,
-                        .diffuse = true};
+                        .diffuse = true, .display = display_cli_desc(&o.display)};
         int frames = o.frames;
         if (i < n) {
             d.tess_px = px[i];
@@ -463,6 +467,9 @@ static int run(int argc, char **argv)
         return 2;
     if (help)
         return 0;
+    vg_status dst = display_cli_load(&o.display);
+    if (dst != VG_OK)
+        return vg_status_exit_code(dst);
     uint32_t sizes[2][2];
     if (!parse_sizes(o.sizes, sizes)) {
         vg_error("vergence bench: --sizes: '%s' is not two sizes WxH,WxH (16..8192)", o.sizes);
@@ -520,7 +527,7 @@ static int run(int argc, char **argv)
         printf("vergence bench --game: %s on %s, %d CPU cores\n", o.scene, g->props.deviceName, vg_cpu_count());
         if (r.md)
             fprintf(r.md, "Scene `%s` on %s, %d CPU cores.\n", o.scene, g->props.deviceName, vg_cpu_count());
-        st = bench_game(g, sc, o.scene, o.game_frames, o.frame_ticks, &r);
+        st = bench_game(g, sc, o.scene, display_cli_desc(&o.display), o.game_frames, o.frame_ticks, &r);
     } else {
         printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
                g->props.deviceName, vg_cpu_count(), o.frames);

@@ -21,6 +21,7 @@
 #include "core/json.h"
 #include "core/log.h"
 #include "core/manifest.h"
+#include "options/display_cli.h"
 #include "options/gpu_cli.h"
 #include "frame/frame.h"
 #include "shared.h"
@@ -39,6 +40,7 @@ typedef struct capture_opts {
     const char *caption;
     double caption_parallax;
     gpu_cli gpu;
+    display_cli display;
 } capture_opts;
 
 static capture_opts o = {
@@ -74,6 +76,7 @@ static const vg_opt k_opts[] = {
     {"--caption-parallax", VG_OPT_FLOAT, &o.caption_parallax, "PX", "the caption's parallax in eye pixels: "
      "positive behind the screen, negative in front (default 0: screen depth)", NULL, -1000, 1000},
     {"--dump-graph", VG_OPT_STRING, &o.dump_graph, "FILE", "print the compiled frame graph and write it as Graphviz DOT to FILE", NULL, 0, 0},
+    DISPLAY_CLI_OPTIONS(o.display),
     GPU_CLI_OPTIONS(o.gpu),
 };
 
@@ -274,6 +277,7 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         .op = (disp_operator_kind)o.op, .target_range = o.target_range,
         .solver_iterations = o.solver_iterations,
         .overlay = o.caption != NULL,
+        .display = display_cli_desc(&o.display),
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);
@@ -328,6 +332,9 @@ static int run(int argc, char **argv)
         return 0;
     if (vg_cli_require(&vg_cmd_capture, "--scene", o.scene) || vg_cli_require(&vg_cmd_capture, "--out", o.out))
         return 2;
+    vg_status dst = display_cli_load(&o.display);
+    if (dst != VG_OK)
+        return vg_status_exit_code(dst);
     if (o.caption && (o.stereo == FRAME_STEREO_OFF || strlen(o.caption) >= FRAME_HUD_LINE)) {
         vg_error("--caption: %s", o.stereo == FRAME_STEREO_OFF ? "is drawn into the eyes: it needs a stereo render"
                                                                 : "longer than 95 characters");

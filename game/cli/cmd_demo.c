@@ -24,6 +24,7 @@
 #include "core/manifest.h"
 #include "demo/demo.h"
 #include "scene/scene.h"
+#include "options/display_cli.h"
 #include "options/gpu_cli.h"
 
 #define DEMO_MAX_SCENES 8
@@ -38,6 +39,7 @@ typedef struct demo_cli {
     double seconds, fps, tess_error;
     bool no_video;
     gpu_cli gpu;
+    display_cli display;
 } demo_cli;
 
 static demo_cli o = {
@@ -63,6 +65,7 @@ static const vg_opt k_opts[] = {
      "the time of capture's 0.025 px, p99 disparity error about 0.1 px, within the 0.25 px the warp must hold)", NULL, 0.001, 100},
     {"--operator", VG_OPT_ENUM, &o.op, "NAME", "disparity operator h = M(g, saliency) (default lang)", disp_operator_names, 0, 0},
     {"--no-video", VG_OPT_FLAG, &o.no_video, NULL, "do not write videos even when ffmpeg is installed", NULL, 0, 0},
+    DISPLAY_CLI_OPTIONS(o.display),
     GPU_CLI_OPTIONS(o.gpu),
 };
 
@@ -236,6 +239,9 @@ static int run(int argc, char **argv)
         return 2;
     if (help)
         return 0;
+    vg_status dst = display_cli_load(&o.display);
+    if (dst != VG_OK)
+        return vg_status_exit_code(dst);
     if (o.stride % o.analysis_step != 0 || o.step % o.analysis_step != 0) {
         vg_error("vergence demo: --analysis-step %d must divide the keyframe stride (%d) and --step (%d)",
                  o.analysis_step, o.stride, o.step);
@@ -255,7 +261,7 @@ static int run(int argc, char **argv)
         .out = o.out, .width = o.size[0], .height = o.size[1], .step = o.step, .analysis_step = o.analysis_step,
         .fps = o.fps, .stills = o.stills,
         .seconds = o.seconds, .video = !o.no_video, .op = (disp_operator_kind)o.op, .keyframe_stride = o.stride,
-        .tess_error = o.tess_error,
+        .tess_error = o.tess_error, .display = display_cli_desc(&o.display),
     };
     d.ffmpeg = d.video ? find_ffmpeg(ffmpeg_buf, sizeof ffmpeg_buf) : NULL;
     if (d.video && !d.ffmpeg)

@@ -4,11 +4,14 @@
 #include "commands.h"
 #include "core/log.h"
 #include "options/gpu_cli.h"
+#include "options/display_cli.h"
 #include "stereo/stereo_display.h"
 
 static gpu_cli g_gpu = {.device = -1};
+static display_cli g_display;
 
 static const vg_opt k_opts[] = {
+    DISPLAY_CLI_OPTIONS(g_display),
     GPU_CLI_OPTIONS(g_gpu),
 };
 
@@ -36,6 +39,9 @@ static int run(int argc, char **argv)
         return 2;
     if (help)
         return 0;
+    vg_status dst = display_cli_load(&g_display);
+    if (dst != VG_OK)
+        return vg_status_exit_code(dst);
     gpu *g;
     vg_status st = gpu_cli_open(&g_gpu, false, &g);
     if (st != VG_OK)
@@ -59,11 +65,14 @@ static int run(int argc, char **argv)
     printf("  validation              %s%s\n", g->validation ? "on" : "off",
            g->validation && g->sync_validation ? " (with synchronization validation)" : "");
     printf("  max image size          %u\n", l->maxImageDimension2D);
+    stereo_display_desc dd = display_cli_desc(&g_display);
     stereo_display d;
-    stereo_display_init(&d, &(stereo_display_desc){0});
-    printf("display model (defaults, paper Sec. 5):\n");
-    printf("  panel                   24\" 16:9, %dx%d, %.3f x %.3f m, pixel pitch %.3f mm\n", d.res_x, d.res_y,
-           d.width_m, d.height_m, d.pitch_m * 1e3);
+    stereo_display_init(&d, &dd);
+    bool given = g_display.file || g_display.screen_width_m > 0 || g_display.diagonal_in > 0 ||
+                 g_display.resolution[0] || g_display.distance_m > 0 || g_display.ipd_m > 0;
+    printf("display model (%s):\n", given ? "--display and the display flags, the rest the paper's" : "defaults, paper Sec. 5");
+    printf("  panel                   %.3g\" 16:9, %dx%d, %.3f x %.3f m, pixel pitch %.3f mm\n",
+           dd.diagonal_in > 0 ? dd.diagonal_in : 24.0, d.res_x, d.res_y, d.width_m, d.height_m, d.pitch_m * 1e3);
     printf("  viewing distance        %.2f m\n", d.distance_m);
     printf("  interocular distance    %.3f m\n", d.ipd_m);
     printf("  screen vergence         %.1f arcmin\n", d.screen_vergence);

@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "core/log.h"
 #include "offline/offline.h"
+#include "options/display_cli.h"
 
 static const char *const g_solvers[] = {"gauss-newton", "descent", NULL};
 static const char *const g_presets[] = {"comfort", "study", NULL};
@@ -15,8 +16,8 @@ static const char *const g_units[] = {"arcmin", "px", NULL};
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *out, *frames, *weights;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units;
-    double fps, range, diagonal, distance, ipd, px_zero, occlusion;
-    int resolution[2];
+    double fps, range, px_zero, occlusion;
+    display_cli display;
 } o;
 
 static const vg_opt g_opts[] = {
@@ -43,10 +44,7 @@ static const vg_opt g_opts[] = {
     {.name = "--cg-iterations", .kind = VG_OPT_INT, .dest = &o.cg, .metavar = "N", .help = "CG steps per Gauss-Newton iteration (default 8)", .min = 1, .max = 100000},
     {.name = "--threads", .kind = VG_OPT_INT, .dest = &o.threads, .metavar = "N", .help = "worker threads (default: all cores)", .min = 0, .max = 1024},
     {.name = "--occlusion-tolerance", .kind = VG_OPT_FLOAT, .dest = &o.occlusion, .metavar = "R", .help = "relative depth difference of one surface (default 0.2)", .min = 0.001, .max = 10},
-    {.name = "--display-diagonal", .kind = VG_OPT_FLOAT, .dest = &o.diagonal, .metavar = "IN", .help = "panel diagonal, inches (default 24, 16:9)", .min = 1, .max = 1000},
-    {.name = "--display-resolution", .kind = VG_OPT_SIZE, .dest = o.resolution, .metavar = "WxH", .help = "panel pixels (default 1920x1080)"},
-    {.name = "--display-distance", .kind = VG_OPT_FLOAT, .dest = &o.distance, .metavar = "M", .help = "viewing distance, metres (default 0.80)", .min = 0.05, .max = 100},
-    {.name = "--display-ipd", .kind = VG_OPT_FLOAT, .dest = &o.ipd, .metavar = "M", .help = "interocular distance, metres (default 0.065)", .min = 0.01, .max = 0.2},
+    DISPLAY_CLI_OPTIONS(o.display),
 };
 
 const vg_cmd vg_cmd_optimize;
@@ -89,9 +87,12 @@ static int run(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.row = -1;
     bool help;
+    display_cli_renames("optimize", argc, argv);
     vg_status st = vg_cli_parse(&vg_cmd_optimize, argc, argv, &help);
     if (st != VG_OK || help)
         return help ? 0 : fail(st);
+    if ((st = display_cli_load(&o.display)) != VG_OK)
+        return fail(st);
     if (vg_cli_require(&vg_cmd_optimize, "--g", o.g) != VG_OK ||
         vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
         vg_cli_require(&vg_cmd_optimize, "--out", o.out) != VG_OK)
@@ -102,8 +103,7 @@ static int run(int argc, char **argv)
         .fps = o.fps, .row = o.row, .preset = (disp_operator_preset)o.preset, .target_range = o.range,
         .solver = o.solver == 1 ? MID_SOLVER_DESCENT : MID_SOLVER_GAUSS_NEWTON,
         .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
-        .display = {.diagonal_in = o.diagonal, .res_x = o.resolution[0], .res_y = o.resolution[1],
-                    .distance_m = o.distance, .ipd_m = o.ipd},
+        .display = display_cli_desc(&o.display),
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
         .occlusion_tolerance = (float)o.occlusion,
     };

@@ -18,7 +18,7 @@ typedef struct play_opts {
     const char *scene;
     int mode, op;
     double visible_s;
-    game_display_cli display;
+    display_cli display;
     play_window_cli win;
 } play_opts;
 
@@ -36,7 +36,7 @@ static const vg_opt k_opts[] = {
     {"--seed", VG_OPT_INT, &o.win.seed, "S", "seed of the throws (default: the clock)", NULL, 0, 2147483647},
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "the arena (default content/arena.gltf); it needs a node "
      "named 'ball'", NULL, 0, 0},
-    GAME_DISPLAY_OPTIONS(o.display),
+    DISPLAY_CLI_OPTIONS(o.display),
     PLAY_WINDOW_OPTIONS(o.win),
 };
 
@@ -47,6 +47,10 @@ static int run(int argc, char **argv)
         return 2;
     if (help)
         return 0;
+    vg_status dst = display_cli_load(&o.display);
+    if (dst != VG_OK)
+        return vg_status_exit_code(dst);
+    o.win.display_file = o.display.file;
     char buf[1024];
     const char *scene_path = game_scene_path(o.scene, buf, sizeof buf);
     if (!scene_path)
@@ -54,7 +58,7 @@ static int run(int argc, char **argv)
     uint64_t seed = o.win.seed >= 0 ? (uint64_t)o.win.seed : (uint64_t)time(NULL);
     vg_status st = play_session_run(&(play_session_desc){
         .win = &o.win, .scene_path = scene_path, .mode = (frame_mode)o.mode,
-        .op = (disp_operator_kind)o.op, .display = game_display_desc(&o.display),
+        .op = (disp_operator_kind)o.op, .display = display_cli_desc(&o.display),
         .visible_s = o.visible_s, .seed = seed,
     });
     return vg_status_exit_code(st);

@@ -49,7 +49,7 @@ static const char *const k_observer_names[] = {"human", "model", NULL};
     {"--weber-k", VG_OPT_FLOAT, &o.weber_k, "K", "model: Weber fraction of its velocity noise "          \
      "(default 0.08; negative = no noise)", NULL, -1, 1},                                               \
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "the arena (default content/arena.gltf)", NULL, 0, 0},  \
-    GAME_DISPLAY_OPTIONS(o.display),                                                                    \
+    DISPLAY_CLI_OPTIONS(o.display),                                                                    \
     PLAY_WINDOW_OPTIONS(o.win)
 
 static const vg_opt k_hit_opts[] = {
@@ -122,6 +122,10 @@ static int run(int argc, char **argv)
         return 0;
     if (vg_cli_require(cmd, "--participant", o.participant) || vg_cli_require(cmd, "--out", o.out))
         return 2;
+    vg_status dst = display_cli_load(&o.display);
+    if (dst != VG_OK)
+        return vg_status_exit_code(dst);
+    o.win.display_file = o.display.file;
     if (!study_participant_valid(o.participant)) {
         vg_error("%s --participant: '%s' is not a valid id (1-64 letters, digits, '-', '_', '.')", cmd->name,
                  o.participant);

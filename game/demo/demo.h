@@ -39,6 +39,7 @@ typedef struct demo_opts {
     disp_operator_kind op;   /* disparity operator, 0 = the frame's default (lang) */
     int keyframe_stride;
     double tess_error;       /* the warp's tessellation tolerance, px */
+    stereo_display_desc display; /* the viewer's display (every capture.json records it) */
 } demo_opts;
 
 /* One object's mean vergence per sample (NAN where it is not visible). */

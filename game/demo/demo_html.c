@@ -439,14 +439,17 @@ vg_status demo_html_write(const demo_opts *o, const demo_scene *scenes, int coun
         return fst != VG_OK ? fst : VG_ERR_NOMEM;
     }
     demo_buf buf = {0}, *b = &buf;
+    stereo_display disp;
+    stereo_display_init(&disp, &o->display);
     P("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
       "<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">"
       "<title>vergence &mdash; motion in depth, kept</title><style>%s</style></head><body><main>\n", k_style);
     P("<h1>vergence &mdash; motion in depth, kept</h1><p class=\"sub\">A run of <code>vergence demo</code>: "
-      "%d scene%s, %ux%u per eye, %g&nbsp;Hz with a keyframe every %d frames, on %s, in %.0f&nbsp;s. After "
+      "%d scene%s, %ux%u per eye, %g&nbsp;Hz with a keyframe every %d frames, on %s, in %.0f&nbsp;s, for a "
+      "%.3g&nbsp;m wide %dx%d display seen from %.2f&nbsp;m with eyes %.1f&nbsp;mm apart. After "
       "Kellnhofer, Ritschel, Myszkowski and Seidel, &ldquo;Optimizing Disparity for Motion in Depth&rdquo;.</p>\n",
       count, count == 1 ? "" : "s", (unsigned)o->width, (unsigned)o->height, o->fps, o->keyframe_stride, device,
-      seconds);
+      seconds, disp.width_m, disp.res_x, disp.res_y, disp.distance_m, 1000 * disp.ipd_m);
     P("<p class=\"explain\">Stereo 3D is compressed for comfort, and the compression distorts motion in depth: an "
       "object flying toward you speeds up and slows down as it crosses compressed depth ranges. Each scene is "
       "shown three ways: <b>g</b>, the disparity of the original stereo camera; <b>h</b>, after a disparity "

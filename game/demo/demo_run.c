@@ -158,6 +158,7 @@ static frame_desc base_desc(const run_ctx *c)
         .width = (uint32_t)c->o->width, .height = (uint32_t)c->o->height, .fps = c->o->fps,
         .keyframe_stride = c->o->keyframe_stride, .readback = true, .stereo = FRAME_STEREO_WARP,
         .mode = c->r->mode, .compose = FRAME_COMPOSE_ANAGLYPH, .op = c->o->op, .tess_error = c->o->tess_error,
+        .display = c->o->display,
     };
 }
 

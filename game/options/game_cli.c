@@ -9,14 +9,6 @@
 
 #include "core/log.h"
 
-stereo_display_desc game_display_desc(const game_display_cli *d)
-{
-    stereo_display_desc s = {.distance_m = d->distance_m, .ipd_m = d->ipd_m};
-    if (d->screen_width_m > 0) /* 16:9: width = diagonal * 16 / sqrt(16^2 + 9^2) */
-        s.diagonal_in = d->screen_width_m * sqrt(16.0 * 16.0 + 9.0 * 9.0) / 16.0 / 0.0254;
-    return s;
-}
-
 const char *game_scene_path(const char *given, char *buf, size_t cap)
 {
     if (given)

@@ -527,6 +527,8 @@ vg_status play_check_outputs(const play_window_cli *w, const char *const *scene_
     }
     if (st == VG_OK && w->replay)
         st = vg_inputs_add(&in, "--replay", w->replay);
+    if (st == VG_OK && w->display_file)
+        st = vg_inputs_add(&in, "--display", w->display_file);
     if (st == VG_OK && w->record)
         st = vg_inputs_check(&in, "--record", w->record);
     if (st == VG_OK && out_path)

@@ -29,6 +29,7 @@ typedef struct play_window_cli {
     int compose;                 /* frame_compose */
     bool swap_eyes;              /* the right eye where the layout puts the left */
     const char *replay, *record;
+    const char *display_file;    /* --display FILE (an input: never an output) */
     int ticks;                   /* quit after this many ticks (1/60 s), 0 = never */
     int frame_ticks;             /* replay: ticks per frame (tests: a device at 60 / N fps), 0 = 1 */
     const char *dump_f;          /* write f of every frame shown in the optimized mode (tests) */

@@ -12,6 +12,17 @@
 #include "core/log.h"
 #include "rules/game.h"
 
+void study_display_fields(const study_opts *o, char out[STUDY_DISPLAY_COUNT][32])
+{
+    stereo_display_desc desc = display_cli_desc(&o->display);
+    stereo_display d;
+    stereo_display_init(&d, &desc);
+    snprintf(out[0], 32, "%.4f", d.width_m);
+    snprintf(out[1], 32, "%dx%d", d.res_x, d.res_y);
+    snprintf(out[2], 32, "%.3f", d.distance_m);
+    snprintf(out[3], 32, "%.4f", d.ipd_m);
+}
+
 void study_utc_now(char *out, size_t cap)
 {
     time_t now = time(NULL);

@@ -13,7 +13,7 @@ typedef struct study_opts {
     int trials, seed, observer, op;     /* -1: not given; observer 0 human, 1 model */
     bool resume;
     double weber_k, visible_s;
-    game_display_cli display;
+    display_cli display;
     play_window_cli win;
 } study_opts;
 
@@ -22,6 +22,12 @@ vg_status study_preference_run(const study_opts *o);
 
 /* Shared by both: "2026-11-22T01:40:05Z" now. */
 void study_utc_now(char *out, size_t cap);
+/* The display every row records (after utc), as the settings a resumed file
+ * must share: visible width (m), panel pixels, viewing and interocular
+ * distance (m). */
+#define STUDY_DISPLAY_COLUMNS "display_width_m", "display_px", "distance_m", "ipd_m"
+#define STUDY_DISPLAY_COUNT 4
+void study_display_fields(const study_opts *o, char out[STUDY_DISPLAY_COUNT][32]);
 
 /* What a study's CSV is: its columns, where the seed is, the settings every
  * row must share with this run (a resumed file's rows were run with them:

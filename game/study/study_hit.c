@@ -14,8 +14,10 @@ static const char *const k_columns[] = {
     "participant", "study", "trial", "seed", "condition", "direction", "path", "operator", "observer",
     "visible_s", "start_x", "start_y", "start_z", "velocity_x", "velocity_y", "velocity_z", "gravity",
     "flight_s", "ground_x", "ground_y", "ground_z", "click_u", "click_v", "error_m", "response_s", "utc",
+    STUDY_DISPLAY_COLUMNS,
 };
-enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_CONDITION, COL_DIRECTION, COL_PATH, COL_COUNT = 26 };
+enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_CONDITION, COL_DIRECTION, COL_PATH, COL_DISPLAY = 26,
+       COL_COUNT = COL_DISPLAY + STUDY_DISPLAY_COUNT };
 _Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
 
 typedef struct hit_run {
@@ -55,6 +57,10 @@ static vg_status log_trial(hit_run *r, const play_trial *t)
     snprintf(buf[23], 64, "%.4f", t->error_m);
     snprintf(buf[24], 64, "%.3f", t->response_s);
     study_utc_now(buf[25], 64);
+    char display[STUDY_DISPLAY_COUNT][32];
+    study_display_fields(r->o, display);
+    for (int k = 0; k < STUDY_DISPLAY_COUNT; k++)
+        memcpy(buf[COL_DISPLAY + k], display[k], sizeof display[k]);
     for (int i = 0; i < COL_COUNT; i++)
         f[i] = buf[i];
     return study_log_append(&r->ss.log, f);
@@ -113,7 +119,7 @@ static vg_status run_model(hit_run *r, const char *scene_path)
     }
     if (st == VG_OK)
         st = observer_create(&(observer_desc){
-            .view = {.scene = s, .moving_node = ball, .display = game_display_desc(&o->display),
+            .view = {.scene = s, .moving_node = ball, .display = display_cli_desc(&o->display),
                      .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
             .weber_k = o->weber_k}, &obs);
     for (int i = r->ss.log.rows; i < r->ss.trials && st == VG_OK; i++) {
@@ -143,15 +149,21 @@ vg_status study_hit_run(const study_opts *o)
     hit_run r = {.o = o, .who = o->observer ? "model" : "human"};
     char visible[32];
     snprintf(visible, sizeof visible, "%.3f", o->visible_s > 0 ? o->visible_s : GAME_VISIBLE_S);
+    char display[STUDY_DISPLAY_COUNT][32];
+    study_display_fields(o, display);
     const study_setting settings[] = {
         {7, "--operator", disp_operator_kind_name((disp_operator_kind)o->op)},
         {8, "--observer", r.who},
         {9, "--visible", visible},
+        {COL_DISPLAY, "--screen-width-m", display[0]},
+        {COL_DISPLAY + 1, "--screen-resolution", display[1]},
+        {COL_DISPLAY + 2, "--distance-m", display[2]},
+        {COL_DISPLAY + 3, "--ipd-m", display[3]},
     };
     static const int numeric[] = {10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24};
     const study_kind kind = {
         .name = "hit", .columns = k_columns, .column_count = COL_COUNT, .col_seed = COL_SEED,
-        .settings = settings, .setting_count = 3, .numeric = numeric, .numeric_count = 15,
+        .settings = settings, .setting_count = 7, .numeric = numeric, .numeric_count = 15,
         .cells = GAME_HIT_CELLS, .default_trials = 48,
     };
     vg_status st = play_check_outputs(&o->win, &scene_path, 1, "--out", o->out);
@@ -165,7 +177,7 @@ vg_status study_hit_run(const study_opts *o)
         else
             st = play_session_run(&(play_session_desc){
                 .win = &o->win, .scene_path = scene_path, .op = (disp_operator_kind)o->op,
-                .display = game_display_desc(&o->display), .visible_s = o->visible_s, .seed = r.ss.seed,
+                .display = display_cli_desc(&o->display), .visible_s = o->visible_s, .seed = r.ss.seed,
                 .cells = r.ss.cells, .first_trial = r.ss.log.rows, .trial_count = r.ss.trials,
                 .on_trial = on_trial, .user = &r});
     }

@@ -18,9 +18,10 @@
 
 static const char *const k_columns[] = {
     "participant", "study", "trial", "seed", "scene", "saliency", "optimized_side", "operator", "observer",
-    "choice", "chose_optimized", "response_s", "utc",
+    "choice", "chose_optimized", "response_s", "utc", STUDY_DISPLAY_COLUMNS,
 };
-enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_SCENE, COL_SALIENCY, COL_SIDE, COL_COUNT = 13 };
+enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_SCENE, COL_SALIENCY, COL_SIDE, COL_DISPLAY = 13,
+       COL_COUNT = COL_DISPLAY + STUDY_DISPLAY_COUNT };
 _Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
 
 static const char *const k_sides[2] = {"left", "right"};
@@ -62,7 +63,7 @@ static vg_status model_scene_load(const study_opts *o, const char *arena, int in
     }
     scene_state_free(&ss);
     return observer_create(&(observer_desc){
-        .view = {.scene = m->scene, .moving_node = moving, .display = game_display_desc(&o->display),
+        .view = {.scene = m->scene, .moving_node = moving, .display = display_cli_desc(&o->display),
                  .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
         .weber_k = o->weber_k}, &m->obs);
 }
@@ -103,6 +104,10 @@ static vg_status log_choice(void *user, int trial, int choice_right, double resp
     snprintf(buf[10], 64, "%d", choice_right == c.optimized_right);
     snprintf(buf[11], 64, "%.3f", response_s);
     study_utc_now(buf[12], 64);
+    char display[STUDY_DISPLAY_COUNT][32];
+    study_display_fields(r->o, display);
+    for (int k = 0; k < STUDY_DISPLAY_COUNT; k++)
+        memcpy(buf[COL_DISPLAY + k], display[k], sizeof display[k]);
     for (int i = 0; i < COL_COUNT; i++)
         f[i] = buf[i];
     vg_status st = study_log_append(&r->ss.log, f);
@@ -161,14 +166,20 @@ vg_status study_preference_run(const study_opts *o)
     if (!arena)
         return VG_ERR_IO;
     pref_run r = {.o = o};
+    char display[STUDY_DISPLAY_COUNT][32];
+    study_display_fields(o, display);
     const study_setting settings[] = {
         {7, "--operator", disp_operator_kind_name((disp_operator_kind)o->op)},
         {8, "--observer", o->observer ? "model" : "human"},
+        {COL_DISPLAY, "--screen-width-m", display[0]},
+        {COL_DISPLAY + 1, "--screen-resolution", display[1]},
+        {COL_DISPLAY + 2, "--distance-m", display[2]},
+        {COL_DISPLAY + 3, "--ipd-m", display[3]},
     };
     static const int numeric[] = {10, 11};
     const study_kind kind = {
         .name = "preference", .columns = k_columns, .column_count = COL_COUNT, .col_seed = COL_SEED,
-        .settings = settings, .setting_count = 2, .numeric = numeric, .numeric_count = 2,
+        .settings = settings, .setting_count = 6, .numeric = numeric, .numeric_count = 2,
         .cells = PREF_CELLS, .default_trials = 24,
     };
     char paths[PREF_SCENES][1024];
@@ -188,7 +199,7 @@ vg_status study_preference_run(const study_opts *o)
         st = o->observer ? run_model(&r, arena)
                          : pref_window_run(&(pref_window_desc){
                                .win = &o->win, .arena_path = arena, .op = (disp_operator_kind)o->op,
-                               .display = game_display_desc(&o->display), .cells = r.ss.cells,
+                               .display = display_cli_desc(&o->display), .cells = r.ss.cells,
                                .first_trial = r.ss.log.rows, .trial_count = r.ss.trials, .on_choice = log_choice,
                                .user = &r});
     return study_end(&r.ss, o, &kind, st);

@@ -373,6 +373,80 @@ def case_validation_sweep():
     shutil.rmtree(tmp)
 
 
+# ---------------------------------------------------------------------------
+# One display calibration (issue 18)
+# ---------------------------------------------------------------------------
+
+DISPLAY_FLAGS = ("--display", "--screen-width-m", "--screen-diagonal-in", "--screen-resolution", "--distance-m",
+                 "--ipd-m")
+
+
+def case_display():
+    """Every command that renders or converts disparity takes the same display
+    flags and --display FILE and records the display it used."""
+    for cmd in (["info"], ["capture"], ["demo"], ["optimize"], ["play"], ["study", "hit"], ["study", "preference"],
+                ["bench"]):
+        text = run(cmd + ["--help"]).stdout
+        missing = [f for f in DISPLAY_FLAGS if not re.search(r"^  " + re.escape(f) + r" ", text, re.M)]
+        if missing:
+            sys.exit(f"FAIL: vergence {' '.join(cmd)} --help lacks {missing}")
+    tmp = tempfile.mkdtemp(prefix="vergence_display_")
+    profile = os.path.join(tmp, "panel.json")
+    write(profile, json.dumps({"diagonal_in": 27, "width_px": 2560, "height_px": 1440, "distance_m": 0.7,
+                               "ipd_m": 0.062}))
+    want = {"diagonal_in": 27, "width_px": 2560, "height_px": 1440, "distance_m": 0.7, "ipd_m": 0.062}
+
+    def same(got, what):
+        bad = {k: (got.get(k), v) for k, v in want.items() if not abs(got.get(k, -1) - v) < 1e-6}
+        if bad:
+            sys.exit(f"FAIL: {what} records the display {bad} (got, want)")
+        print(f"{what}: {', '.join(f'{k} {got[k]}' for k in want)}")
+
+    # capture: the profile, then its capture.json's "display" as a profile (a round trip).
+    a, b = os.path.join(tmp, "a"), os.path.join(tmp, "b")
+    cap = ["capture", "--scene", "content/cubes.gltf", "--frames", "1", "--size", "96x54", "--no-reference"]
+    run(cap + ["--display", profile, "--out", a])
+    same(json.load(open(os.path.join(a, "capture.json")))["display"], "capture --display")
+    run(cap + ["--display", os.path.join(a, "capture.json"), "--out", b])
+    same(json.load(open(os.path.join(b, "capture.json")))["display"], "capture --display capture.json")
+    # Flags override the file.
+    run(cap + ["--display", profile, "--distance-m", "1.5", "--out", b])
+    if json.load(open(os.path.join(b, "capture.json")))["display"]["distance_m"] != 1.5:
+        sys.exit("FAIL: --distance-m did not override the profile")
+    # optimize: the profile in metrics.json; the old spelling still works, with one deprecation line.
+    g = os.path.join("..", "shared", "assets", "stereo", "flyingthings3d_pair_from_RAFT-3D", "disp%d.pfm")
+    opt = ["optimize", "--g", g, "--frames", "1:2", "--g-units", "px", "--operator", "linear"]
+    run(opt + ["--display", profile, "--out", os.path.join(tmp, "o")])
+    same(json.load(open(os.path.join(tmp, "o", "metrics.json")))["display"], "optimize --display")
+    p = run(opt + ["--display-distance", "0.7", "--out", os.path.join(tmp, "o2")])
+    if "--display-distance is deprecated: use --distance-m" not in p.stderr or \
+            json.load(open(os.path.join(tmp, "o2", "metrics.json")))["display"]["distance_m"] != 0.7:
+        sys.exit(f"FAIL: optimize --display-distance: {p.stderr}")
+    # The studies: every row records it (and a resume must share it).
+    csv_path = os.path.join(tmp, "hit.csv")
+    run(["study", "hit", "--observer", "model", "--participant", "d", "--trials", "2", "--display", profile,
+         "--out", csv_path])
+    rows = [l.split(",") for l in open(csv_path).read().splitlines()]
+    col = {n: i for i, n in enumerate(rows[0])}
+    for r in rows[1:]:
+        if (r[col["display_px"]], r[col["distance_m"]], r[col["ipd_m"]]) != ("2560x1440", "0.700", "0.0620"):
+            sys.exit(f"FAIL: the study CSV records {r[col['display_width_m']:]}")
+    expect_error(["study", "hit", "--observer", "model", "--participant", "d", "--trials", "4", "--resume",
+                  "--out", csv_path], "--screen-width-m")
+    # info prints it.
+    if "2560x1440" not in run(["info", "--display", profile]).stdout:
+        sys.exit("FAIL: info --display does not print the profile's panel")
+    # Bad profiles: one line naming the file.
+    for name, text in (("typo.json", '{"diagonal": 27}'), ("range.json", '{"ipd_m": 0.5}'),
+                       ("syntax.json", '{"ipd_m": '), ("array.json", "[1, 2]"),
+                       ("half.json", '{"width_px": 1920}')):
+        path = os.path.join(tmp, name)
+        write(path, text)
+        expect_error(["capture", "--scene", "content/cubes.gltf", "--display", path, "--out", os.path.join(tmp, "x")],
+                     name, os.path.join(tmp, "x"))
+    expect_error(["info", "--screen-width-m", "0.5", "--screen-diagonal-in", "24"], "--screen-diagonal-in")
+
+
 if __name__ == "__main__":
     VERGENCE = os.path.abspath(sys.argv[1])
     globals()["case_" + sys.argv[2]]()
