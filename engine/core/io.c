@@ -531,6 +531,51 @@ vg_status vg_png_write(const char *path, int width, int height, int comp, const 
     return st;
 }
 
+vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **encoding)
+{
+    uint8_t *buf;
+    size_t size;
+    *out = (vg_imagef){0};
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st != VG_OK)
+        return st;
+    int w = 0, h = 0, n = 0;
+    bool ok = size <= 0x7fffffff && stbi_info_from_memory(buf, (int)size, &w, &h, &n);
+    bool deep = ok && stbi_is_16_bit_from_memory(buf, (int)size);
+    void *px = NULL;
+    if (ok && deep && n == 1)
+        px = stbi_load_16_from_memory(buf, (int)size, &w, &h, &n, 1);
+    else if (ok && !deep && n >= 3)
+        px = stbi_load_from_memory(buf, (int)size, &w, &h, &n, 3);
+    free(buf);
+    if (!px) {
+        if (ok)
+            vg_error("%s: a disparity PNG is KITTI's 16-bit grey or Sintel's 8-bit RGB; this one is %d-bit with %d "
+                     "channel(s)", path, deep ? 16 : 8, n);
+        else
+            vg_error("%s: cannot decode image: %s", path, stbi_failure_reason());
+        return VG_ERR_FORMAT;
+    }
+    if ((st = vg_imagef_alloc(out, w, h, 1)) != VG_OK) {
+        stbi_image_free(px);
+        return st;
+    }
+    size_t count = (size_t)w * h;
+    if (deep) {
+        const uint16_t *v = px;
+        for (size_t i = 0; i < count; i++)
+            out->data[i] = v[i] ? (float)v[i] / 256.0f : INFINITY;
+        *encoding = "KITTI";
+    } else {
+        const uint8_t *c = px;
+        for (size_t i = 0; i < count; i++)
+            out->data[i] = 4.0f * c[3 * i] + c[3 * i + 1] / 64.0f + c[3 * i + 2] / 16384.0f;
+        *encoding = "Sintel";
+    }
+    stbi_image_free(px);
+    return VG_OK;
+}
+
 vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels)
 {
     uint8_t *buf;

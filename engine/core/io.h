@@ -56,6 +56,12 @@ vg_status vg_pfm_read(const char *path, vg_imagef *out);
 vg_status vg_pfm_parse(const char *path, const uint8_t *data, size_t size, vg_imagef *out);
 vg_status vg_pfm_write(const char *path, const vg_imagef *img);
 
+/* A disparity PNG of a stereo dataset, in pixels (x_left - x_right):
+ * KITTI's 16-bit grey (d = v / 256, v = 0: unknown) or Sintel's 8-bit RGB
+ * (d = 4 R + G / 64 + B / 16384). Unknown pixels are +inf (as Middlebury's
+ * PFM). `*encoding` names which ("KITTI" or "Sintel"). */
+vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **encoding);
+
 /* Middlebury .flo: magic 202021.25, int32 width, int32 height, (u, v) floats. */
 vg_status vg_flo_read(const char *path, vg_imagef *out);
 vg_status vg_flo_parse(const char *path, const uint8_t *data, size_t size, vg_imagef *out);

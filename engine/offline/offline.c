@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #include "core/io.h"
@@ -13,6 +14,7 @@
 #include "core/log.h"
 #include "core/manifest.h"
 #include "core/parallel.h"
+#include "core/stats.h"
 #include "disparity/disp_metrics.h"
 #include "disparity/disp_pattern.h"
 #include "disparity/disp_upsample.h"
@@ -38,7 +40,19 @@ typedef struct seq {
     uint8_t *unknown;     /* scratch: the last frame read's pixels of unknown g (inf) */
     vg_manifest man;      /* the result in out_dir: metrics.json lists its files */
     long unknown_total;   /* over the sequence, counted when checking the inputs */
+    const char *g_png;    /* g from dataset PNGs: "KITTI" or "Sintel" (pixels), else NULL */
+    double raw_min, raw_max; /* known g as read, before any unit conversion */
+    double raw_median;    /* of the first frame's known g, as read */
 } seq;
+
+/* g in pixels: --g-units px, or a dataset's PNGs. */
+static bool g_in_px(const seq *s) { return s->d->g_units == DISP_G_PX || s->g_png; }
+
+static bool is_png(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && !strcasecmp(path + n - 4, ".png");
+}
 
 static vg_status frame_path(const disp_pattern *p, int t, char *buf)
 {
@@ -58,9 +72,17 @@ static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, 
     vg_status st = frame_path(p, t, path);
     if (st != VG_OK)
         return st;
-    st = channels == 2 ? vg_flo_read(path, img) : vg_pfm_read(path, img);
+    const char *encoding = NULL;
+    st = channels == 2                ? vg_flo_read(path, img)
+         : p == &s->pg && is_png(path) ? vg_disparity_png_read(path, img, &encoding)
+                                       : vg_pfm_read(path, img);
     if (st != VG_OK)
         return st;
+    if (encoding && !s->g_png) {
+        s->g_png = encoding;
+        vg_info("optimize: %s: %s disparity PNG, pixels (x_left - x_right)%s", path, encoding,
+                s->d->g_units == DISP_G_PX ? "" : ": read as --g-units px");
+    }
     if (img->channels != channels) {
         vg_error("%s: %s has %d channels, expected %d", path, what, img->channels, channels);
         vg_imagef_free(img);
@@ -151,9 +173,22 @@ static vg_status read_g(seq *s, int t, float *out)
     }
     if (!out)
         s->unknown_total += unknown;
+    if (!out && t == s->d->first) {
+        double *known = malloc((size_t)n * sizeof *known);
+        size_t k = 0;
+        for (int i = 0; known && i < n; i++)
+            if (!s->unknown[i])
+                known[k++] = img.data[i];
+        s->raw_median = known && k ? vg_median(known, k, 1) : NAN;
+        free(known);
+    }
     for (int i = 0; i < n; i++) {
         double v = img.data[i];
-        if (s->d->g_units == DISP_G_PX)
+        if (!out && !s->unknown[i]) {
+            s->raw_min = fmin(s->raw_min, v);
+            s->raw_max = fmax(s->raw_max, v);
+        }
+        if (g_in_px(s))
             v = stereo_vergence_from_dataset_px(&s->disp, v, s->d->px_zero, s->w);
         /* Vergence is positive (DESIGN.md); a divergent value is clamped. */
         if (!(v > 0.5)) {
@@ -271,6 +306,24 @@ static vg_status frame_depth(seq *s, int t, const float *g, float *z)
 /* ------------------------------------------------------------------------- */
 
 /* A: every input read once, so that a bad file fails the run before any output. */
+/* Values that look like the other unit: vergence is positive and, for
+ * content made for the display, mostly near the screen's (a point 4x
+ * farther than the screen has about a quarter of it); dataset pixels are
+ * small against the image width and may be 0 or negative. */
+static void warn_units(const seq *s)
+{
+    if (s->raw_min > s->raw_max)
+        return; /* nothing known */
+    double screen = s->disp.screen_vergence;
+    if (!g_in_px(s) && (s->raw_min <= 0 || s->raw_median < 0.25 * screen))
+        vg_warn("optimize: g runs from %.4g to %.4g: that looks like pixel disparity, not vergence in arcmin "
+                "(positive, mostly near %.0f, the screen's, for this display): give --g-units px if it is",
+                s->raw_min, s->raw_max, screen);
+    else if (g_in_px(s) && s->raw_median > 0.25 * s->w)
+        vg_warn("optimize: g runs from %.4g to %.4g pixels on %d-pixel-wide frames: that looks like vergence in "
+                "arcmin, not pixel disparity: drop --g-units px if it is", s->raw_min, s->raw_max, s->w);
+}
+
 static vg_status pass_validate(seq *s)
 {
     const offline_desc *d = s->d;
@@ -296,6 +349,16 @@ static vg_status pass_validate(seq *s)
                 "inf there too", s->unknown_total);
     if (st == VG_OK && d->row >= s->h) {
         vg_error("optimize: --row %d: the frames have %d rows (0 to %d)", d->row, s->h, s->h - 1);
+        st = VG_ERR_ARG;
+    }
+    if (st == VG_OK)
+        warn_units(s);
+    /* Motion in depth is measured by its acceleration: the change of velocity
+     * between keyframes, so three keyframes at least. */
+    if (st == VG_OK && s->nt < 3) {
+        vg_error("optimize: --frames %d:%d is %d frame(s): %d keyframe(s) at --keyframe-stride %d, and the "
+                 "acceleration in depth needs 3 (give %d frames or more, or a smaller --keyframe-stride)",
+                 d->first, d->last, s->frames, s->nt, s->stride, s->stride > 1 ? s->stride + 2 : 3);
         st = VG_ERR_ARG;
     }
     return st;
@@ -534,6 +597,8 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_int(&j, "coarse_width", s->grid.nx);
     vg_json_int(&j, "coarse_height", s->grid.ny);
     vg_json_str(&j, "operator", s->has_h ? "given" : disp_operator_kind_name(s->d->op));
+    vg_json_str(&j, "g_units", g_in_px(s) ? "px" : "arcmin");
+    vg_json_str(&j, "g_file", s->g_png ? s->g_png : "PFM");
     vg_json_num(&j, "g_min", s->g_min);
     vg_json_num(&j, "g_max", s->g_max);
     vg_json_num(&j, "range_lo", s->lo);
@@ -632,7 +697,7 @@ static vg_status place_keyframes(seq *s)
 
 vg_status offline_run(const offline_desc *d)
 {
-    seq s = {.d = d, .g_min = DBL_MAX, .g_max = -DBL_MAX};
+    seq s = {.d = d, .g_min = DBL_MAX, .g_max = -DBL_MAX, .raw_min = DBL_MAX, .raw_max = -DBL_MAX};
     mid_window *w = NULL;
     float *g = NULL, *h = NULL, *z = NULL, *scratch = NULL, *pos = NULL, *f_sol = NULL;
     outputs o = {0};

@@ -318,9 +318,13 @@ def case_validation_sweep():
 
     # optimize (CPU): the FlyingThings3D disparity pair from ../shared/assets.
     stereo_assets = os.path.join("..", "shared", "assets", "stereo")
-    sw.run("optimize", ["optimize", "--g", os.path.join(stereo_assets, "flyingthings3d_pair_from_RAFT-3D",
-                                                          "disp%d.pfm"), "--frames", "1:2", "--g-units", "px",
-                        "--operator", "linear", "--out", os.path.join(tmp, "optimize")])
+    # Two frames are one keyframe interval too few: its first frame three times over.
+    pair = os.path.join(stereo_assets, "flyingthings3d_pair_from_RAFT-3D", "disp%d.pfm")
+    os.makedirs(os.path.join(tmp, "ft"), exist_ok=True)
+    for t in range(3):
+        shutil.copy(pair % 1, os.path.join(tmp, "ft", f"d{t}.pfm"))
+    sw.run("optimize", ["optimize", "--g", os.path.join(tmp, "ft", "d%d.pfm"), "--frames", "0:2", "--g-units", "px",
+                        "--keyframe-stride", "1", "--operator", "linear", "--out", os.path.join(tmp, "optimize")])
 
     # The studies with the simulated observer (headless).
     sw.run("study hit --observer model", ["study", "hit", "--observer", "model", "--participant", "sweep",
@@ -445,6 +449,98 @@ def case_display():
         expect_error(["capture", "--scene", "content/cubes.gltf", "--display", path, "--out", os.path.join(tmp, "x")],
                      name, os.path.join(tmp, "x"))
     expect_error(["info", "--screen-width-m", "0.5", "--screen-diagonal-in", "24"], "--screen-diagonal-in")
+
+
+# ---------------------------------------------------------------------------
+# optimize on other people's data (issue 19)
+# ---------------------------------------------------------------------------
+
+def write_png(path, rows, bits, channels):
+    """A minimal PNG (no filter), 8-bit RGB or 16-bit grey, written here."""
+    import zlib
+    h, w = len(rows), len(rows[0]) // channels
+    fmt = ">%dH" % (w * channels) if bits == 16 else "%dB" % (w * channels)
+    raw = b"".join(b"\x00" + struct.pack(fmt, *r) for r in rows)
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    ihdr = struct.pack(">IIBBBBB", w, h, bits, 0 if channels == 1 else 2, 0, 0, 0)
+    write(path, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw)) +
+          chunk(b"IEND", b""))
+
+
+def vergence_of_px(d, w):
+    """The display model's vergence (arcmin) of dataset disparity d on a w-pixel
+    image across the paper's 24\" 16:9 panel at 0.80 m, e = 0.065 m."""
+    import math
+    width_m = 24 * 0.0254 * 16 / math.sqrt(16 * 16 + 9 * 9)
+    p = -d * width_m / w
+    return math.degrees(2 * math.atan((0.065 - p) / (2 * 0.80))) * 60
+
+
+def case_optimize_data():
+    tmp = tempfile.mkdtemp(prefix="vergence_optdata_")
+    w, h, frames = 48, 27, 4
+    # Disparity d(x, t) = 2 + 4 x / w + t / 2 px, exact in both encodings;
+    # KITTI's pixel (0, 0) is 0: unknown.
+    def d(x, t):
+        return 2 + 4 * x / w + t / 2
+    for t in range(frames):
+        kitti = [[0 if (x, y) == (0, 0) else int(round(d(x, t) * 256)) for x in range(w)] for y in range(h)]
+        write_png(os.path.join(tmp, f"k_{t:04d}.png"), kitti, 16, 1)
+        sintel = []
+        for y in range(h):
+            row = []
+            for x in range(w):
+                v = d(x, t)
+                r = int(v // 4)
+                g = int((v - 4 * r) * 64)
+                b = int(round((v - 4 * r - g / 64) * 16384))
+                row += [r, g, b]
+            sintel.append(row)
+        write_png(os.path.join(tmp, f"s_{t:04d}.png"), sintel, 8, 3)
+    # The extremes as encoded: KITTI keeps 1/256 px, Sintel 1/16384.
+    def kitti_px(v):
+        return round(v * 256) / 256
+
+    def sintel_px(v):
+        r = int(v // 4)
+        g = int((v - 4 * r) * 64)
+        return 4 * r + g / 64 + round((v - 4 * r - g / 64) * 16384) / 16384
+    want = {k: (vergence_of_px(f(d(0, 0)), w), vergence_of_px(f(d(w - 1, frames - 1)), w))
+            for k, f in (("KITTI", kitti_px), ("Sintel", sintel_px))}
+    for name, pattern in (("KITTI", "k_%04d.png"), ("Sintel", "s_%04d.png")):
+        out = os.path.join(tmp, name)
+        p = run(["optimize", "--g", os.path.join(tmp, pattern), "--frames", f"0:{frames - 1}", "--keyframe-stride",
+                 "1", "--out", out])
+        m = json.load(open(os.path.join(out, "metrics.json")))["input"]
+        lo, hi = want[name]
+        print(f"{name}: g {m['g_min']:.4f}..{m['g_max']:.4f} arcmin (want {lo:.4f}..{hi:.4f}), "
+              f"{m['g_file']}, {m['g_units']}")
+        if m["g_file"] != name or m["g_units"] != "px" or abs(m["g_min"] - lo) > 1e-3 or \
+                abs(m["g_max"] - hi) > 1e-3:
+            sys.exit(f"FAIL: {name} PNGs read as {m}")
+        if name == "KITTI" and "4 pixels of unknown g" not in p.stderr:
+            sys.exit(f"FAIL: KITTI's 0 is not unknown: {p.stderr}")
+    # The pixel / arcmin warnings, both ways.
+    p = run(["optimize", "--g", os.path.join("..", "shared", "assets", "stereo", "flyingthings3d_pair_from_RAFT-3D",
+                                             "disp%d.pfm"), "--frames", "1:2", "--out", os.path.join(tmp, "ft")],
+            expect_ok=False)
+    if "looks like pixel disparity" not in p.stderr:
+        sys.exit(f"FAIL: pixel disparities read as arcmin without a warning: {p.stderr}")
+    errors = [l for l in p.stderr.splitlines() if "error" in l]
+    print(f"FlyingThings3D pair, two frames -> exit {p.returncode}: {errors}")
+    if p.returncode != 2 or len(errors) != 1 or "--frames 1:2" not in errors[0] or "needs 3" not in errors[0] \
+            or os.path.exists(os.path.join(tmp, "ft", "metrics.json")):
+        sys.exit("FAIL: two frames did not stop with the too-few-frames error")
+    big = os.path.join(tmp, "arcmin_%04d.pfm")
+    for t in range(3):
+        write(big % t, b"Pf\n%d %d\n-1\n" % (w, h) + struct.pack("<%df" % (w * h), *([280.0 + t] * (w * h))))
+    p = run(["optimize", "--g", big, "--g-units", "px", "--frames", "0:2", "--keyframe-stride", "1", "--out",
+             os.path.join(tmp, "big")], expect_ok=False)
+    if "looks like vergence in arcmin" not in p.stderr:
+        sys.exit(f"FAIL: arcmin read as pixels without a warning: {p.stderr}")
+    print("the pixel / arcmin warnings and the too-few-frames error: as documented")
 
 
 if __name__ == "__main__":

@@ -390,10 +390,24 @@ static int third_party(void)
 {
     CHECK(vg_dir_prepare(g_work) == VG_OK, "work folder");
     char args[16384], out[1200], path[1400];
+    /* Two frames are too few for an acceleration (three keyframes). */
     path_in(out, sizeof out, "out_ft3d");
     snprintf(args, sizeof args, "--g '" STEREO "flyingthings3d_pair_from_RAFT-3D/disp%%d.pfm' --frames 1:2 "
              "--g-units px --operator linear --out '%s'", out);
-    CHECK(run_vergence(args) == 0, "FlyingThings3D pair:\n%s", g_stderr);
+    CHECK(run_vergence(args) == 2 && count_errors(g_stderr) == 1 && strstr(g_stderr, "needs 3"),
+          "FlyingThings3D pair, two frames: the too-few-frames error\n%s", g_stderr);
+    /* The pair and its second frame again, a keyframe each. */
+    for (int t = 0; t < 3; t++) {
+        vg_imagef in;
+        snprintf(path, sizeof path, STEREO "flyingthings3d_pair_from_RAFT-3D/disp%d.pfm", t ? 2 : 1);
+        CHECK(vg_pfm_read(path, &in) == VG_OK, "%s", path);
+        snprintf(path, sizeof path, "%s/ft3d_%d.pfm", g_work, t);
+        CHECK(vg_pfm_write(path, &in) == VG_OK, "%s", path);
+        vg_imagef_free(&in);
+    }
+    snprintf(args, sizeof args, "--g '%s/ft3d_%%d.pfm' --frames 0:2 --keyframe-stride 1 --g-units px "
+             "--operator linear --out '%s'", g_work, out);
+    CHECK(run_vergence(args) == 0, "FlyingThings3D pair, three frames:\n%s", g_stderr);
     snprintf(path, sizeof path, "%s/metrics.json", out);
     uint8_t *json;
     size_t size;
@@ -412,20 +426,31 @@ static int third_party(void)
     snprintf(path, sizeof path, "%s/f_0002.pfm", out);
     CHECK(vg_pfm_read(path, &f) == VG_OK && f.width == 960 && f.height == 540, "%s", path);
     vg_imagef_free(&f);
+    snprintf(path, sizeof path, "%s/f_0000.pfm", out);
+    CHECK(vg_pfm_read(path, &f) == VG_OK, "%s", path);
+    vg_imagef_free(&f);
 
     /* Sintel: its flow drives a g of its own size (1024x436). */
     vg_imagef g;
     CHECK(vg_imagef_alloc(&g, 1024, 436, 1) == VG_OK, "alloc");
-    for (int t = 2; t <= 3; t++) {
+    for (int t = 2; t <= 4; t++) {
         for (int i = 0; i < 1024 * 436; i++)
             g.data[i] = 250.0f + 20.0f * sinf(0.01f * (i % 1024) + 0.3f * t);
         snprintf(path, sizeof path, "%s/sintel_g_%04d.pfm", g_work, t);
         CHECK(vg_pfm_write(path, &g) == VG_OK, "%s", path);
     }
     vg_imagef_free(&g);
+    /* Its one flow field, for frames 2 and 3 of the three. */
+    vg_imagef flow;
+    CHECK(vg_flo_read(STEREO "sintel_alley_2_flow_from_faldoi/gt/frame_0002.flo", &flow) == VG_OK, "Sintel flow");
+    for (int t = 2; t <= 3; t++) {
+        snprintf(path, sizeof path, "%s/sintel_flow_%04d.flo", g_work, t);
+        CHECK(vg_flo_write(path, &flow) == VG_OK, "%s", path);
+    }
+    vg_imagef_free(&flow);
     path_in(out, sizeof out, "out_sintel");
-    snprintf(args, sizeof args, "--g '%s/sintel_g_%%04d.pfm' --flow-next '" STEREO
-             "sintel_alley_2_flow_from_faldoi/gt/frame_%%04d.flo' --frames 2:3 --out '%s'", g_work, out);
+    snprintf(args, sizeof args, "--g '%s/sintel_g_%%04d.pfm' --flow-next '%s/sintel_flow_%%04d.flo' --frames 2:4 "
+             "--keyframe-stride 1 --out '%s'", g_work, g_work, out);
     CHECK(run_vergence(args) == 0, "Sintel flow:\n%s", g_stderr);
     snprintf(path, sizeof path, "%s/metrics.json", out);
     CHECK(exists(path), "metrics.json");

@@ -234,7 +234,7 @@ def fixtures(box, capture=True, csvs=True, offline=False):
 def offline_args(out, extra=()):
     return ["optimize", "--g", "fx/seq/frame_%04d_g.pfm", "--depth", "fx/seq/frame_%04d_depth.pfm",
             "--flow-next", "fx/seq/frame_%04d_motion_next.flo", "--flow-prev", "fx/seq/frame_%04d_motion_prev.flo",
-            "--frames", "0:10", "--out", out] + list(extra)
+            "--keyframe-stride", "5", "--frames", "0:10", "--out", out] + list(extra)
 
 
 def cap(scene, out, *extra):
