@@ -418,8 +418,12 @@ def case_display():
     if json.load(open(os.path.join(b, "capture.json")))["display"]["distance_m"] != 1.5:
         sys.exit("FAIL: --distance-m did not override the profile")
     # optimize: the profile in metrics.json; the old spelling still works, with one deprecation line.
-    g = os.path.join("..", "shared", "assets", "stereo", "flyingthings3d_pair_from_RAFT-3D", "disp%d.pfm")
-    opt = ["optimize", "--g", g, "--frames", "1:2", "--g-units", "px", "--operator", "linear"]
+    # Three frames (the pair and its second frame again): one acceleration.
+    pair = os.path.join("..", "shared", "assets", "stereo", "flyingthings3d_pair_from_RAFT-3D", "disp%d.pfm")
+    for t in range(3):
+        shutil.copy(pair % (2 if t else 1), os.path.join(tmp, f"ft{t}.pfm"))
+    opt = ["optimize", "--g", os.path.join(tmp, "ft%d.pfm"), "--frames", "0:2", "--keyframe-stride", "1",
+           "--g-units", "px", "--operator", "linear"]
     run(opt + ["--display", profile, "--out", os.path.join(tmp, "o")])
     same(json.load(open(os.path.join(tmp, "o", "metrics.json")))["display"], "optimize --display")
     p = run(opt + ["--display-distance", "0.7", "--out", os.path.join(tmp, "o2")])
