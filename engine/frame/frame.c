@@ -659,20 +659,29 @@ static vg_status submit_frame(frame *f, const frame_target *target, bool wait_do
     return VG_OK;
 }
 
+/* A frame: its slot and constants, the overlay, the bindings (the window's
+ * image when there is one), the submission. Headless frames are waited for,
+ * so outputs and timings belong to them. */
+static vg_status run_frame(frame *f, long index, const frame_hud *hud, const frame_target *target)
+{
+    vg_status st = frame_begin(f, index);
+    if (st != VG_OK)
+        return st;
+    if (f->overlay)
+        overlay_gpu_update(f->overlay, hud);
+    if (target)
+        rg_bind_image(f->graph, f->r_swapchain, target->image, target->view);
+    frame_bind(f);
+    return submit_frame(f, target, !target);
+}
+
 vg_status frame_render(frame *f, long index)
 {
     if (f->present) {
         vg_error("frame_render: this frame presents to a window; use frame_present");
         return VG_ERR_ARG;
     }
-    vg_status st = frame_begin(f, index);
-    if (st != VG_OK)
-        return st;
-    if (f->overlay)
-        overlay_gpu_update(f->overlay, f->hud);
-    frame_bind(f);
-    /* Headless: wait, so outputs and timings belong to this frame. */
-    return submit_frame(f, NULL, true);
+    return run_frame(f, index, f->hud, NULL);
 }
 
 vg_status frame_set_hud(frame *f, const frame_hud *hud)
@@ -693,14 +702,7 @@ vg_status frame_present(frame *f, long index, const frame_target *target, const 
         vg_error("frame_present: the frame was created without a swapchain format and extent");
         return VG_ERR_ARG;
     }
-    vg_status st = frame_begin(f, index);
-    if (st != VG_OK)
-        return st;
-    if (f->overlay)
-        overlay_gpu_update(f->overlay, hud);
-    rg_bind_image(f->graph, f->r_swapchain, target->image, target->view);
-    frame_bind(f);
-    return submit_frame(f, target, false);
+    return run_frame(f, index, hud, target);
 }
 
 void frame_time_passes(frame *f, bool on) { f->timed = on; }

@@ -46,11 +46,7 @@ static void ball_pose(void *user, const scene *s, float t, float *local)
 /* Throw k: launched at 1 s + 3 k s (frame 60 + 180 k: a keyframe). */
 static void throw_make(replay *r, int k)
 {
-    game_rng rng = game_rng_make(1, 0x9a11ull + (uint64_t)k);
-    game_throw_desc td = {.visible_s = GAME_VISIBLE_S};
-    td.path = (game_path)(GAME_PATH_STRAIGHT + (int)(game_rng_next(&rng) & 1));
-    td.direction = (game_direction)(GAME_DIR_NEAR_TO_FAR + (int)(game_rng_next(&rng) & 1));
-    game_throw_make(&td, &r->cam, &rng, &r->th);
+    game_throw_free_play(1, k, GAME_VISIBLE_S, &r->cam, &r->th);
     r->t_launch = READY_S + THROW_EVERY_S * k;
     r->throw_no = k;
 }
@@ -63,24 +59,6 @@ typedef struct mode_samples {
     int passes, n_timed;
     double timed_wall, timed_passes;
 } mode_samples;
-
-static double percentile(double *v, int n, double p)
-{
-    if (n <= 0)
-        return NAN;
-    double *c = malloc((size_t)n * sizeof *c);
-    if (!c)
-        return NAN;
-    memcpy(c, v, (size_t)n * sizeof *c);
-    for (int i = 1; i < n; i++) /* insertion sort: a few hundred values */
-        for (int j = i; j > 0 && c[j - 1] > c[j]; j--) {
-            double t = c[j];
-            c[j] = c[j - 1], c[j - 1] = t;
-        }
-    double x = c[(int)fmin(n - 1, floor(p * (n - 1) + 0.5))];
-    free(c);
-    return x;
-}
 
 vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int frames, int ticks,
                      bench_report *rep)
@@ -181,10 +159,10 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
             v[m] = vg_median(ms[m].wall, (size_t)ms[m].n_wall, 1);
         bench_row_values(rep, "frame ms, median", MODES, v, "%.1f");
         for (int m = 0; m < MODES; m++)
-            v[m] = percentile(ms[m].wall, ms[m].n_wall, 0.95);
+            v[m] = vg_quantile(ms[m].wall, (size_t)ms[m].n_wall, 1, 0.95);
         bench_row_values(rep, "frame ms, 95th percentile", MODES, v, "%.1f");
         for (int m = 0; m < MODES; m++)
-            v[m] = percentile(ms[m].wall, ms[m].n_wall, 1.0);
+            v[m] = vg_quantile(ms[m].wall, (size_t)ms[m].n_wall, 1, 1.0);
         bench_row_values(rep, "frame ms, worst", MODES, v, "%.1f");
         for (int m = 0; m < MODES; m++)
             v[m] = 100 * ms[m].timed_passes / ms[m].timed_wall;

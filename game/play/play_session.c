@@ -88,19 +88,15 @@ static void ball_pose(void *user, const scene *s, float t, float *local)
 static void throw_next(session *ss)
 {
     const play_session_desc *d = ss->d;
-    game_throw_desc td = {.visible_s = d->visible_s};
-    game_rng r;
     if (ss->study) {
         game_cell c = game_hit_cell(d->cells[ss->trial]);
-        td.path = c.path, td.direction = c.direction;
+        game_throw_desc td = {.path = c.path, .direction = c.direction, .visible_s = d->visible_s};
         ss->mode = (frame_mode)(FRAME_MODE_ORIGINAL + c.condition);
-        r = game_rng_make(d->seed, 2 * (uint64_t)ss->trial + 1); /* as the simulated observer's */
+        game_rng r = game_rng_make(d->seed, 2 * (uint64_t)ss->trial + 1); /* as the simulated observer's */
+        game_throw_make(&td, &ss->cam_ref, &r, &ss->th);
     } else {
-        r = game_rng_make(d->seed, 0x9a11ull + (uint64_t)ss->throw_no);
-        td.path = (game_path)(GAME_PATH_STRAIGHT + (int)(game_rng_next(&r) & 1));
-        td.direction = (game_direction)(GAME_DIR_NEAR_TO_FAR + (int)(game_rng_next(&r) & 1));
+        game_throw_free_play(d->seed, ss->throw_no, d->visible_s, &ss->cam_ref, &ss->th);
     }
-    game_throw_make(&td, &ss->cam_ref, &r, &ss->th);
     ss->throw_no++;
     /* The ball's future changed: keyframes predicted for it are stale. */
     for (int m = 0; m <= FRAME_MODE_OPTIMIZED; m++)

@@ -156,6 +156,15 @@ void game_throw_position(const game_throw *th, double t, double out[3])
     out[1] -= 0.5 * th->gravity * t * t;
 }
 
+void game_throw_free_play(uint64_t seed, int n, double visible_s, const vg_camera *cam, game_throw *out)
+{
+    game_rng r = game_rng_make(seed, 0x9a11ull + (uint64_t)n);
+    game_throw_desc td = {.visible_s = visible_s};
+    td.path = (game_path)(GAME_PATH_STRAIGHT + (int)(game_rng_next(&r) & 1));
+    td.direction = (game_direction)(GAME_DIR_NEAR_TO_FAR + (int)(game_rng_next(&r) & 1));
+    game_throw_make(&td, cam, &r, out);
+}
+
 /* The whole flight in view with a margin, never nearer than 2 m. */
 static bool throw_in_view(const game_throw *th, const vg_camera *cam)
 {

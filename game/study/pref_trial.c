@@ -65,12 +65,10 @@ vg_status pref_scene_path(const char *arena_path, int scene_index, char *out, si
 
 frame_desc pref_clip_frame_desc(const gpu *g, const pref_clip_desc *d)
 {
-    frame_desc fd = {
-        .width = d->width, .height = d->height, .fps = 60, .keyframe_stride = 10, .readback = true,
-        .display = d->display, .stereo = FRAME_STEREO_WARP, .mode = d->mode, .compose = d->compose, .swap_eyes = d->swap_eyes,
-        .op = d->op, .op_preset = DISP_PRESET_STUDY,
-    };
-    game_frame_defaults(g, d->tess_error, &fd);
+    frame_desc fd = game_frame_desc(g, d->tess_error, d->mode, d->width, d->height, d->compose, d->op, true);
+    fd.readback = true;
+    fd.display = d->display;
+    fd.swap_eyes = d->swap_eyes;
     return fd;
 }
 
