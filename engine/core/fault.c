@@ -8,7 +8,7 @@
 
 #include "log.h"
 
-static const char *const k_faults[] = {"device-lost", "enospc", "kill", NULL};
+static const char *const k_faults[] = {"device-lost", "enospc", "kill", "present-ms", NULL};
 static const char *const k_features[] = {"tessellation", "multiview", "timestamps", "indirect", NULL};
 
 static bool listed(const char *const *names, const char *s, size_t n)
@@ -29,7 +29,7 @@ vg_status vg_fault_check(void)
         long n = colon && colon < p + len ? strtol(colon + 1, &num_end, 10) : 0;
         if (!colon || colon >= p + len || !listed(k_faults, p, (size_t)(colon - p)) || n < 1 ||
             num_end != p + len) {
-            vg_error("VERGENCE_FAULT=%s: '%.*s' is not NAME:N with N >= 1 and NAME one of device-lost, enospc, kill",
+            vg_error("VERGENCE_FAULT=%s: '%.*s' is not NAME:N with N >= 1 and NAME one of device-lost, enospc, kill, present-ms",
                      f, (int)len, p);
             return VG_ERR_ARG;
         }

@@ -8,6 +8,8 @@
  *     kill:N         the process kills itself (SIGKILL, as kill -9) right after
  *                    its N-th finished file (a study: its N-th line, a new
  *                    file's header included)
+ *     present-ms:N   each frame of a hit-study flight is presented N ms late
+ *                    (a display that cannot hold 60 Hz: game/play/flight.h)
  *   VERGENCE_DISABLE=tessellation,multiview,timestamps,indirect
  *
  * A name these lists do not hold is an error (vg_fault_check), not a fault

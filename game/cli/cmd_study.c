@@ -56,6 +56,8 @@ static const vg_opt k_hit_opts[] = {
     STUDY_COMMON_OPTIONS,
     {"--visible", VG_OPT_FLOAT, &o.visible_s, "S", "seconds the ball is shown after launch (default 0.6)",
      NULL, 0.1, 3},
+    {"--allow-missed-frames", VG_OPT_FLAG, &o.allow_missed, NULL, "run even when the window cannot show the "
+     "flight at 60 Hz (demonstrations; every row records the frames missed)", NULL, 0, 0},
 };
 
 static const vg_opt k_pref_opts[] = {
@@ -70,9 +72,11 @@ const vg_cmd vg_cmd_study_hit = {
     .details = "Conditions original / manipulated / optimized x near-to-far / far-to-near x\n"
                "straight / ballistic, balanced in blocks of 12 and randomised (default 48\n"
                "trials). A human player sees each throw in a window and clicks where it will\n"
-               "land (no feedback, so nothing is learnt per condition); --observer model plays\n"
-               "headless. One CSV line per finished trial (docs/game.md); analyse with\n"
-               "tools/analyze_study.py.",
+               "land (no feedback, so nothing is learnt per condition). Each flight is rendered\n"
+               "ahead and shown from memory at 60 Hz, one frame per refresh; the CSV records\n"
+               "the frames shown and missed, and a window that cannot hold the rate refuses to\n"
+               "start (exit 7). --observer model plays headless. One CSV line per finished\n"
+               "trial (docs/game.md); analyse with tools/analyze_study.py.",
     .opts = k_hit_opts,
     .opt_count = sizeof k_hit_opts / sizeof k_hit_opts[0],
 };

@@ -40,6 +40,12 @@ typedef struct session {
     vg_camera cam;               /* the centre camera at the eye image's aspect */
     vg_camera cam_ref;           /* 16:9: throws do not depend on the window's shape */
     frame *frames[FRAME_MODE_OPTIMIZED + 1];
+    /* A study: each throw's flight rendered ahead by a headless frame of its
+     * condition, shown from memory (flight.h). */
+    flight *fl;
+    frame *flight_frames[FRAME_MODE_OPTIMIZED + 1];
+    bool flight_ready;
+    flight_record shown;
     bool unavailable[FRAME_MODE_OPTIMIZED + 1];
     frame_mode mode;
     uint32_t rw, rh;             /* eye image size */
@@ -106,6 +112,7 @@ static void throw_next(session *ss)
     ss->t_launch = launch / 60.0;
     ss->t_hide = ss->t_launch + ss->th.visible_s;
     ss->t_landed = INFINITY;
+    ss->flight_ready = false;
     ss->ph = PHASE_READY;
     ss->t_phase = ss->clock;
 }
@@ -134,7 +141,7 @@ static vg_status on_click(session *ss, double x, double y)
             k_mode_text[ss->mode], game_direction_names[ss->th.direction], game_path_names[ss->th.path]);
     if (ss->study) {
         play_trial t = {.trial = ss->trial, .th = &ss->th, .mode = ss->mode, .click_u = u, .click_v = v,
-                        .error_m = err, .response_s = ss->clock - ss->t_hide};
+                        .error_m = err, .response_s = ss->clock - ss->t_hide, .flight = ss->shown};
         vg_status st = ss->d->on_trial(ss->d->user, &t);
         if (st != VG_OK)
             return st;
@@ -163,14 +170,20 @@ static vg_status on_click(session *ss, double x, double y)
     return VG_OK;
 }
 
-static void update_phase(session *ss)
+static vg_status flight_play(session *ss);
+
+static vg_status update_phase(session *ss)
 {
-    if (ss->ph == PHASE_READY && ss->clock >= ss->t_launch)
+    if (ss->ph == PHASE_READY && ss->clock >= ss->t_launch) {
         ss->ph = PHASE_FLIGHT;
+        if (ss->study)
+            return flight_play(ss);
+    }
     if (ss->ph == PHASE_FLIGHT && ss->clock >= ss->t_hide)
         ss->ph = PHASE_AIM;
     if (ss->ph == PHASE_FEEDBACK && ss->clock >= ss->t_phase + FEEDBACK_S)
         throw_next(ss);
+    return VG_OK;
 }
 
 /* ------------------------------------------------------------------------- */
@@ -179,12 +192,16 @@ static void update_phase(session *ss)
 
 static void frames_drop(session *ss)
 {
-    for (int m = 0; m <= FRAME_MODE_OPTIMIZED; m++)
+    for (int m = 0; m <= FRAME_MODE_OPTIMIZED; m++) {
         if (ss->frames[m]) {
             frame_wait_idle(ss->frames[m]);
             frame_destroy(ss->frames[m]);
             ss->frames[m] = NULL;
         }
+        frame_destroy(ss->flight_frames[m]);
+        ss->flight_frames[m] = NULL;
+    }
+    ss->flight_ready = false;
 }
 
 /* The eye size that fills the window in this layout; a CPU rasteriser gets
@@ -442,6 +459,96 @@ static vg_status dump_f(session *ss, frame *f, long index)
     return st;
 }
 
+/* ------------------------------------------------------------------------- */
+/* A study's flight: rendered ahead, shown frame-exactly (flight.h)          */
+/* ------------------------------------------------------------------------- */
+
+static vg_status flight_progress(void *user, int done, int count)
+{
+    session *ss = user;
+    window_pump(ss->win); /* the window stays responsive; input waits for the next tick */
+    vg_progress("study hit: rendering the flight ahead", done, count);
+    return VG_OK;
+}
+
+/* Before the first trial: a window that cannot present a stored frame per
+ * 1/60 s cannot show a flight frame-exactly. */
+static vg_status flight_check_rate(session *ss)
+{
+    enum { FRAMES = 30, MISSED_MAX = 3 };
+    flight_record r;
+    vg_status st = flight_rate_check(ss->fl, FRAMES, &r);
+    if (st != VG_OK)
+        return st;
+    vg_info("study hit: the window presented %d test frames at %.0f Hz: %d late, worst %.1f ms between frames",
+            r.shown, FLIGHT_HZ, r.missed, r.worst_ms);
+    if (r.missed <= MISSED_MAX)
+        return VG_OK;
+    if (ss->d->allow_missed) {
+        vg_warn("study hit: this window cannot hold %.0f Hz (%d of %d test frames late): flights will miss "
+                "frames (--allow-missed-frames; every row records them)", FLIGHT_HZ, r.missed, r.shown);
+        return VG_OK;
+    }
+    vg_error("study hit: this window cannot hold %.0f Hz (%d of %d test frames late, worst %.1f ms between "
+             "frames): a throw's flight would not be shown frame-exactly (--allow-missed-frames runs anyway, "
+             "for demonstrations)", FLIGHT_HZ, r.missed, r.shown, r.worst_ms);
+    return VG_ERR_DEVICE;
+}
+
+static vg_status flight_prepare(session *ss)
+{
+    const play_session_desc *d = ss->d;
+    gpu *g = window_gpu(ss->win);
+    frame **fr = &ss->flight_frames[ss->mode];
+    vg_status st = VG_OK;
+    if (!*fr) {
+        frame_desc fd = game_frame_desc(g, d->win->tess_error, ss->mode, ss->rw, ss->rh, ss->compose, d->op, true);
+        fd.display = d->display;
+        fd.swap_eyes = ss->swap_eyes;
+        fd.readback = true; /* the composed image comes back to be kept */
+        fd.overlay = true;  /* with the HUD the live frame would show */
+        st = frame_create(g, ss->scene, &fd, fr);
+    }
+    for (int m = 0; m <= FRAME_MODE_OPTIMIZED && st == VG_OK; m++)
+        if (ss->frames[m])
+            st = frame_wait_idle(ss->frames[m]);
+    if (st != VG_OK)
+        return st;
+    frame_restart(*fr);
+    phase keep = ss->ph;
+    ss->ph = PHASE_FLIGHT; /* the HUD of the flight ("Watch the ball!") */
+    hud_build(ss, *fr);
+    ss->ph = keep;
+    if ((st = frame_set_hud(*fr, &ss->hud)) != VG_OK)
+        return st;
+    long first = lround(ss->t_launch * FLIGHT_HZ);
+    int count = (int)lround(ss->th.visible_s * FLIGHT_HZ);
+    st = flight_render(ss->fl, *fr, first, count, flight_progress, ss);
+    ss->flight_ready = st == VG_OK;
+    return st;
+}
+
+static vg_status flight_play(session *ss)
+{
+    vg_status st = VG_OK;
+    for (int m = 0; m <= FRAME_MODE_OPTIMIZED && st == VG_OK; m++)
+        if (ss->frames[m])
+            st = frame_wait_idle(ss->frames[m]);
+    if (st == VG_OK && !ss->flight_ready)
+        st = flight_prepare(ss); /* resized while the ball waited */
+    bool quit = false;
+    if (st == VG_OK)
+        st = flight_show(ss->fl, &ss->shown, &quit);
+    if (st != VG_OK)
+        return st;
+    vg_info("study hit: trial %d: flight of %d frames shown in %.3f s, %d missed, worst %.1f ms between frames",
+            ss->trial, ss->shown.frames, ss->shown.shown_s, ss->shown.missed, ss->shown.worst_ms);
+    ss->quit = quit;
+    ss->clock = ss->t_hide;
+    ss->ph = PHASE_AIM;
+    return VG_OK;
+}
+
 static vg_status present(session *ss)
 {
     frame *f;
@@ -491,10 +598,14 @@ static vg_status run_loop(session *ss)
         last_ms = now;
         if (!ss->paused && ss->ph != PHASE_DONE) {
             ss->clock += dt;
-            update_phase(ss);
+            st = update_phase(ss);
         }
-        if (st == VG_OK)
+        if (st == VG_OK && !ss->quit)
             st = present(ss);
+        /* A study renders the throw's flight while the ball waits at its
+         * launch point (game time stands still meanwhile). */
+        if (st == VG_OK && ss->study && ss->ph == PHASE_READY && !ss->flight_ready)
+            st = flight_prepare(ss);
         if (ss->d->win->replay && !window_replaying(ss->win) && !ss->replay_done_said) {
             vg_info("play: replay finished at tick %ld", tick);
             ss->replay_done_said = true;
@@ -587,6 +698,8 @@ vg_status play_session_run(const play_session_desc *d)
                 st = frame_for(ss, (frame_mode)m, &f);
         }
     }
+    if (st == VG_OK && ss->study && (st = flight_create(ss->win, &ss->fl)) == VG_OK)
+        st = flight_check_rate(ss);
     if (st == VG_OK) {
         if (ss->study && ss->trial >= d->trial_count)
             ss->ph = PHASE_DONE;
@@ -598,6 +711,7 @@ vg_status play_session_run(const play_session_desc *d)
         vg_info("play: %d throw(s), score %d, mean miss %.2f m", ss->throws_scored, ss->score,
                 ss->miss_sum / ss->throws_scored);
     frames_drop(ss);
+    flight_destroy(ss->fl);
     if (ss->win)
         window_destroy(ss->win);
     if (g) {

@@ -19,6 +19,7 @@
 #include "disparity/disp_operator.h"
 #include "rules/game.h"
 #include "options/gpu_cli.h"
+#include "flight.h"
 #include "frame/frame.h"
 
 /* Window options of `play` and of a human `study`. */
@@ -66,6 +67,7 @@ typedef struct play_trial {
     frame_mode mode;
     double click_u, click_v, error_m;
     double response_s;           /* from the ball's disappearance to the click */
+    flight_record flight;        /* how the flight was shown (a person's study; the model's: exact) */
 } play_trial;
 
 typedef vg_status (*play_trial_fn)(void *user, const play_trial *t);
@@ -79,8 +81,11 @@ typedef struct play_session_desc {
     double visible_s;            /* 0 = GAME_VISIBLE_S */
     uint64_t seed;               /* the throws */
     /* A study when cells != NULL: trials first_trial .. trial_count - 1 with
-     * the conditions of the schedule, each reported to on_trial. */
+     * the conditions of the schedule, each reported to on_trial. Its
+     * throws' flights are rendered ahead and shown frame-exactly (flight.h);
+     * a window that cannot hold 60 Hz refuses to start unless allow_missed. */
     const int *cells;
+    bool allow_missed;
     int first_trial, trial_count;
     play_trial_fn on_trial;
     void *user;

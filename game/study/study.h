@@ -12,6 +12,7 @@ typedef struct study_opts {
     const char *participant, *out, *scene;
     int trials, seed, observer, op;     /* -1: not given; observer 0 human, 1 model */
     bool resume;
+    bool allow_missed;                  /* hit: run on a window that cannot hold 60 Hz */
     double weber_k, visible_s;
     display_cli display;
     play_window_cli win;

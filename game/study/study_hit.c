@@ -14,10 +14,10 @@ static const char *const k_columns[] = {
     "participant", "study", "trial", "seed", "condition", "direction", "path", "operator", "observer",
     "visible_s", "start_x", "start_y", "start_z", "velocity_x", "velocity_y", "velocity_z", "gravity",
     "flight_s", "ground_x", "ground_y", "ground_z", "click_u", "click_v", "error_m", "response_s", "utc",
-    STUDY_DISPLAY_COLUMNS,
+    STUDY_DISPLAY_COLUMNS, "flight_frames", "frames_shown", "frames_missed", "shown_s",
 };
 enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_CONDITION, COL_DIRECTION, COL_PATH, COL_DISPLAY = 26,
-       COL_COUNT = COL_DISPLAY + STUDY_DISPLAY_COUNT };
+       COL_FLIGHT = COL_DISPLAY + STUDY_DISPLAY_COUNT, COL_COUNT = COL_FLIGHT + 4 };
 _Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
 
 typedef struct hit_run {
@@ -61,6 +61,12 @@ static vg_status log_trial(hit_run *r, const play_trial *t)
     study_display_fields(r->o, display);
     for (int k = 0; k < STUDY_DISPLAY_COUNT; k++)
         memcpy(buf[COL_DISPLAY + k], display[k], sizeof display[k]);
+    /* The presentation record: the flight's frames, how many were presented
+     * and how many late (flight.h), and how long it was on screen. */
+    snprintf(buf[COL_FLIGHT], 64, "%d", t->flight.frames);
+    snprintf(buf[COL_FLIGHT + 1], 64, "%d", t->flight.shown);
+    snprintf(buf[COL_FLIGHT + 2], 64, "%d", t->flight.missed);
+    snprintf(buf[COL_FLIGHT + 3], 64, "%.4f", t->flight.shown_s);
     for (int i = 0; i < COL_COUNT; i++)
         f[i] = buf[i];
     return study_log_append(&r->ss.log, f);
@@ -133,7 +139,10 @@ static vg_status run_model(hit_run *r, const char *scene_path)
         st = observer_play(obs, &th, mode, &rn, &res);
         if (st == VG_OK)
             st = on_trial(r, &(play_trial){.trial = i, .th = &th, .mode = mode, .click_u = res.click_u,
-                                            .click_v = res.click_v, .error_m = res.error_m});
+                                            .click_v = res.click_v, .error_m = res.error_m,
+                                            /* the model sees every frame of the flight, by construction */
+                                            .flight = {.frames = res.frames_seen, .shown = res.frames_seen,
+                                                       .shown_s = res.frames_seen / FLIGHT_HZ}});
     }
     observer_destroy(obs);
     scene_destroy(s);
@@ -178,7 +187,8 @@ vg_status study_hit_run(const study_opts *o)
             st = play_session_run(&(play_session_desc){
                 .win = &o->win, .scene_path = scene_path, .op = (disp_operator_kind)o->op,
                 .display = display_cli_desc(&o->display), .visible_s = o->visible_s, .seed = r.ss.seed,
-                .cells = r.ss.cells, .first_trial = r.ss.log.rows, .trial_count = r.ss.trials,
+                .cells = r.ss.cells, .allow_missed = o->allow_missed, .first_trial = r.ss.log.rows,
+                .trial_count = r.ss.trials,
                 .on_trial = on_trial, .user = &r});
     }
     return study_end(&r.ss, o, &kind, st);

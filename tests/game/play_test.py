@@ -12,7 +12,14 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
                      tests/golden/game_play.png (VG_UPDATE_GOLDEN=1 rewrites it)
   preference_window  the side-by-side preference study answers a replayed key
                      press
-  study_window       the same for the hit study with a replayed click
+  study_window       the same for the hit study with a replayed click; the
+                     row's presentation record says the flight's 12 frames
+                     (0.2 s at 60 Hz) were each presented once, as the log
+                     line that timed them says
+  study_rate         a window that cannot hold 60 Hz (VERGENCE_FAULT=
+                     present-ms:40) refuses the hit study with one line, exit
+                     7 and no CSV; --allow-missed-frames runs it and the row
+                     records the late frames
   frame_ticks        live play at 3 ticks per frame (a device at 20 fps), with
                      a pause that draws the same frame again, shows at every
                      frame the f of one tick per frame (issue 13)
@@ -53,9 +60,9 @@ def fail(msg):
 class Game:
     """A running vergence with its stderr in a file we can poll."""
 
-    def __init__(self, args):
+    def __init__(self, args, env=None):
         self.log = tempfile.NamedTemporaryFile(prefix="vergence_play_", suffix=".log", delete=False)
-        self.p = subprocess.Popen([VERGENCE] + args, stdout=subprocess.DEVNULL, stderr=self.log)
+        self.p = subprocess.Popen([VERGENCE] + args, stdout=subprocess.DEVNULL, stderr=self.log, env=env)
         self.wid = None
 
     def text(self):
@@ -307,11 +314,28 @@ def case_golden():
 def windowed_study(args, out, check):
     """A windowed study answers its replayed input into the CSV."""
     g = Game(args)
-    g.finish(600)
+    log = g.finish(600)
     rows = open(out).read().splitlines()
     print("\n".join(rows))
     if len(rows) != 2 or not check(rows[1]):
         fail("the replayed answer is not in the CSV")
+    return dict(zip(rows[0].split(","), rows[1].split(","))), log
+
+
+def flight_record(row, log, frames):
+    """The row's presentation record: every frame of the flight presented,
+    the lateness the log's timing line counted."""
+    m = re.search(r"flight of (\d+) frames shown in ([\d.]+) s, (\d+) missed", log)
+    if not m:
+        fail("no timing line for the flight in the log")
+    got = (int(row["flight_frames"]), int(row["frames_shown"]), int(row["frames_missed"]))
+    if got[0] != frames or got[1] != frames or (int(m.group(1)), int(m.group(3))) != (got[0], got[2]):
+        fail(f"presentation record {got} (frames, shown, missed); want {frames} frames all shown, as logged: "
+             f"{m.group(0)}")
+    shown = float(row["shown_s"])
+    if shown < frames / 60 - 0.002:
+        fail(f"the flight was on screen {shown:.4f} s, shorter than its {frames} frames at 60 Hz")
+    return got[2], shown
 
 
 def case_preference_window():
@@ -325,8 +349,35 @@ def case_preference_window():
 def case_study_window():
     out = os.path.join(tempfile.mkdtemp(prefix="vergence_hit_"), "hit.csv")
     script = replay_file("90 click 0.5 0.7\n96 key Q\n")  # launch at 60, shown 0.2 s
-    windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--visible", "0.2", "--size", "256x144",
-                    "--replay", script, "--out", out], out, lambda row: row.startswith("w2,hit,0,") and ",human," in row)
+    row, log = windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--visible", "0.2", "--size",
+                               "256x144", "--replay", script, "--out", out], out,
+                              lambda row: row.startswith("w2,hit,0,") and ",human," in row)
+    missed, shown = flight_record(row, log, 12)
+    print(f"flight: 12 frames in {shown:.4f} s, {missed} presented late")
+
+
+def case_study_rate():
+    out = os.path.join(tempfile.mkdtemp(prefix="vergence_rate_"), "hit.csv")
+    args = ["study", "hit", "--participant", "w4", "--trials", "1", "--visible", "0.2", "--size", "256x144",
+            "--replay", replay_file("90 click 0.5 0.7\n96 key Q\n"), "--out", out]
+    env = dict(os.environ, VERGENCE_FAULT="present-ms:40")
+    p = subprocess.run([VERGENCE] + args, capture_output=True, text=True, timeout=300, env=env)
+    print(p.stderr)
+    errors = [l for l in p.stderr.splitlines() if "error:" in l]
+    if p.returncode != 7 or len(errors) != 1 or "cannot hold 60 Hz" not in errors[0]:
+        fail(f"exit {p.returncode} with {len(errors)} error line(s); want 7 and one line saying the window "
+             "cannot hold 60 Hz")
+    if os.path.exists(out):
+        fail("the refused study left a CSV")
+    g = Game(args + ["--allow-missed-frames"], env)
+    log = g.finish(300)
+    rows = open(out).read().splitlines()
+    row = dict(zip(rows[0].split(","), rows[1].split(",")))
+    missed, shown = flight_record(row, log, 12)
+    # Each frame waits 40 ms before its present: 11 of the 12 follow the one
+    # before by 2.4 refreshes or more.
+    if missed < 11 or shown < 11 * 0.040 + 1 / 60:
+        fail(f"a display 40 ms late per frame recorded {missed} missed frames over {shown:.3f} s")
 
 
 def case_device_lost():
@@ -364,6 +415,6 @@ if __name__ == "__main__":
     os.chdir(ROOT)
     os.environ.setdefault("XDG_RUNTIME_DIR", "/tmp")
     {"play_live": case_play_live, "play_keys": case_play_keys, "play_replay": case_play_replay, "golden": case_golden,
-     "preference_window": case_preference_window, "study_window": case_study_window,
+     "preference_window": case_preference_window, "study_window": case_study_window, "study_rate": case_study_rate,
      "device_lost": case_device_lost, "frame_ticks": case_frame_ticks}[sys.argv[2]]()
     print("ok")
