@@ -349,8 +349,9 @@ def case_validation_sweep():
         rows = {l.rsplit(None, 3)[0].strip(): l.split()[-3:] for l in p.stdout.splitlines()
                 if l.startswith("  ") and len(l.split()) > 3}
         fps, share = rows.get("fps (frames / wall seconds)"), rows.get("passes / wall (timed frames)")
-        if not fps or not share or "warp.classify (mean ms)" not in rows:
-            return "bench --game printed no fps, passes / wall or warp.classify row"
+        # Passes under 0.2 ms are not listed (on a GPU most are): at least one is.
+        if not fps or not share or not any(k.endswith("(mean ms)") for k in rows):
+            return "bench --game printed no fps, passes / wall or pass row"
         if not all(float(v) > 0 for v in fps) or not all(0 < float(v.rstrip("%")) <= 100 for v in share):
             return "bench --game: fps %s, passes / wall %s" % (fps, share)
         return None
