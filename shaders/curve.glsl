@@ -2,7 +2,7 @@
 // the (depth, target vergence) pairs of the frame's geometry pixels, with
 // bins uniform in inverse depth. Three passes, all in a fixed order so the
 // curve is the same on every run and every device:
-//   range    one workgroup reduces the inverse-depth range
+//   range    the inverse-depth range: per 64x64 tile, then over the tiles
 //   bins     per 64x64 tile: count and fixed-point sums of vergence and of
 //            the position inside the bin, per bin
 //   resolve  per bin: centroid over tiles; empty bins take the bin centre and
@@ -23,7 +23,7 @@ layout(set = 0, binding = 4, scalar) buffer TileSumBlock { uint tile_sum[]; };
 layout(set = 0, binding = 5, scalar) buffer TileOffsetBlock { uint tile_offset[]; };
 layout(push_constant, scalar) uniform CurvePush {
     float far_depth;   // background depth: pixels at or beyond it are not geometry
-    uint tiles_x, tiles_y, unused;
+    uint tiles_x, tiles_y, stage;   // range: 0 per tile, 1 over the tiles
 } pc;
 
 bool is_geometry(float z)

@@ -355,12 +355,25 @@ static void curve_execute(const rg_context *ctx, void *user, int which)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->pipe[which]);
     t->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->layout, 0, which == 2 ? 4 : 6,
                                     which == 2 ? w + 2 : w);
-    struct { float far_depth; uint32_t tiles_x, tiles_y, unused; } pc = {CV_FAR, t->tiles_x, t->tiles_y, 0};
+    struct { float far_depth; uint32_t tiles_x, tiles_y, stage; } pc = {CV_FAR, t->tiles_x, t->tiles_y, 0};
     vkCmdPushConstants(cmd, t->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
-    if (which == 1)
-        vkCmdDispatch(cmd, t->tiles_x, t->tiles_y, 1);
-    else
+    if (which == 2) {
         vkCmdDispatch(cmd, 1, 1, 1);
+        return;
+    }
+    vkCmdDispatch(cmd, t->tiles_x, t->tiles_y, 1);
+    if (which == 0) { /* the range: per tile, then over the tiles */
+        VkMemoryBarrier2 mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                               .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                               .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                               .dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                               .dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
+        vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
+                                                       .memoryBarrierCount = 1, .pMemoryBarriers = &mb});
+        pc.stage = 1;
+        vkCmdPushConstants(cmd, t->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+        vkCmdDispatch(cmd, 1, 1, 1);
+    }
 }
 
 static void curve_range_execute(const rg_context *ctx, void *user) { curve_execute(ctx, user, 0); }
@@ -427,6 +440,7 @@ static int curve_agrees(void)
     rg_use(hs.graph, range, t.depth, RG_STORAGE_READ);
     rg_use(hs.graph, range, t.target, RG_STORAGE_READ);
     rg_use(hs.graph, range, t.curve, RG_STORAGE_WRITE);
+    rg_use(hs.graph, range, t.count, RG_STORAGE_WRITE); /* the tiles' ranges, read back in the pass */
     rg_pass bins = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "warp.curve.bins", .type = RG_PASS_COMPUTE,
                                                           .execute = curve_bins_execute, .user = &t});
     rg_use(hs.graph, bins, t.depth, RG_STORAGE_READ);
