@@ -31,7 +31,7 @@ vg_status flight_create(window *w, flight **out)
     if (!fl)
         return VG_ERR_NOMEM;
     fl->win = w;
-    vg_status st = picture_create(window_gpu(w), window_format(w), window_extent(w), &fl->pic);
+    vg_status st = picture_fit(&fl->pic, w);
     if (st != VG_OK) {
         free(fl);
         fl = NULL;
@@ -136,14 +136,7 @@ static vg_status show(flight *fl, int count, bool blank, flight_record *rec, boo
     long extra_ms = vg_fault("present-ms"); /* tests: a display that cannot keep up */
     *rec = (flight_record){.frames = count};
     double t0 = 0, last = 0;
-    vg_status st = VG_OK;
-    VkExtent2D e = window_extent(fl->win), pe = picture_extent(fl->pic);
-    if (e.width != pe.width || e.height != pe.height) { /* the window was resized since */
-        picture_destroy(fl->pic);
-        fl->pic = NULL;
-        if ((st = picture_create(window_gpu(fl->win), window_format(fl->win), e, &fl->pic)) != VG_OK)
-            return st;
-    }
+    vg_status st = picture_fit(&fl->pic, fl->win); /* the window may have been resized since */
     for (int k = 0; k < count && st == VG_OK && !*quit; k++) {
         window_event ev[32];
         int n = 0;
@@ -163,20 +156,10 @@ static vg_status show(flight *fl, int count, bool blank, flight_record *rec, boo
         /* Not before this frame's refresh (a swapchain that does not wait). */
         if (k > 0)
             sleep_until_ms(t0 + k * period - 0.5);
-        frame_target t;
-        bool stale = false;
-        st = window_acquire(fl->win, &t, &stale);
-        if (st == VG_OK && !stale)
-            st = picture_present(fl->pic, &t);
-        if (st == VG_OK && !stale)
-            st = window_present(fl->win, &stale);
-        if (st == VG_OK && stale) {
-            /* Resized mid-flight: this frame was not shown. */
-            picture_destroy(fl->pic);
-            fl->pic = NULL;
-            st = window_rebuild(fl->win);
-            if (st == VG_OK)
-                st = picture_create(window_gpu(fl->win), window_format(fl->win), window_extent(fl->win), &fl->pic);
+        bool rebuilt;
+        if ((st = picture_show(&fl->pic, fl->win, &rebuilt)) != VG_OK)
+            break;
+        if (rebuilt) { /* resized mid-flight: this frame was not shown */
             rec->missed++;
             continue;
         }

@@ -7,6 +7,7 @@
 #include <stb_easy_font.h>
 
 #include "graph/graph.h"
+#include "window.h"
 
 struct picture {
     gpu *gpu;
@@ -136,6 +137,41 @@ vg_status picture_present(picture *p, const frame_target *t)
     VK_TRY(gpu_queue_submit(p->gpu, 1, &submit, p->fence));
     p->submitted = true;
     return VG_OK;
+}
+
+vg_status picture_fit(picture **p, window *w)
+{
+    VkExtent2D e = window_extent(w);
+    if (*p) {
+        VkExtent2D pe = picture_extent(*p);
+        if (pe.width == e.width && pe.height == e.height)
+            return VG_OK;
+        picture_destroy(*p);
+        *p = NULL;
+    }
+    return picture_create(window_gpu(w), window_format(w), e, p);
+}
+
+vg_status picture_show(picture **p, window *w, bool *rebuilt)
+{
+    frame_target t;
+    bool stale;
+    *rebuilt = false;
+    vg_status st = window_acquire(w, &t, &stale);
+    if (st == VG_OK && !stale) {
+        st = picture_present(*p, &t);
+        if (st == VG_OK)
+            st = window_present(w, &stale);
+    }
+    if (st == VG_OK && stale) {
+        *rebuilt = true;
+        picture_destroy(*p);
+        *p = NULL;
+        st = window_rebuild(w);
+        if (st == VG_OK)
+            st = picture_fit(p, w);
+    }
+    return st;
 }
 
 /* ------------------------------------------------------------------------- */

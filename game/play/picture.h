@@ -23,6 +23,15 @@ VkExtent2D picture_extent(const picture *p);
 /* Copies the pixels into the target image and submits. */
 vg_status picture_present(picture *p, const frame_target *target);
 
+/* In a window (window.h): *p made again when the window's extent is no
+ * longer its own (a resize since it was made)... */
+typedef struct window window;
+vg_status picture_fit(picture **p, window *w);
+/* ... and shown: acquire, copy, present. A stale swapchain is rebuilt and
+ * the picture made again at the new size; *rebuilt then says nothing was
+ * shown (the caller draws again). */
+vg_status picture_show(picture **p, window *w, bool *rebuilt);
+
 /* Drawing helpers. */
 void picture_fill(picture *p, int x, int y, int w, int h, const uint8_t rgb[3]);
 /* Text with stb_easy_font at an integer scale; returns the width in pixels. */

@@ -235,6 +235,18 @@ static void choose_render_size(session *ss, bool announce)
     }
 }
 
+/* The frame of a mode as the session shows it (the live frames and a
+ * study's flight frames add what they need). */
+static frame_desc session_frame_desc(const session *ss, frame_mode mode)
+{
+    const play_session_desc *d = ss->d;
+    frame_desc fd = game_frame_desc(window_gpu(ss->win), d->win->tess_error, mode, ss->rw, ss->rh, ss->compose,
+                                    d->op, ss->study);
+    fd.display = d->display;
+    fd.swap_eyes = ss->swap_eyes;
+    return fd;
+}
+
 static vg_status frame_for(session *ss, frame_mode mode, frame **out)
 {
     if (ss->frames[mode]) {
@@ -244,9 +256,7 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     const play_session_desc *d = ss->d;
     gpu *g = window_gpu(ss->win);
     VkExtent2D e = window_extent(ss->win);
-    frame_desc fd = game_frame_desc(g, d->win->tess_error, mode, ss->rw, ss->rh, ss->compose, d->op, ss->study);
-    fd.display = d->display;
-    fd.swap_eyes = ss->swap_eyes;
+    frame_desc fd = session_frame_desc(ss, mode);
     fd.present_format = window_format(ss->win);
     fd.present_width = e.width;
     fd.present_height = e.height;
@@ -497,14 +507,11 @@ static vg_status flight_check_rate(session *ss)
 
 static vg_status flight_prepare(session *ss)
 {
-    const play_session_desc *d = ss->d;
     gpu *g = window_gpu(ss->win);
     frame **fr = &ss->flight_frames[ss->mode];
     vg_status st = VG_OK;
     if (!*fr) {
-        frame_desc fd = game_frame_desc(g, d->win->tess_error, ss->mode, ss->rw, ss->rh, ss->compose, d->op, true);
-        fd.display = d->display;
-        fd.swap_eyes = ss->swap_eyes;
+        frame_desc fd = session_frame_desc(ss, ss->mode);
         fd.readback = true; /* the composed image comes back to be kept */
         fd.overlay = true;  /* with the HUD the live frame would show */
         st = frame_create(g, ss->scene, &fd, fr);

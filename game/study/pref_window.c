@@ -134,23 +134,10 @@ static void background(pref *p)
  * the caller starts the trial again when *relayout is set). */
 static vg_status show(pref *p, bool *relayout)
 {
-    frame_target t;
-    bool stale;
-    vg_status st = window_acquire(p->win, &t, &stale);
-    if (st == VG_OK && !stale) {
-        st = picture_present(p->pic, &t);
-        if (st == VG_OK)
-            st = window_present(p->win, &stale);
-    }
-    if (st == VG_OK && stale) {
-        picture_destroy(p->pic);
-        p->pic = NULL;
-        st = window_rebuild(p->win);
-        if (st == VG_OK)
-            st = picture_create(window_gpu(p->win), window_format(p->win), window_extent(p->win), &p->pic);
-        if (relayout)
-            *relayout = true;
-    }
+    bool rebuilt;
+    vg_status st = picture_show(&p->pic, p->win, &rebuilt);
+    if (rebuilt && relayout)
+        *relayout = true;
     return st;
 }
 
@@ -310,7 +297,7 @@ vg_status pref_window_run(const pref_window_desc *d)
                                                 .record = d->win->record}, &p.win);
     gpu *g = p.win ? window_gpu(p.win) : NULL;
     if (st == VG_OK)
-        st = picture_create(g, window_format(p.win), window_extent(p.win), &p.pic);
+        st = picture_fit(&p.pic, p.win);
     for (int t = d->first_trial; t < d->trial_count && st == VG_OK && !p.quit; t++)
         st = trial_run(&p, t);
     clips_free(&p);
