@@ -125,6 +125,7 @@ static vg_status build_graph(frame *f)
     gbuffer_gpu_add(f->gbuffer, g, res);
     bool stereo = fc->desc.stereo != FRAME_STEREO_OFF;
     uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
+    bool eyes = stereo && !fc->desc.maps_only;
     if (stereo) {
         rg_res target = {0};
         if (f->disparity) {
@@ -138,11 +139,13 @@ static vg_status build_graph(frame *f)
                      frame_mode_names[fc->desc.mode]);
             return VG_ERR_UNSUPPORTED;
         }
-        warp_gpu_add(f->warp, g, res, target);
-        if (f->overlay)
-            overlay_gpu_add(f->overlay, g, res);
-        compose_gpu_add(f->compose, g, res);
-        frame_compose_size(fc->desc.compose, w, h, &sw, &sh);
+        if (eyes) {
+            warp_gpu_add(f->warp, g, res, target);
+            if (f->overlay)
+                overlay_gpu_add(f->overlay, g, res);
+            compose_gpu_add(f->compose, g, res);
+            frame_compose_size(fc->desc.compose, w, h, &sw, &sh);
+        }
     }
 
     if (fc->desc.readback) {
@@ -152,8 +155,13 @@ static vg_status build_graph(frame *f)
         readback_add_item(f, res->depth, w, h, 4, &o->depth);
         readback_add_item(f, res->ids, w, h, 4, &o->ids);
         readback_add_item(f, res->motion, w, h, 16, &o->motion);
-        if (stereo) {
+        if (stereo)
             readback_add_item(f, res->g, w, h, 4, &o->g);
+        if (stereo && res->h.id)
+            readback_add_item(f, res->h, w, h, 4, &o->h);
+        if (stereo && res->f.id)
+            readback_add_item(f, res->f, w, h, 4, &o->f);
+        if (eyes) {
             readback_add_item(f, res->left, w, h, 4, &o->left);
             readback_add_item(f, res->right, w, h, 4, &o->right);
             readback_add_item(f, res->left_aux, w, h, 16, &o->left_aux);
@@ -165,10 +173,6 @@ static vg_status build_graph(frame *f)
                 readback_add_item(f, res->ref_left, w, h, 4, &o->ref_left);
                 readback_add_item(f, res->ref_right, w, h, 4, &o->ref_right);
             }
-            if (res->h.id)
-                readback_add_item(f, res->h, w, h, 4, &o->h);
-            if (res->f.id)
-                readback_add_item(f, res->f, w, h, 4, &o->f);
             readback_add_item(f, res->curve, sizeof(vg_curve), 0, 0, &o->curve);
         }
         const readback_item *last = &f->items[f->item_count - 1];
@@ -195,7 +199,7 @@ static vg_status build_graph(frame *f)
     if (f->present)
         f->r_swapchain = present_gpu_add(f->present, g, res);
     if (!fc->desc.readback && !f->present)
-        rg_export(g, stereo ? res->stereo : res->color);
+        rg_export(g, eyes ? res->stereo : res->color);
     vg_status st = rg_compile(g);
     if (st == VG_OK)
         st = rg_realize(g, fc->gpu);
@@ -388,11 +392,11 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
         if (frame_needs_maps(&fc->desc))
             st = disparity_gpu_create(fc, &f->disparity);
-        if (st == VG_OK)
+        if (st == VG_OK && !fc->desc.maps_only)
             st = warp_gpu_create(fc, &f->warp);
-        if (st == VG_OK)
+        if (st == VG_OK && !fc->desc.maps_only)
             st = compose_gpu_create(fc, &f->compose);
-        if (st == VG_OK && (fc->desc.overlay || fc->desc.present_format != VK_FORMAT_UNDEFINED))
+        if (st == VG_OK && !fc->desc.maps_only && (fc->desc.overlay || fc->desc.present_format != VK_FORMAT_UNDEFINED))
             st = overlay_gpu_create(fc, &f->overlay);
     }
     if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED)

@@ -60,6 +60,8 @@ typedef struct frame_desc {
     int keyframe_stride;         /* frames between keyframes, 0 = 10 (paper 4.4) */
     int camera;                  /* camera node index (in node order) */
     bool readback;               /* copy the G-buffer to the host every frame */
+    bool maps_only;              /* stereo frames: the G-buffer and the disparity maps g, h, f only (with
+                                    readback: a simulated observer's view); no eyes are drawn */
     uint32_t shadow_size;        /* 0 = 2048 */
     stereo_display_desc display; /* the display model (zero = paper defaults) */
     stereo_camera_desc rig;      /* the original stereo camera; zero interaxial/convergence =

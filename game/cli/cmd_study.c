@@ -33,6 +33,7 @@ static study_opts o = {
 };
 
 static const char *const k_observer_names[] = {"human", "model", NULL};
+static const char *const k_view_names[] = {"engine", "cpu", NULL};
 
 #define STUDY_COMMON_OPTIONS                                                                            \
     {"--participant", VG_OPT_STRING, &o.participant, "ID", "participant id (letters, digits, - _ .); "   \
@@ -46,6 +47,9 @@ static const char *const k_observer_names[] = {"human", "model", NULL};
      "observer, headless)", k_observer_names, 0, 0},                                                    \
     {"--operator", VG_OPT_ENUM, &o.op, "OP", "the manipulation h (default lang, study preset)",        \
      disp_operator_names, 0, 0},                                                                        \
+    {"--observer-view", VG_OPT_CHOICE, &o.observer_view, "VIEW", "model: engine (the frames a person "  \
+     "would see, their maps read back; slow on a CPU device) or cpu (a CPU model of g, h and f: fast; "  \
+     "docs/game.md)", k_view_names, 0, 0},                                                              \
     {"--weber-k", VG_OPT_FLOAT, &o.weber_k, "K", "model: Weber fraction of its velocity noise "          \
      "(default 0.08; negative = no noise)", NULL, -1, 1},                                               \
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "the arena (default content/arena.gltf)", NULL, 0, 0},  \

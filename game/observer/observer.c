@@ -14,6 +14,7 @@ struct observer {
     bool noiseless;
     int window;         /* frames per integration window */
     double cal0, cal1;  /* displayed vergence = cal0 + cal1 g, fitted to the surround */
+    const observer_shown *shown; /* the trial's frames as the engine showed them, NULL = the CPU view */
 };
 
 vg_status observer_create(const observer_desc *desc, observer **out)
@@ -103,7 +104,7 @@ static void calibrate(observer *o, frame_mode mode)
             if (zv > 42.0)
                 continue; /* the field ends at the far wall */
             double g = stereo_camera_vergence(observer_view_rig(o->view), observer_view_display(o->view), zv);
-            double a = observer_view_surround(o->view, mode, zv);
+            double a = observer_view_surround(o->view, o->shown, mode, zv, u, v);
             sx += g, sy += a, sxx += g * g, sxy += g * a, n++;
         }
     double det = n * sxx - sx * sx;
@@ -190,7 +191,7 @@ static double air_gap(const observer *o, const path_fit *f, double t, frame_mode
     double ground[3] = {o3[0] + s * d[0], 0.0, o3[2] + s * d[2]};
     double zg = (ground[0] - c->position[0]) * c->forward[0] + (ground[1] - c->position[1]) * c->forward[1] +
                 (ground[2] - c->position[2]) * c->forward[2];
-    return decode_depth(o, observer_view_surround(o->view, mode, zg)) - zc;
+    return decode_depth(o, observer_view_surround(o->view, o->shown, mode, zg, u, v)) - zc;
 }
 
 static double find_contact(const observer *o, const path_fit *f, double t0, frame_mode mode, double contact[3])
@@ -224,8 +225,8 @@ static double find_contact(const observer *o, const path_fit *f, double t0, fram
 /* Trials                                                                    */
 /* ------------------------------------------------------------------------- */
 
-vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, game_rng *noise,
-                        observer_result *out)
+vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, const observer_shown *shown,
+                        game_rng *noise, observer_result *out)
 {
     memset(out, 0, sizeof *out);
     const vg_camera *cam = observer_camera(o);
@@ -236,8 +237,15 @@ vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, game
     vg_status st = pos && seen && a && ap ? VG_OK : VG_ERR_NOMEM;
     for (int i = 0; i < n && st == VG_OK; i++)
         game_throw_position(th, i / o->fps, pos[i]);
+    if (st == VG_OK && shown && shown->count < n)
+        st = VG_ERR_ARG;
+    /* The engine's frames: the exact g of the ball's centre plus the
+     * displacement the frame gave the ball's pixels. */
     if (st == VG_OK)
-        st = observer_view_track(o->view, (const double (*)[3])pos, n, mode, a);
+        st = observer_view_track(o->view, (const double (*)[3])pos, n, shown ? FRAME_MODE_ORIGINAL : mode, a);
+    for (int i = 0; shown && st == VG_OK && i < n; i++)
+        a[i] += shown->offset[i];
+    o->shown = shown;
     if (st == VG_OK) {
         calibrate(o, mode);
         perceive_track(o, a, n, noise, ap);
@@ -257,6 +265,7 @@ vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, game
         out->error_m = game_click_error(cam, out->click_u, out->click_v, th->ground);
         out->frames_seen = n;
     }
+    o->shown = NULL;
     free(pos), free(seen), free(a), free(ap);
     return st;
 }
@@ -276,27 +285,60 @@ static int perceived_changes(const observer *o, const double *a, int n, game_rng
     return m;
 }
 
-vg_status observer_prefer(observer *o, const double (*pos)[3], int count, frame_mode mode_a,
-                          frame_mode mode_b, frame_mode mode_ref, game_rng *noise, int *choice)
+/* The paper's measure on a track, noiseless (docs/method.md §11 on one
+ * sample): RMS over the keyframes where the reference moves in depth of
+ * [p(v+(x)) - p(v-(x))] - [p(v+(ref)) - p(v-(ref))], v over a keyframe
+ * interval, JND. */
+double observer_track_mid_distortion(const double *x, const double *ref, int n, int stride, double fps, double k)
 {
-    const frame_mode modes[3] = {mode_a, mode_b, mode_ref};
-    double *a = malloc((size_t)count * sizeof(double)), *dp = malloc(3 * (size_t)count * sizeof(double));
-    vg_status st = a && dp ? VG_OK : VG_ERR_NOMEM;
+    double sum = 0.0;
     int m = 0;
+    for (int i = stride; i + stride < n; i += stride) {
+        double rp = (ref[i + stride] - ref[i]) * fps / stride, rm = (ref[i] - ref[i - stride]) * fps / stride;
+        if (fmax(fabs(rp), fabs(rm)) < 1.0)
+            continue; /* not moving in depth */
+        double xp = (x[i + stride] - x[i]) * fps / stride, xm = (x[i] - x[i - stride]) * fps / stride;
+        double e = (stereo_p(xp, k) - stereo_p(xm, k)) - (stereo_p(rp, k) - stereo_p(rm, k));
+        sum += e * e, m++;
+    }
+    return m ? sqrt(sum / m) : 0.0;
+}
+
+vg_status observer_prefer(observer *o, const double (*pos)[3], int count, const frame_mode modes[3],
+                          const observer_shown *const shown[3], game_rng *noise, observer_choice *out)
+{
+    double *a = malloc(3 * (size_t)count * sizeof(double)), *dp = malloc(3 * (size_t)count * sizeof(double));
+    double *g = malloc((size_t)count * sizeof(double));
+    vg_status st = a && dp && g ? VG_OK : VG_ERR_NOMEM;
+    int m = 0;
+    if (st == VG_OK)
+        st = observer_view_track(o->view, pos, count, FRAME_MODE_ORIGINAL, g);
     for (int s = 0; s < 3 && st == VG_OK; s++) {
-        st = observer_view_track(o->view, pos, count, modes[s], a);
+        double *x = a + (size_t)s * count;
+        const observer_shown *sh = shown ? shown[s] : NULL;
+        if (sh && sh->count < count)
+            st = VG_ERR_ARG;
+        else if (sh)
+            for (int i = 0; i < count; i++)
+                x[i] = g[i] + sh->offset[i];
+        else
+            st = observer_view_track(o->view, pos, count, modes[s], x);
         if (st == VG_OK)
-            m = perceived_changes(o, a, count, noise, dp + (size_t)s * count);
+            m = perceived_changes(o, x, count, noise, dp + (size_t)s * count);
     }
     if (st == VG_OK) {
-        double d[2] = {0, 0};
-        for (int s = 0; s < 2; s++)
+        *out = (observer_choice){0};
+        for (int s = 0; s < 2; s++) {
             for (int i = 0; i < m; i++) {
                 double e = dp[(size_t)s * count + i] - dp[2 * (size_t)count + i];
-                d[s] += e * e;
+                out->compared[s] += e * e;
             }
-        *choice = d[0] < d[1] ? 0 : d[1] < d[0] ? 1 : (int)(game_rng_next(noise) & 1);
+            out->mid_jnd[s] = observer_track_mid_distortion(a + (size_t)s * count, a + 2 * (size_t)count, count,
+                                                            observer_view_keyframe_stride(o->view), o->fps, o->k);
+        }
+        const double *d = out->compared;
+        out->side = d[0] < d[1] ? 0 : d[1] < d[0] ? 1 : (int)(game_rng_next(noise) & 1);
     }
-    free(a), free(dp);
+    free(a), free(dp), free(g);
     return st;
 }

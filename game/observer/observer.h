@@ -36,13 +36,28 @@ vg_status observer_create(const observer_desc *desc, observer **out);
 void observer_destroy(observer *o);
 const vg_camera *observer_camera(const observer *o);
 
-/* Watches the throw's visible interval under `mode` and clicks. */
-vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, game_rng *noise,
-                        observer_result *out);
+/* Watches the throw's visible interval under `mode` and clicks: the
+ * ball's vergence from `shown` (the engine's frames of the throw,
+ * observer_engine) or, NULL, from the CPU view (observer_view). */
+vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, const observer_shown *shown,
+                        game_rng *noise, observer_result *out);
 
 /* Preference (two-alternative forced choice): which of two tracks of the
- * same motion, shown as `mode_a` and `mode_b`, moves more like the
- * reference shown as `mode_ref`? Compares perceived velocity changes in JND
- * (paper Sec. 4.2) with the same Weber noise; returns 0 for a, 1 for b. */
-vg_status observer_prefer(observer *o, const double (*pos)[3], int count, frame_mode mode_a,
-                          frame_mode mode_b, frame_mode mode_ref, game_rng *noise, int *choice);
+ * same motion, shown as modes[0] (a) and modes[1] (b), moves more like the
+ * reference shown as modes[2]? Compares perceived velocity changes in JND
+ * (paper Sec. 4.2: per 100 ms window, with the same Weber noise); each
+ * track from shown[s] (the engine's frames) or, NULL, the CPU view. */
+typedef struct observer_choice {
+    int side;             /* 0: a, 1: b */
+    double compared[2];   /* what it compared: the sum of squared differences of its (noisy) perceived
+                             velocity changes from the reference's, JND^2; the smaller one wins */
+    double mid_jnd[2];    /* the paper's measure, noiseless: MID distortion of the side against the
+                             reference over the keyframes (docs/method.md §11), JND */
+} observer_choice;
+/* The paper's measure on a track of n frames at fps, noiseless
+ * (docs/method.md §11 on one sample): RMS over the keyframes (every
+ * `stride` frames) where `ref` moves in depth (>= 1 arcmin/s) of
+ * [p(v+(x)) - p(v-(x))] - [p(v+(ref)) - p(v-(ref))], JND for Weber k. */
+double observer_track_mid_distortion(const double *x, const double *ref, int n, int stride, double fps, double k);
+vg_status observer_prefer(observer *o, const double (*pos)[3], int count, const frame_mode modes[3],
+                          const observer_shown *const shown[3], game_rng *noise, observer_choice *out);

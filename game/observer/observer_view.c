@@ -194,6 +194,7 @@ const vg_camera *observer_view_camera(const observer_view *v) { return &v->cam; 
 const stereo_display *observer_view_display(const observer_view *v) { return &v->display; }
 const stereo_camera *observer_view_rig(const observer_view *v) { return &v->rig; }
 double observer_view_radius(const observer_view *v) { return v->radius; }
+int observer_view_keyframe_stride(const observer_view *v) { return v->d.keyframe_stride; }
 
 /* ------------------------------------------------------------------------- */
 /* Tracks                                                                    */
@@ -302,8 +303,16 @@ vg_status observer_view_track(observer_view *v, const double (*pos)[3], int coun
     return st;
 }
 
-double observer_view_surround(const observer_view *v, frame_mode mode, double depth_m)
+double observer_view_surround(const observer_view *v, const observer_shown *shown, frame_mode mode, double depth_m,
+                              double u, double vv)
 {
     double g = stereo_camera_vergence(&v->rig, &v->display, depth_m);
-    return mode == FRAME_MODE_ORIGINAL ? g : disp_operator_map(v->op, g);
+    if (mode == FRAME_MODE_ORIGINAL)
+        return g;
+    if (!shown)
+        return disp_operator_map(v->op, g);
+    int x = (int)floor(u * shown->width), y = (int)floor(vv * shown->height);
+    x = x < 0 ? 0 : x >= shown->width ? shown->width - 1 : x;
+    y = y < 0 ? 0 : y >= shown->height ? shown->height - 1 : y;
+    return g + shown->surround[(size_t)y * shown->width + x];
 }

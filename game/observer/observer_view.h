@@ -35,6 +35,15 @@ typedef struct observer_view_desc {
 
 typedef struct observer_view observer_view;
 
+/* What a display showed of a track, when it is not this CPU view's model
+ * (observer_engine: the engine's frames). */
+typedef struct observer_shown {
+    const double *offset;     /* per frame: the object's displayed minus original vergence, arcmin */
+    int count;
+    const float *surround;    /* the last frame's displayed minus original vergence per pixel, arcmin */
+    int width, height;        /* of surround (the frame's size; [0,1] image coordinates map onto it) */
+} observer_shown;
+
 vg_status observer_view_create(const observer_view_desc *desc, observer_view **out);
 void observer_view_destroy(observer_view *v);
 
@@ -42,11 +51,15 @@ const vg_camera *observer_view_camera(const observer_view *v);
 const stereo_display *observer_view_display(const observer_view *v);
 const stereo_camera *observer_view_rig(const observer_view *v);
 double observer_view_radius(const observer_view *v);    /* the moving object's bounding radius, m */
+int observer_view_keyframe_stride(const observer_view *v);
 
 /* Displayed vergence (arcmin) of the moving object whose centre is at
  * pos[i] in frame i (count frames at the fixed step), for `mode`. */
 vg_status observer_view_track(observer_view *v, const double (*pos)[3], int count, frame_mode mode,
                               double *vergence);
-/* Displayed vergence of a static surface point at view depth z under the
- * mapping of the last frame observer_view_track processed. */
-double observer_view_surround(const observer_view *v, frame_mode mode, double depth_m);
+/* Displayed vergence of a static surface point at view depth z, seen at
+ * image position (u, v), under the mapping of the last frame
+ * observer_view_track processed, or, given `shown`, the displacement its
+ * last frame had at that pixel (the nearest one inside the image). */
+double observer_view_surround(const observer_view *v, const observer_shown *shown, frame_mode mode, double depth_m,
+                              double u, double vv);

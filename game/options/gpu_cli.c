@@ -12,7 +12,7 @@ vg_status gpu_cli_open(const gpu_cli *opts, bool need_swapchain, gpu **out)
     }, out);
 }
 
-int gpu_cli_close(gpu *g, vg_status st)
+vg_status gpu_cli_release(gpu *g, vg_status st)
 {
     int before = gpu_validation_messages();
     gpu_destroy(g);
@@ -23,5 +23,10 @@ int gpu_cli_close(gpu *g, vg_status st)
         vg_error("validation reported %d message(s): failing the run", messages);
         st = VG_ERR_VALIDATION;
     }
-    return vg_status_exit_code(st);
+    return st;
+}
+
+int gpu_cli_close(gpu *g, vg_status st)
+{
+    return vg_status_exit_code(gpu_cli_release(g, st));
 }

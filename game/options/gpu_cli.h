@@ -21,3 +21,5 @@ vg_status gpu_cli_open(const gpu_cli *opts, bool need_swapchain, gpu **out);
 /* Destroys the context and turns validation messages into a failure:
  * returns the exit code for `st` (VG_ERR_VALIDATION when messages appeared). */
 int gpu_cli_close(gpu *g, vg_status st);
+/* The same, as a status (VG_ERR_VALIDATION when messages appeared). */
+vg_status gpu_cli_release(gpu *g, vg_status st);

@@ -63,6 +63,20 @@ vg_status pref_scene_path(const char *arena_path, int scene_index, char *out, si
 /* Clips                                                                     */
 /* ------------------------------------------------------------------------- */
 
+void pref_panel_size(bool cpu, int ew, int eh, int *pw, int *ph)
+{
+    int w = (ew - 2 * PREF_GAP) / 3, h = w * 9 / 16;
+    if (h > eh - 64) {
+        h = eh - 64;
+        w = h * 16 / 9;
+    }
+    if (cpu && w > 320) {
+        w = 320;
+        h = 180;
+    }
+    *pw = w & ~1, *ph = h & ~1;
+}
+
 frame_desc pref_clip_frame_desc(const gpu *g, const pref_clip_desc *d)
 {
     frame_desc fd = game_frame_desc(g, d->tess_error, d->mode, d->width, d->height, d->compose, d->op, true);

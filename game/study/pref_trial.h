@@ -30,6 +30,11 @@ void pref_saliency_apply(scene *s, int moving, int variant);
 /* content/<name>.gltf beside the arena. */
 vg_status pref_scene_path(const char *arena_path, int scene_index, char *out, size_t cap);
 
+#define PREF_GAP 8              /* eye pixels between the panels */
+/* A panel's size in an eye of ew x eh: three side by side, 16:9, at most
+ * 320 x 180 on a CPU device (pre-rendering there: keep it short); even. */
+void pref_panel_size(bool cpu, int ew, int eh, int *pw, int *ph);
+
 #define PREF_CLIP_STEP 2        /* clips hold every 2nd frame: 30 Hz, each shown twice at 60 Hz */
 
 /* The frame a clip of one version is rendered with. */

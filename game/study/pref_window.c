@@ -14,7 +14,6 @@
 #include "pref_trial.h"
 #include "play/window.h"
 
-#define GAP 8                /* pixels between the panels (eye image) */
 
 static const uint8_t k_back[3] = {18, 22, 30}, k_text[3] = {236, 240, 245}, k_title[3] = {255, 214, 110};
 
@@ -51,19 +50,10 @@ static void layout_make(pref *p)
     frame_compose_eye_size(l->compose, e.width, e.height, &ew, &eh);
     l->ew = (int)ew, l->eh = (int)eh;
     l->win = frame_compose_layout(l->compose, l->swap, (uint32_t)l->ew, (uint32_t)l->eh);
-    int pw = (l->ew - 2 * GAP) / 3, ph = pw * 9 / 16;
-    if (ph > l->eh - 64) {
-        ph = l->eh - 64;
-        pw = ph * 16 / 9;
-    }
-    if (window_gpu(p->win)->is_cpu && pw > 320) { /* pre-rendering on a CPU: keep it short */
-        pw = 320;
-        ph = 180;
-    }
-    l->pw = pw & ~1, l->ph = ph & ~1;
-    int x0 = ((l->ew - 3 * l->pw - 2 * GAP) / 2) & ~1;
+    pref_panel_size(window_gpu(p->win)->is_cpu, l->ew, l->eh, &l->pw, &l->ph);
+    int x0 = ((l->ew - 3 * l->pw - 2 * PREF_GAP) / 2) & ~1;
     for (int i = 0; i < 3; i++)
-        l->x[i] = x0 + i * (l->pw + GAP);
+        l->x[i] = x0 + i * (l->pw + PREF_GAP);
     l->y = ((l->eh - l->ph) / 2) & ~1;
     /* Where the output layout puts one panel's eyes (frame_compose_layout
      * for the panel), for blit_panel. */

@@ -136,3 +136,8 @@ vg_status study_end(study_session *s, const study_opts *o, const study_kind *k, 
     *s = (study_session){0};
     return st;
 }
+
+const char *study_observer_name(const study_opts *o)
+{
+    return !o->observer ? "human" : o->observer_view == STUDY_VIEW_CPU ? "model-cpu" : "model";
+}

@@ -7,10 +7,14 @@
 #include "play/play_session.h"
 #include "study_log.h"
 
+/* What the simulated observer sees (--observer-view). */
+enum { STUDY_VIEW_ENGINE = 0, STUDY_VIEW_CPU };
+
 typedef struct study_opts {
     const vg_cmd *cmd;
     const char *participant, *out, *scene;
     int trials, seed, observer, op;     /* -1: not given; observer 0 human, 1 model */
+    int observer_view;                  /* model: STUDY_VIEW_ENGINE (its frames) or _CPU (observer_view) */
     bool resume;
     bool allow_missed;                  /* hit: run on a window that cannot hold 60 Hz */
     double weber_k, visible_s;
@@ -19,6 +23,9 @@ typedef struct study_opts {
 } study_opts;
 
 vg_status study_hit_run(const study_opts *o);
+/* The observer column: "human", "model" (the engine's frames) or
+ * "model-cpu" (the CPU view); files of different observers never mix. */
+const char *study_observer_name(const study_opts *o);
 vg_status study_preference_run(const study_opts *o);
 
 /* Shared by both: "2026-11-22T01:40:05Z" now. */

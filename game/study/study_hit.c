@@ -1,12 +1,15 @@
 /* vergence — the hit-prediction study (paper Sec. 5, Fig. 7): schedule,
  * CSV rows, resume checks, and the two players (a person, the model). */
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/log.h"
 #include "observer/observer.h"
+#include "observer/observer_engine.h"
+#include "play/flight.h"
 #include "study.h"
 #include "study_log.h"
 
@@ -110,6 +113,26 @@ static vg_status check_rows(hit_run *r)
 /* Players                                                                   */
 /* ------------------------------------------------------------------------- */
 
+/* The throw in the engine's frames: the ball rests at its start, leaves at
+ * t_launch and is hidden after its visible interval, as in play. */
+typedef struct model_ball {
+    int node;
+    float scale[3];
+    game_throw th;
+    double t_launch;
+} model_ball;
+
+static void model_ball_pose(void *user, const scene *s, float t, float *local)
+{
+    (void)s;
+    const model_ball *b = user;
+    game_ball_local(&b->th, b->t_launch, t, t < b->t_launch + b->th.visible_s, b->scale, local + (size_t)b->node * 10);
+}
+
+/* Launched at frame 60 (a keyframe, as play launches), the window
+ * restarted there as at every throw. */
+#define MODEL_LAUNCH_FRAME 60
+
 static vg_status run_model(hit_run *r, const char *scene_path)
 {
     const study_opts *o = r->o;
@@ -117,17 +140,39 @@ static vg_status run_model(hit_run *r, const char *scene_path)
     vg_status st = scene_load(scene_path, &s);
     if (st != VG_OK)
         return st;
-    int ball = scene_find_node(s, "ball");
+    model_ball ball = {.node = scene_find_node(s, "ball"), .t_launch = MODEL_LAUNCH_FRAME / FLIGHT_HZ};
     observer *obs = NULL;
-    if (ball < 0) {
+    gpu *g = NULL;
+    observer_engine *eng = NULL;
+    if (ball.node < 0) {
         vg_error("%s has no node named 'ball' to throw (see docs/content.md)", scene_path);
         st = VG_ERR_FORMAT;
     }
     if (st == VG_OK)
         st = observer_create(&(observer_desc){
-            .view = {.scene = s, .moving_node = ball, .display = display_cli_desc(&o->display),
+            .view = {.scene = s, .moving_node = ball.node, .display = display_cli_desc(&o->display),
                      .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
             .weber_k = o->weber_k}, &obs);
+    /* The engine's view: the frame a person's study shows at these settings
+     * (play_session's flight frames), its maps read back. */
+    if (st == VG_OK && o->observer_view == STUDY_VIEW_ENGINE) {
+        memcpy(ball.scale, s->nodes[ball.node].scale, sizeof ball.scale);
+        scene_set_pose_hook(s, model_ball_pose, &ball);
+        st = gpu_cli_open(&o->win.gpu, false, &g);
+        uint32_t w = (uint32_t)o->win.render[0], h = (uint32_t)o->win.render[1];
+        if (st == VG_OK && !(w > 0 && h > 0))
+            game_render_size(g, (frame_compose)o->win.compose, (uint32_t)o->win.size[0], (uint32_t)o->win.size[1],
+                             &w, &h);
+        if (st == VG_OK) {
+            frame_desc fd = game_frame_desc(g, o->win.tess_error, FRAME_MODE_OPTIMIZED, w, h,
+                                            (frame_compose)o->win.compose, (disp_operator_kind)o->op, true);
+            fd.display = display_cli_desc(&o->display);
+            st = observer_engine_create(&(observer_engine_desc){.gpu = g, .scene = s, .moving_node = ball.node,
+                                                                .frame = fd}, &eng);
+        }
+        if (st == VG_OK)
+            vg_info("study hit: the model sees the engine's frames, %ux%u per eye", w, h);
+    }
     for (int i = r->ss.log.rows; i < r->ss.trials && st == VG_OK; i++) {
         game_cell c = game_hit_cell(r->ss.cells[i]);
         game_rng rt = game_rng_make(r->ss.seed, 2 * (uint64_t)i + 1), rn = game_rng_make(r->ss.seed, 2 * (uint64_t)i + 2);
@@ -135,8 +180,16 @@ static vg_status run_model(hit_run *r, const char *scene_path)
         game_throw_make(&(game_throw_desc){.path = c.path, .direction = c.direction, .visible_s = o->visible_s},
                         observer_camera(obs), &rt, &th);
         frame_mode mode = (frame_mode)(FRAME_MODE_ORIGINAL + c.condition);
+        observer_shown shown, *sp = NULL;
+        if (eng) {
+            ball.th = th;
+            int n = (int)ceil(th.visible_s * FLIGHT_HZ - 1e-9);
+            st = observer_engine_track(eng, mode, MODEL_LAUNCH_FRAME, 1, n < 2 ? 2 : n, &shown);
+            sp = &shown;
+        }
         observer_result res;
-        st = observer_play(obs, &th, mode, &rn, &res);
+        if (st == VG_OK)
+            st = observer_play(obs, &th, mode, sp, &rn, &res);
         if (st == VG_OK)
             st = on_trial(r, &(play_trial){.trial = i, .th = &th, .mode = mode, .click_u = res.click_u,
                                             .click_v = res.click_v, .error_m = res.error_m,
@@ -144,7 +197,10 @@ static vg_status run_model(hit_run *r, const char *scene_path)
                                             .flight = {.frames = res.frames_seen, .shown = res.frames_seen,
                                                        .shown_s = res.frames_seen / FLIGHT_HZ}});
     }
+    observer_engine_destroy(eng);
     observer_destroy(obs);
+    if (g)
+        st = gpu_cli_release(g, st);
     scene_destroy(s);
     return st;
 }
@@ -155,7 +211,7 @@ vg_status study_hit_run(const study_opts *o)
     const char *scene_path = game_scene_path(o->scene, buf, sizeof buf);
     if (!scene_path)
         return VG_ERR_IO;
-    hit_run r = {.o = o, .who = o->observer ? "model" : "human"};
+    hit_run r = {.o = o, .who = study_observer_name(o)};
     char visible[32];
     snprintf(visible, sizeof visible, "%.3f", o->visible_s > 0 ? o->visible_s : GAME_VISIBLE_S);
     char display[STUDY_DISPLAY_COUNT][32];

@@ -330,7 +330,7 @@ def case_validation_sweep():
     sw.run("study hit --observer model", ["study", "hit", "--observer", "model", "--participant", "sweep",
                                           "--trials", "6", "--out", os.path.join(tmp, "hit.csv")] + V)
     sw.run("study preference --observer model", ["study", "preference", "--observer", "model", "--participant",
-                                                 "sweep", "--trials", "3", "--out", os.path.join(tmp, "pref.csv")]
+                                                 "sweep", "--trials", "1", "--out", os.path.join(tmp, "pref.csv")]
            + V)
 
     # demo: one scene, a few frames, every mode.

@@ -66,7 +66,7 @@ def sha(path):
 
 
 def model(args, out, **kw):
-    return run(["study", "hit", "--observer", "model"] + args + ["--out", out], **kw)
+    return run(["study", "hit", "--observer", "model", "--observer-view", "cpu"] + args + ["--out", out], **kw)
 
 
 # ---------------------------------------------------------------------------
@@ -246,7 +246,7 @@ def check_pooling_and_participants(tmp, pref):
 def case_durability():
     tmp = tempfile.mkdtemp(prefix="vergence_k9_")
     out, ref = os.path.join(tmp, "k9.csv"), os.path.join(tmp, "ref.csv")
-    args = ["study", "hit", "--observer", "model", "--participant", "k9", "--seed", "3"]
+    args = ["study", "hit", "--observer", "model", "--observer-view", "cpu", "--participant", "k9", "--seed", "3"]
     p = subprocess.Popen([VERGENCE] + args + ["--trials", "100000", "--out", out], stderr=subprocess.DEVNULL)
     deadline = time.time() + 120
     while time.time() < deadline:
@@ -279,7 +279,7 @@ def case_durability():
 def case_bad_input():
     tmp = tempfile.mkdtemp(prefix="vergence_bad_")
     out = os.path.join(tmp, "a.csv")
-    hit = ["study", "hit", "--observer", "model"]
+    hit = ["study", "hit", "--observer", "model", "--observer-view", "cpu"]
     one_error(run(hit + ["--out", out], ok=False), "--participant", "no participant")
     one_error(run(hit + ["--participant", "a,b", "--out", out], ok=False), "participant", "bad participant id")
     one_error(run(hit + ["--participant", "a"], ok=False), "--out", "no --out")

@@ -224,8 +224,8 @@ def fixtures(box, capture=True, csvs=True, offline=False):
               "--out", "fx/cap"])
         make(["bake-curve", "--scene", "content/balloon.gltf", "--capture", "fx/cap", "--out", "fx/good.curve"])
     if csvs:
-        make(["study", "hit", "--participant", "p1", "--observer", "model", "--trials", "4", "--out", "fx/hit.csv"])
-        make(["study", "preference", "--participant", "p1", "--observer", "model", "--trials", "4",
+        make(["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--trials", "4", "--out", "fx/hit.csv"])
+        make(["study", "preference", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--trials", "4",
               "--out", "fx/pref.csv"])
     if offline:
         make(["capture", "--scene", "content/balloon.gltf", "--frames", "11", "--size", "64x36", "--out", "fx/seq"])
@@ -328,10 +328,10 @@ def catalogue_cases(box):
     row = hit[1].rstrip("\n").split(",")
     row[cols.index("error_m")] = "nan"
     w("in/nan.csv", hit[0] + ",".join(row) + "\n")
-    add("resume_error_nan", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_error_nan", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                              "--out", "in/nan.csv"], FORMAT, "nan.csv", outs=())
     shutil.copy(box.p("fx/hit.csv"), box.p("in/four.csv"))
-    add("resume_trials_fewer", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_trials_fewer", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                                 "--trials", "2", "--out", "in/four.csv"], ARG, "--trials", outs=())
     add("optimize_row_5000", offline_args("out", ["--row", "5000"]), ARG, "--row")
     add("optimize_row_negative", offline_args("out", ["--row", "-1"]), ARG, "--row")
@@ -346,43 +346,43 @@ def catalogue_cases(box):
         add(f"optimize_depth_{tag}", args, FORMAT, f"d_0000.pfm")
     # 5. Another condition in the same file.
     shutil.copy(box.p("fx/hit.csv"), box.p("in/op.csv"))
-    add("resume_other_operator", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_other_operator", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                                   "--operator", "linear", "--trials", "8", "--out", "in/op.csv"], ARG, "--operator",
         outs=())
-    add("resume_other_visible", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_other_visible", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                                  "--visible", "0.4", "--trials", "8", "--out", "in/op.csv"], ARG, "--visible", outs=())
     add("resume_other_observer", ["study", "hit", "--participant", "p1", "--observer", "human", "--resume",
                                   "--trials", "8", "--out", "in/op.csv"], ARG, "--observer", outs=())
     shutil.copy(box.p("fx/pref.csv"), box.p("in/pop.csv"))
-    add("pref_resume_other_operator", ["study", "preference", "--participant", "p1", "--observer", "model",
+    add("pref_resume_other_operator", ["study", "preference", "--participant", "p1", "--observer", "model", "--observer-view", "cpu",
                                        "--resume", "--operator", "none", "--trials", "8", "--out", "in/pop.csv"],
         ARG, "--operator", outs=())
-    add("resume_other_seed", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_other_seed", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                               "--seed", "5", "--trials", "8", "--out", "in/op.csv"], ARG, "--seed", outs=())
-    add("resume_other_participant", ["study", "hit", "--participant", "p2", "--observer", "model", "--resume",
+    add("resume_other_participant", ["study", "hit", "--participant", "p2", "--observer", "model", "--observer-view", "cpu", "--resume",
                                      "--trials", "8", "--out", "in/op.csv"], ARG, "op.csv", outs=())
-    add("study_exists_no_resume", ["study", "hit", "--participant", "p1", "--observer", "model",
+    add("study_exists_no_resume", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu",
                                    "--out", "in/op.csv"], ARG, "op.csv", outs=())
     w("in/torn.csv", "".join(hit[:2]) + hit[2].rstrip("\n")[:40])
-    add("resume_torn_line", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_torn_line", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                              "--out", "in/torn.csv"], FORMAT, "torn.csv", outs=())
     w("in/ragged.csv", "".join(hit[:2]) + hit[2].rstrip("\n") + ",extra\n")
-    add("resume_ragged_line", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_ragged_line", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                                "--out", "in/ragged.csv"], FORMAT, "ragged.csv", outs=())
     w("in/header.csv", hit[0].replace("error_m", "err") + "".join(hit[1:]))
-    add("resume_wrong_header", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_wrong_header", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                                 "--out", "in/header.csv"], FORMAT, "header.csv", outs=())
     w("in/bin.csv", bytes(range(256)))
-    add("resume_binary", ["study", "hit", "--participant", "p1", "--observer", "model", "--resume",
+    add("resume_binary", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu", "--resume",
                           "--out", "in/bin.csv"], FORMAT, "bin.csv", outs=())
-    add("study_bad_participant", ["study", "hit", "--participant", "a/b", "--observer", "model",
+    add("study_bad_participant", ["study", "hit", "--participant", "a/b", "--observer", "model", "--observer-view", "cpu",
                                   "--out", "in/x.csv"], ARG, "--participant", outs=())
-    add("study_no_participant", ["study", "hit", "--observer", "model", "--out", "in/x.csv"], ARG,
+    add("study_no_participant", ["study", "hit", "--observer", "model", "--observer-view", "cpu", "--out", "in/x.csv"], ARG,
         "--participant", outs=())
     add("study_unknown_kind", ["study", "taste", "--participant", "a", "--out", "in/x.csv"], ARG, "taste", outs=())
-    add("study_trials_zero", ["study", "hit", "--participant", "a", "--observer", "model", "--trials", "0",
+    add("study_trials_zero", ["study", "hit", "--participant", "a", "--observer", "model", "--observer-view", "cpu", "--trials", "0",
                               "--out", "in/x.csv"], ARG, "--trials", outs=())
-    add("study_folder_missing", ["study", "hit", "--participant", "a", "--observer", "model",
+    add("study_folder_missing", ["study", "hit", "--participant", "a", "--observer", "model", "--observer-view", "cpu",
                                  "--out", "in/nodir/x.csv"], IO, "x.csv", outs=())
     # 6. Outside --out.
     add("demo_scenes_dotdot", ["demo", "--scenes", "../x", "--out", "out", "--size", "64x36"], ARG, "--scenes")
@@ -540,7 +540,7 @@ def group_catalogue():
         # A CRLF CSV resumed gets CRLF lines.
         text = open(box.p("fx/hit.csv")).read().replace("\n", "\r\n")
         box.write("in/crlf.csv", text)
-        r = expect(box, "resume_crlf_keeps_crlf", ["study", "hit", "--participant", "p1", "--observer", "model",
+        r = expect(box, "resume_crlf_keeps_crlf", ["study", "hit", "--participant", "p1", "--observer", "model", "--observer-view", "cpu",
                                                    "--resume", "--trials", "6", "--out", "in/crlf.csv"], 0,
                    outs=("in/crlf.csv",))
         data = open(box.p("in/crlf.csv"), "rb").read()
@@ -559,7 +559,7 @@ def group_catalogue():
             os.chmod(box.root, 0o755)
             os.chmod(box.work, 0o755)
             for name, args in (("ro_capture", cap("content/balloon.gltf", "ro/out")),
-                               ("ro_study", ["study", "hit", "--participant", "a", "--observer", "model",
+                               ("ro_study", ["study", "hit", "--participant", "a", "--observer", "model", "--observer-view", "cpu",
                                              "--out", "ro/a.csv"]),
                                ("ro_bake", ["bake-curve", "--scene", "content/balloon.gltf", "--capture", "fx/cap",
                                             "--out", "ro/c.curve"])):
@@ -620,11 +620,11 @@ def group_overwrite():
                                           "fx/cap", "--out", "content/balloon.bin"], "--out"),
             ("bench_markdown_is_scene", ["bench", "--markdown", "content/balloon.bin", "--frames", "1"],
              "--markdown"),
-            ("study_out_is_scene", ["study", "hit", "--participant", "a", "--observer", "model", "--resume",
+            ("study_out_is_scene", ["study", "hit", "--participant", "a", "--observer", "model", "--observer-view", "cpu", "--resume",
                                     "--out", "content/arena.gltf"], "--out"),
-            ("study_out_is_scene_bin", ["study", "hit", "--participant", "a", "--observer", "model", "--resume",
+            ("study_out_is_scene_bin", ["study", "hit", "--participant", "a", "--observer", "model", "--observer-view", "cpu", "--resume",
                                         "--out", "content/arena.bin"], "--out"),
-            ("pref_out_is_scene_bin", ["study", "preference", "--participant", "a", "--observer", "model",
+            ("pref_out_is_scene_bin", ["study", "preference", "--participant", "a", "--observer", "model", "--observer-view", "cpu",
                                        "--resume", "--out", "content/balloon.bin"], "--out"),
             ("play_record_is_scene", ["play", "--record", "content/arena.gltf"], "--record"),
             ("play_record_is_replay", ["play", "--replay", "fx/hit.csv", "--record", "fx/hit.csv"], "--record"),
@@ -888,7 +888,7 @@ def group_faults_studies():
     try:
         # Lines of about 225 (hit) and 95 (preference) bytes: the disk fills in the header or an early line.
         for kind, full, sizes in (("hit", 10, (1, 300, 700)), ("preference", 10, (1, 100, 200))):
-            base = ["study", kind, "--participant", "p1", "--observer", "model"]
+            base = ["study", kind, "--participant", "p1", "--observer", "model", "--observer-view", "cpu"]
             rc, _, err = box.run(base + ["--trials", str(full), "--out", f"{kind}_full.csv"])
             assert rc == 0, err
             want = without_utc(csv_lines(box.p(f"{kind}_full.csv")))

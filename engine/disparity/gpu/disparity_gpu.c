@@ -218,9 +218,9 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->h, RG_STORAGE_WRITE);
     d->graph = g;
     /* Steps 6 and 7 only where f is shown or measured: a frame showing g or
-     * h (the game's other modes) leaves the solve out. */
+     * h (the game's other modes, and their maps alone) leaves the solve out. */
     const frame_desc *fd = &d->fc->desc;
-    if (fd->mode != FRAME_MODE_OPTIMIZED && !fd->measure && !fd->readback)
+    if (fd->mode != FRAME_MODE_OPTIMIZED && !fd->measure && (!fd->readback || fd->maps_only))
         return;
     res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
     /* The last window's unfinished items (frames were skipped), then the
