@@ -27,27 +27,16 @@
 #define MAX_PASSES 64
 
 typedef struct replay {
-    int ball;
-    float scale[3];
-    game_throw th;
-    double t_launch;
+    game_ball ball;              /* first: the pose hook's user */
     int throw_no;
     vg_camera cam;
 } replay;
 
-static void ball_pose(void *user, const scene *s, float t, float *local)
-{
-    (void)s;
-    const replay *r = user;
-    bool shown = t < r->t_launch + r->th.visible_s;
-    game_ball_local(&r->th, r->t_launch, t, shown, r->scale, local + (size_t)r->ball * 10);
-}
-
 /* Throw k: launched at 1 s + 3 k s (frame 60 + 180 k: a keyframe). */
 static void throw_make(replay *r, int k)
 {
-    game_throw_free_play(1, k, GAME_VISIBLE_S, &r->cam, &r->th);
-    r->t_launch = READY_S + THROW_EVERY_S * k;
+    game_throw_free_play(1, k, GAME_VISIBLE_S, &r->cam, &r->ball.th);
+    r->ball.t_launch = READY_S + THROW_EVERY_S * k;
     r->throw_no = k;
 }
 
@@ -66,12 +55,12 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     static const frame_mode modes[MODES] = {FRAME_MODE_ORIGINAL, FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED};
     static const char *const labels[MODES] = {"original g", "manipulated h", "optimized f"};
     vg_status st = VG_OK;
-    replay r = {.ball = scene_find_node(sc, "ball")};
-    if (r.ball < 0) {
+    replay r = {.ball.node = scene_find_node(sc, "ball")};
+    if (r.ball.node < 0) {
         vg_error("--scene %s: no node named 'ball' to throw (see docs/content.md)", scene_path);
         return VG_ERR_FORMAT;
     }
-    memcpy(r.scale, sc->nodes[r.ball].scale, sizeof r.scale);
+    memcpy(r.ball.scale, sc->nodes[r.ball.node].scale, sizeof r.ball.scale);
     scene_state s0;
     if ((st = scene_state_init(sc, &s0)) == VG_OK) {
         scene_evaluate(sc, 0.0f, &s0);
@@ -79,7 +68,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
         scene_state_free(&s0);
     }
     throw_make(&r, 0);
-    scene_set_pose_hook(sc, ball_pose, &r);
+    scene_set_pose_hook(sc, game_ball_pose, &r.ball);
 
     uint32_t w, h;
     game_render_size(g, GAME_LAYOUT, GAME_WINDOW_W, GAME_WINDOW_H, &w, &h);

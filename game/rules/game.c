@@ -310,3 +310,10 @@ void game_ball_local(const game_throw *th, double t_launch, double t, bool shown
         local[7 + k] = shown ? scale[k] : 0.0f;
     }
 }
+
+void game_ball_pose(void *user, const scene *s, float t, float *local)
+{
+    (void)s;
+    const game_ball *b = user;
+    game_ball_local(&b->th, b->t_launch, t, t < b->t_launch + b->th.visible_s, b->scale, local + (size_t)b->node * 10);
+}

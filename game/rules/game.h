@@ -156,3 +156,14 @@ void game_render_size(const gpu *g, frame_compose c, uint32_t win_w, uint32_t wi
  * on its path after; scale 0 (no pixels, bounds unchanged) when not shown. */
 void game_ball_local(const game_throw *th, double t_launch, double t, bool shown, const float scale[3],
                      float *local);
+/* A throw posed on a scene without a game around it (the game bench, the
+ * simulated observer's frames): scene_set_pose_hook(s, game_ball_pose, &b).
+ * The ball rests at its start until t_launch, flies, and is hidden after
+ * its visible interval, as in play. */
+typedef struct game_ball {
+    int node;                    /* the scene's `ball` node */
+    float scale[3];              /* its scale when shown */
+    game_throw th;
+    double t_launch;
+} game_ball;
+void game_ball_pose(void *user, const scene *s, float t, float *local);

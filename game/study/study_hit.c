@@ -113,22 +113,6 @@ static vg_status check_rows(hit_run *r)
 /* Players                                                                   */
 /* ------------------------------------------------------------------------- */
 
-/* The throw in the engine's frames: the ball rests at its start, leaves at
- * t_launch and is hidden after its visible interval, as in play. */
-typedef struct model_ball {
-    int node;
-    float scale[3];
-    game_throw th;
-    double t_launch;
-} model_ball;
-
-static void model_ball_pose(void *user, const scene *s, float t, float *local)
-{
-    (void)s;
-    const model_ball *b = user;
-    game_ball_local(&b->th, b->t_launch, t, t < b->t_launch + b->th.visible_s, b->scale, local + (size_t)b->node * 10);
-}
-
 /* Launched at frame 60 (a keyframe, as play launches), the window
  * restarted there as at every throw. */
 #define MODEL_LAUNCH_FRAME 60
@@ -140,7 +124,7 @@ static vg_status run_model(hit_run *r, const char *scene_path)
     vg_status st = scene_load(scene_path, &s);
     if (st != VG_OK)
         return st;
-    model_ball ball = {.node = scene_find_node(s, "ball"), .t_launch = MODEL_LAUNCH_FRAME / FLIGHT_HZ};
+    game_ball ball = {.node = scene_find_node(s, "ball"), .t_launch = MODEL_LAUNCH_FRAME / FLIGHT_HZ};
     observer *obs = NULL;
     gpu *g = NULL;
     observer_engine *eng = NULL;
@@ -157,7 +141,7 @@ static vg_status run_model(hit_run *r, const char *scene_path)
      * (play_session's flight frames), its maps read back. */
     if (st == VG_OK && o->observer_view == STUDY_VIEW_ENGINE) {
         memcpy(ball.scale, s->nodes[ball.node].scale, sizeof ball.scale);
-        scene_set_pose_hook(s, model_ball_pose, &ball);
+        scene_set_pose_hook(s, game_ball_pose, &ball);
         st = gpu_cli_open(&o->win.gpu, false, &g);
         uint32_t w = (uint32_t)o->win.render[0], h = (uint32_t)o->win.render[1];
         if (st == VG_OK && !(w > 0 && h > 0))

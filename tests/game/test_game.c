@@ -443,20 +443,6 @@ static int pref_equal_quality(void)
  * over h within 0.25 arcmin (the frame solves a 3 s window of the whole
  * picture, the CPU view the ball's visible keyframes alone; measured: both
  * move the ball by less than 0.13 arcmin, docs/game.md says why). */
-typedef struct engine_ball {
-    int node;
-    float scale[3];
-    game_throw th;
-    double t_launch;
-} engine_ball;
-
-static void engine_ball_pose(void *user, const scene *s, float t, float *local)
-{
-    (void)s;
-    const engine_ball *b = user;
-    game_ball_local(&b->th, b->t_launch, t, t < b->t_launch + b->th.visible_s, b->scale, local + (size_t)b->node * 10);
-}
-
 static int observer_engine_agrees(void)
 {
     gpu *g;
@@ -464,9 +450,9 @@ static int observer_engine_agrees(void)
     vg_camera cam;
     CHECK(load_arena(&s, &cam) == 0, "arena");
     CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
-    engine_ball ball = {.node = scene_find_node(s, "ball"), .t_launch = 1.0};
+    game_ball ball = {.node = scene_find_node(s, "ball"), .t_launch = 1.0};
     memcpy(ball.scale, s->nodes[ball.node].scale, sizeof ball.scale);
-    scene_set_pose_hook(s, engine_ball_pose, &ball);
+    scene_set_pose_hook(s, game_ball_pose, &ball);
     frame_desc fd = game_frame_desc(g, 0, FRAME_MODE_OPTIMIZED, 480, 270, FRAME_COMPOSE_ANAGLYPH, DISP_OPERATOR_LANG, true);
     observer_engine *e;
     CHECK(observer_engine_create(&(observer_engine_desc){.gpu = g, .scene = s, .moving_node = ball.node, .frame = fd},
