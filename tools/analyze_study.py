@@ -25,7 +25,7 @@ participants, a one-sample t-test of each participant's fraction against 50 %
 
 Writes DIR/summary.md (for people) and DIR/summary.json (for scripts).
 Several files (participants) are analysed together. Simulated (observer
-"model") and human trials are never pooled unless --pool-observers says so;
+"model", "model-cpu") and human trials are never pooled unless --pool-observers says so;
 the report names the observers. Needs Debian's python3-numpy, python3-scipy,
 python3-matplotlib, python3-statsmodels: run under /usr/bin/python3 (it
 re-runs itself there when the current python lacks them).
@@ -338,7 +338,8 @@ def fmt_anova(a):
 
 
 def summary_md(files, hit, pref, observers):
-    names = {"model": "simulated (observer model)", "human": "human"}
+    names = {"model": "simulated (observer model, the engine's frames)",
+             "model-cpu": "simulated (observer model, CPU view)", "human": "human"}
     lines = ["# Study analysis", "", "Files: " + ", ".join(f"`{f}`" for f in files), "",
              "Observers: " + ", ".join(names.get(o, o) for o in observers) +
              (" (pooled on request)" if len(observers) > 1 else "") + ".", ""]

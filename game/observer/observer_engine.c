@@ -67,14 +67,13 @@ vg_status observer_engine_track(observer_engine *e, frame_mode mode, long first,
     size_t n = (size_t)e->w * (size_t)e->h;
     *shown = (observer_shown){.offset = e->offset, .count = count, .surround = e->surround, .width = e->w,
                               .height = e->h};
-    if (mode == FRAME_MODE_ORIGINAL || mode == FRAME_MODE_DEFAULT) {
-        if (mode == FRAME_MODE_ORIGINAL) {
-            memset(e->offset, 0, (size_t)count * sizeof *e->offset);
-            memset(e->surround, 0, n * sizeof *e->surround);
-            return VG_OK;
-        }
-        mode = FRAME_MODE_OPTIMIZED;
+    if (mode == FRAME_MODE_ORIGINAL) {
+        memset(e->offset, 0, (size_t)count * sizeof *e->offset);
+        memset(e->surround, 0, n * sizeof *e->surround);
+        return VG_OK;
     }
+    if (mode == FRAME_MODE_DEFAULT)
+        mode = FRAME_MODE_OPTIMIZED;
     vg_status st = VG_OK;
     frame **fr = &e->frames[mode];
     if (!*fr) {
