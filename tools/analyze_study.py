@@ -25,8 +25,8 @@ participants, a one-sample t-test of each participant's fraction against 50 %
 
 Writes DIR/summary.md (for people) and DIR/summary.json (for scripts).
 Several files (participants) are analysed together. Simulated (observer
-"model", "model-cpu") and human trials are never pooled unless --pool-observers says so;
-the report names the observers. Needs Debian's python3-numpy, python3-scipy,
+"model", "model-cpu", "model-2cue", "model-2cue-cpu") and human trials are
+never pooled unless --pool-observers says so; the report names the observers. Needs Debian's python3-numpy, python3-scipy,
 python3-matplotlib, python3-statsmodels: run under /usr/bin/python3 (it
 re-runs itself there when the current python lacks them).
 """
@@ -339,7 +339,9 @@ def fmt_anova(a):
 
 def summary_md(files, hit, pref, observers):
     names = {"model": "simulated (observer model, the engine's frames)",
-             "model-cpu": "simulated (observer model, CPU view)", "human": "human"}
+             "model-cpu": "simulated (observer model, CPU view)",
+             "model-2cue": "simulated (two-cue observer: disparity and size, the engine's frames)",
+             "model-2cue-cpu": "simulated (two-cue observer: disparity and size, CPU view)", "human": "human"}
     lines = ["# Study analysis", "", "Files: " + ", ".join(f"`{f}`" for f in files), "",
              "Observers: " + ", ".join(names.get(o, o) for o in observers) +
              (" (pooled on request)" if len(observers) > 1 else "") + ".", ""]

@@ -34,6 +34,7 @@ static study_opts o = {
 
 static const char *const k_observer_names[] = {"human", "model", NULL};
 static const char *const k_view_names[] = {"engine", "cpu", NULL};
+static const char *const k_cue_names[] = {"disparity", "both", NULL};
 
 #define STUDY_COMMON_OPTIONS                                                                            \
     {"--participant", VG_OPT_STRING, &o.participant, "ID", "participant id (letters, digits, - _ .); "   \
@@ -60,6 +61,9 @@ static const vg_opt k_hit_opts[] = {
     STUDY_COMMON_OPTIONS,
     {"--visible", VG_OPT_FLOAT, &o.visible_s, "S", "seconds the ball is shown after launch (default 0.6)",
      NULL, 0.1, 3},
+    {"--observer-cues", VG_OPT_CHOICE, &o.observer_cues, "CUES", "model: disparity (its changing "
+     "disparity only) or both (changing disparity and changing size, one motion-in-depth stage; "
+     "docs/game.md)", k_cue_names, 0, 0},
     {"--allow-missed-frames", VG_OPT_FLAG, &o.allow_missed, NULL, "run even when the window cannot show the "
      "flight at 60 Hz (demonstrations; every row records the frames missed)", NULL, 0, 0},
 };

@@ -126,6 +126,44 @@ static double decode_depth(const observer *o, double a)
     return z > c->znear ? z : c->znear;
 }
 
+/* The two-cue observer's single motion-in-depth stage (RB79: changing
+ * size and changing disparity feed the same stage; Duke and Rushton 2012:
+ * the sum of the looming and the changing-disparity signals) sees the sum
+ * of the ball's displayed angular diameter and its displayed vergence, both
+ * in arcmin, so each cue weighs by its own rate of change: for a ball of
+ * diameter D at distance Z, looming D Z'/Z^2 beside disparity I Z'/Z^2.
+ * The display shows a camera angle alpha at alpha * m, m = the screen's
+ * half width / (viewing distance tan(horizontal fov / 2)) (small angles). */
+static double ball_size_arcmin(const observer *o, double u, double v, double z)
+{
+    const vg_camera *c = observer_camera(o);
+    const stereo_display *d = observer_view_display(o->view);
+    double ty = tan(0.5 * c->yfov), tx = ty * c->aspect;
+    double x = (2.0 * u - 1.0) * tx, y = (1.0 - 2.0 * v) * ty;
+    double dist = z * sqrt(1.0 + x * x + y * y), r = observer_view_radius(o->view);
+    double alpha = 2.0 * asin(fmin(1.0, r / fmax(dist, r)));
+    return alpha * (0.5 * d->width_m / (d->distance_m * tx)) * (180.0 * 60.0 / M_PI);
+}
+
+/* What the stage's signal (ball size + calibrated vergence) means: the
+ * view depth on the ray through (u, v) at which unmodified stereo would
+ * give it (both terms fall with depth: bisection in 1/z). */
+static double decode_depth_two_cue(const observer *o, double s, double u, double v)
+{
+    const vg_camera *c = observer_camera(o);
+    double lo = c->znear, hi = 10.0 * c->zfar;
+    for (int it = 0; it < 60; it++) {
+        double z = 2.0 / (1.0 / lo + 1.0 / hi);
+        double at = ball_size_arcmin(o, u, v, z) + o->cal0 +
+                    o->cal1 * stereo_camera_vergence(observer_view_rig(o->view), observer_view_display(o->view), z);
+        if (at > s)
+            lo = z; /* the signal at z is larger: the ball is farther */
+        else
+            hi = z;
+    }
+    return 0.5 * (lo + hi);
+}
+
 /* The world point at view depth z on the ray through (u, v). */
 static void point_at(const vg_camera *c, double u, double v, double z, double p[3])
 {
@@ -248,11 +286,17 @@ vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, cons
     o->shown = shown;
     if (st == VG_OK) {
         calibrate(o, mode);
+        /* Two cues: the stage's signal is the ball's displayed size (the
+         * geometry is the same in every mode) plus its displayed vergence. */
+        for (int i = 0; o->d.size_cue && i < n; i++) {
+            double u, v, z = game_project(cam, pos[i], &u, &v);
+            a[i] += ball_size_arcmin(o, u, v, z);
+        }
         perceive_track(o, a, n, noise, ap);
         for (int i = 0; i < n; i++) {
             double u, v;
             game_project(cam, pos[i], &u, &v);
-            point_at(cam, u, v, decode_depth(o, ap[i]), seen[i]);
+            point_at(cam, u, v, o->d.size_cue ? decode_depth_two_cue(o, ap[i], u, v) : decode_depth(o, ap[i]), seen[i]);
         }
         path_fit fit;
         fit_path((const double (*)[3])seen, n, o->fps, th->path == GAME_PATH_BALLISTIC ? GAME_GRAVITY : 0.0, &fit);

@@ -1,8 +1,11 @@
 /* vergence — the simulated observer (docs/game.md "The simulated observer").
  *
- * A disparity-only player of the hit game: it sees where the ball is on the
- * screen and the depth its displayed vergence implies, nothing else (no
- * size, shading or shadow cues). Per shown frame it takes the ball's image
+ * A player of the hit game: it sees where the ball is on the screen and the
+ * depth its displayed vergence implies (no shading or shadow cues) and,
+ * with .size_cue, the ball's changing angular size too: the two feed one
+ * motion-in-depth stage as their sum in angular units (Regan and Beverley
+ * 1979; the sum of looming and changing disparity, Duke and Rushton 2012),
+ * so each weighs by how fast it changes. Per shown frame it takes the ball's image
  * position and displayed vergence a (g, h or f: observer_view), perceives
  * the vergence velocity with Weber noise (paper Sec. 4.2: one JND of noise
  * in p(v) = sign(v) ln(1 + |v|) / k per 100 ms integration window), turns
@@ -21,6 +24,7 @@ typedef struct observer_desc {
     observer_view_desc view;     /* .moving_node = the ball */
     double weber_k;              /* Weber fraction k, 0 = STEREO_WEBER_K; < 0: no noise */
     double window_s;             /* temporal integration window, 0 = 0.1 s */
+    bool size_cue;               /* hit: also the ball's angular size (the two-cue observer) */
 } observer_desc;
 
 typedef struct observer observer;

@@ -139,5 +139,6 @@ vg_status study_end(study_session *s, const study_opts *o, const study_kind *k, 
 
 const char *study_observer_name(const study_opts *o)
 {
-    return !o->observer ? "human" : o->observer_view == STUDY_VIEW_CPU ? "model-cpu" : "model";
+    static const char *const names[2][2] = {{"model", "model-cpu"}, {"model-2cue", "model-2cue-cpu"}};
+    return !o->observer ? "human" : names[o->observer_cues != 0][o->observer_view == STUDY_VIEW_CPU];
 }

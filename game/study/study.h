@@ -15,6 +15,7 @@ typedef struct study_opts {
     const char *participant, *out, *scene;
     int trials, seed, observer, op;     /* -1: not given; observer 0 human, 1 model */
     int observer_view;                  /* model: STUDY_VIEW_ENGINE (its frames) or _CPU (observer_view) */
+    int observer_cues;                  /* hit model: 0 disparity, 1 both (disparity and size) */
     bool resume;
     bool allow_missed;                  /* hit: run on a window that cannot hold 60 Hz */
     double weber_k, visible_s;
@@ -24,7 +25,8 @@ typedef struct study_opts {
 
 vg_status study_hit_run(const study_opts *o);
 /* The observer column: "human", "model" (the engine's frames) or
- * "model-cpu" (the CPU view); files of different observers never mix. */
+ * "model-cpu" (the CPU view); the two-cue observer is "model-2cue" or
+ * "model-2cue-cpu"; files of different observers never mix. */
 const char *study_observer_name(const study_opts *o);
 vg_status study_preference_run(const study_opts *o);
 

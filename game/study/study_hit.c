@@ -136,7 +136,7 @@ static vg_status run_model(hit_run *r, const char *scene_path)
         st = observer_create(&(observer_desc){
             .view = {.scene = s, .moving_node = ball.node, .display = display_cli_desc(&o->display),
                      .op = (disp_operator_kind)o->op, .preset = DISP_PRESET_STUDY},
-            .weber_k = o->weber_k}, &obs);
+            .weber_k = o->weber_k, .size_cue = o->observer_cues != 0}, &obs);
     /* The engine's view: the frame a person's study shows at these settings
      * (play_session's flight frames), its maps read back. */
     if (st == VG_OK && o->observer_view == STUDY_VIEW_ENGINE) {

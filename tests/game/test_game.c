@@ -194,35 +194,73 @@ static int pose_hook(void)
 /* Observer                                                                  */
 /* ------------------------------------------------------------------------- */
 
-static int make_observer(scene **s, observer **o, double k)
+static int make_observer(scene **s, observer **o, double k, bool size_cue)
 {
     vg_camera cam;
     if (load_arena(s, &cam))
         return 1;
     return observer_create(&(observer_desc){.view = {.scene = *s, .moving_node = scene_find_node(*s, "ball"),
                                                      .preset = DISP_PRESET_STUDY},
-                                            .weber_k = k}, o) != VG_OK;
+                                            .weber_k = k, .size_cue = size_cue}, o) != VG_OK;
 }
 
 /* Without noise and with the original disparity the observer's decoding is
- * exact, so it hits every throw (straight and ballistic, both directions). */
+ * exact, so it hits every throw (straight and ballistic, both directions),
+ * with disparity alone and with disparity and size. */
 static int observer_exact(void)
 {
-    scene *s;
-    observer *o;
-    CHECK(!make_observer(&s, &o, -1), "observer");
-    for (int i = 0; i < 40; i++) {
-        game_throw th;
-        game_rng r = game_rng_make(1, (uint64_t)i), n = game_rng_make(2, (uint64_t)i);
-        game_throw_make(&(game_throw_desc){.path = (game_path)(1 + i % 2), .direction = (game_direction)(1 + (i / 2) % 2)},
-                        observer_camera(o), &r, &th);
-        observer_result res;
-        CHECK(observer_play(o, &th, FRAME_MODE_ORIGINAL, NULL, &n, &res) == VG_OK, "play");
-        CHECK(res.error_m < 0.01, "throw %d (%s, %s): error %g m without noise under g", i,
-              game_direction_names[th.direction], game_path_names[th.path], res.error_m);
+    for (int cues = 0; cues < 2; cues++) {
+        scene *s;
+        observer *o;
+        CHECK(!make_observer(&s, &o, -1, cues), "observer");
+        for (int i = 0; i < 40; i++) {
+            game_throw th;
+            game_rng r = game_rng_make(1, (uint64_t)i), n = game_rng_make(2, (uint64_t)i);
+            game_throw_make(&(game_throw_desc){.path = (game_path)(1 + i % 2), .direction = (game_direction)(1 + (i / 2) % 2)},
+                            observer_camera(o), &r, &th);
+            observer_result res;
+            CHECK(observer_play(o, &th, FRAME_MODE_ORIGINAL, NULL, &n, &res) == VG_OK, "play");
+            CHECK(res.error_m < 0.01, "throw %d (%s, %s, %s): error %g m without noise under g", i,
+                  game_direction_names[th.direction], game_path_names[th.path], cues ? "two cues" : "disparity",
+                  res.error_m);
+        }
+        observer_destroy(o);
+        scene_destroy(s);
     }
-    observer_destroy(o);
-    scene_destroy(s);
+    return 0;
+}
+
+/* The two-cue observer's size cue is not manipulated (h moves the ball in
+ * depth, not its image size), so under h its clicks land nearer the truth
+ * than the disparity-only observer's, and further than under g. */
+static int observer_two_cue(void)
+{
+    double sum[2][4] = {{0}};
+    int n = 24;
+    for (int cues = 0; cues < 2; cues++) {
+        scene *s;
+        observer *o;
+        CHECK(!make_observer(&s, &o, -1, cues), "observer");
+        for (int i = 0; i < n; i++) {
+            game_throw th;
+            game_rng r = game_rng_make(5, (uint64_t)i), nz = game_rng_make(9, (uint64_t)i);
+            game_throw_make(&(game_throw_desc){.path = (game_path)(1 + i % 2),
+                                               .direction = (game_direction)(1 + (i / 2) % 2)},
+                            observer_camera(o), &r, &th);
+            for (int m = FRAME_MODE_ORIGINAL; m <= FRAME_MODE_MANIPULATED; m++) {
+                observer_result res;
+                CHECK(observer_play(o, &th, (frame_mode)m, NULL, &nz, &res) == VG_OK, "play");
+                sum[cues][m] += res.error_m / n;
+            }
+        }
+        observer_destroy(o);
+        scene_destroy(s);
+    }
+    printf("mean error under h, no noise: disparity %.3f m, two cues %.3f m\n", sum[0][2], sum[1][2]);
+    CHECK(sum[1][FRAME_MODE_MANIPULATED] < 0.8 * sum[0][FRAME_MODE_MANIPULATED],
+          "two cues %.3f m, disparity %.3f m under h", sum[1][2], sum[0][2]);
+    CHECK(sum[1][FRAME_MODE_MANIPULATED] > sum[1][FRAME_MODE_ORIGINAL] + 0.05, "two cues: h %.3f m, g %.3f m",
+          sum[1][2], sum[1][1]);
     return 0;
 }
 
@@ -232,7 +270,7 @@ static int observer_conditions(void)
 {
     scene *s;
     observer *o;
-    CHECK(!make_observer(&s, &o, 0), "observer");
+    CHECK(!make_observer(&s, &o, 0, false), "observer");
     double sum[4] = {0};
     int n = 48;
     for (int i = 0; i < n; i++) {
@@ -523,6 +561,7 @@ int main(int argc, char **argv)
     static const vg_test_case cases[] = {
         {"click_error", click_error},     {"throws", throws},           {"schedule", schedule},
         {"click_mapping", click_mapping}, {"pose_hook", pose_hook},     {"observer_exact", observer_exact},
+        {"observer_two_cue", observer_two_cue},
         {"observer_conditions", observer_conditions}, {"csv_log", csv_log}, {"pref_equal_quality", pref_equal_quality},
         {"pref_clip", pref_clip},         {"observer_engine", observer_engine_agrees},
     };
