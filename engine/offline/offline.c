@@ -580,6 +580,7 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     json_metrics(&j, "f", &mf, o->f_out / np);
     json_metrics(&j, "f_solver", &ms, ms.range_violation);
     vg_json_num(&j, "mid_reduction", mh.mid_distortion_jnd > 0 ? 1.0 - mf.mid_distortion_jnd / mh.mid_distortion_jnd : 0.0);
+    vg_json_num(&j, "mid_ratio", mh.mid_distortion_jnd > 0 ? mf.mid_distortion_jnd / mh.mid_distortion_jnd : NAN);
     vg_json_object_begin(&j, "solve");
     vg_json_str(&j, "solver", s->d->solver == MID_SOLVER_DESCENT ? "descent" : "gauss-newton");
     vg_json_int(&j, "iterations", ss->iterations);

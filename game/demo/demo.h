@@ -87,6 +87,10 @@ typedef struct demo_scene {
     float xt_lo[DEMO_MAPS], xt_hi[DEMO_MAPS]; /* colour scale of each slice (demo_figures_write) */
     demo_track tracks[DEMO_MAX_TRACKS];
     int track_count;
+    float *fh_diff;          /* |f - h| (arcmin) at the middle still of the analysis run, width x height */
+    long fh_frame;           /* its frame */
+    float fh_max;            /* its colour scale's top (demo_figures_write) */
+    int motion_points;       /* keyframes of the moving object's motion plots (demo_figures_write) */
     demo_run runs[DEMO_MODES];
 } demo_scene;
 
@@ -118,8 +122,9 @@ vg_status demo_scene_init(demo_scene *sc, const scene *s, const char *name, cons
                           const demo_opts *o);
 void demo_scene_free(demo_scene *sc);
 
-/* The scene's figures after its runs: DIR/SCENE/xt_{g,h,f}.png and
- * tracks_g.svg, tracks_hf.svg (demo_figures.c). */
+/* The scene's figures after its runs: DIR/SCENE/xt_{g,h,f}.png,
+ * tracks_g.svg, tracks_hf.svg, the moving object's perceived motion in
+ * depth motion_v.svg and motion_a.svg, and fh_diff.png (demo_figures.c). */
 vg_status demo_figures_write(const demo_opts *o, demo_scene *sc);
 
 /* index.html in o->out. */

@@ -11,7 +11,9 @@
 #include "core/io.h"
 #include "demo.h"
 #include "shared.h"
+#include "demo_image.h"
 #include "demo_svg.h"
+#include "stereo/stereo_perception.h"
 
 #define P(...) demo_buf_printf(b, __VA_ARGS__)
 
@@ -93,9 +95,9 @@ static void mid_table(demo_buf *b, const demo_scene *sc)
     }
     char src[DEMO_NAME * 2 + 2];
     snprintf(src, sizeof src, "%s/%s", sc->name, frame_mode_names[r->mode]);
-    P("<table class=\"metrics\"><thead><tr><th>map</th><th>MID distortion (JND)</th><th>out of range</th>"
-      "<th>static RMS (arcmin)</th><th>static gradient RMS (arcmin/px)</th><th>moving samples</th></tr></thead>"
-      "<tbody>\n");
+    P("<table class=\"metrics\"><thead><tr><th>map</th><th>MID distortion (JND)</th><th>out of range (%% of "
+      "pixels)</th><th>static RMS (arcmin)</th><th>static gradient RMS (arcmin/px)</th><th>moving samples "
+      "(pixel-keyframes)</th></tr></thead><tbody>\n");
     static const char *const maps[2] = {"h", "f"};
     static const char *const what[2] = {"h &mdash; manipulated", "f &mdash; optimized"};
     for (int k = 0; k < 2; k++) {
@@ -105,10 +107,14 @@ static void mid_table(demo_buf *b, const demo_scene *sc)
         cell(b, src, key, r->mid[k].mid_distortion_jnd, 1, 3, "");
         snprintf(key, sizeof key, "metrics.%s.range_violation", maps[k]);
         cell(b, src, key, r->range_violation[k], 100, 2, "&thinsp;%");
-        snprintf(key, sizeof key, "metrics.%s.static_rms", maps[k]);
-        cell(b, src, key, r->mid[k].static_rms, 1, 3, "");
-        snprintf(key, sizeof key, "metrics.%s.static_grad_rms", maps[k]);
-        cell(b, src, key, r->mid[k].static_grad_rms, 1, 3, "");
+        if (k == 0) /* the static terms measure x - h: zero for h itself */
+            P("<td class=\"na\" colspan=\"2\">0 by definition (the reference)</td>");
+        else {
+            snprintf(key, sizeof key, "metrics.%s.static_rms", maps[k]);
+            cell(b, src, key, r->mid[k].static_rms, 1, 3, "");
+            snprintf(key, sizeof key, "metrics.%s.static_grad_rms", maps[k]);
+            cell(b, src, key, r->mid[k].static_grad_rms, 1, 3, "");
+        }
         snprintf(key, sizeof key, "metrics.%s.moving_samples", maps[k]);
         cell(b, src, key, r->mid[k].moving_measured, 1, 0, "");
         P("</tr>\n");
@@ -270,9 +276,58 @@ static void videos(demo_buf *b, const demo_scene *sc, const demo_opts *o)
     P("</div>\n");
 }
 
-static void colorbar(demo_buf *b, float lo, float hi)
+/* Tick labels along [lo, hi], each at its place in percent of the axis. */
+static void ticks(demo_buf *b, const char *cls, const char *side, double lo, double hi, int count, bool flip)
 {
-    P("<div class=\"bar\"><span>%.0f&prime;</span><i></i><span>%.0f&prime;</span></div>", lo, hi);
+    if (!(hi > lo))
+        return;
+    double step = demo_nice_step(hi - lo, count);
+    for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
+        double at = 100.0 * (v - lo) / (hi - lo);
+        P("<span class=\"%s\" style=\"%s:%.2f%%\">%g</span>", cls, side, flip ? 100.0 - at : at,
+          fabs(v) < 1e-9 * step ? 0.0 : v);
+    }
+}
+
+/* The report's colour map as a CSS gradient (demo_colormap's stops). */
+static void gradient(demo_buf *b)
+{
+    P("background:linear-gradient(90deg");
+    for (int i = 0; i <= 8; i++) {
+        uint8_t c[3];
+        demo_colormap(i / 8.0f, c);
+        P(",#%02x%02x%02x", c[0], c[1], c[2]);
+    }
+    P(")");
+}
+
+static void colorbar(demo_buf *b, float lo, float hi, const char *unit)
+{
+    P("<div class=\"cbar\"><i style=\"");
+    gradient(b);
+    P("\"></i>");
+    ticks(b, "tk", "left", lo, hi, 5, false);
+    P("<b>%s</b></div>", unit);
+}
+
+/* A colour-mapped image with its axes: x along the columns (0..xmax),
+ * y down the rows (ylo at the top .. yhi at the bottom), and a colour bar. */
+typedef struct map_fig {
+    const char *src, *alt, *caption, *xlabel, *ylabel, *unit;
+    double xmax, ylo, yhi;
+    float lo, hi;
+    bool pixelated;
+} map_fig;
+
+static void map_figure(demo_buf *b, const map_fig *m)
+{
+    P("<figure><div class=\"map\"><img%s src=\"%s\" alt=\"%s\">", m->pixelated ? " class=\"xt\"" : "", m->src,
+      m->alt);
+    ticks(b, "tk tx", "left", 0, m->xmax, 4, false);
+    ticks(b, "tk ty", "top", m->ylo, m->yhi, 4, false);
+    P("<span class=\"xl\">%s</span><span class=\"yl\">%s</span></div>", m->xlabel, m->ylabel);
+    colorbar(b, m->lo, m->hi, m->unit);
+    P("<figcaption>%s</figcaption></figure>\n", m->caption);
 }
 
 static void slices(demo_buf *b, const demo_scene *sc, const scene_text *tx)
@@ -282,20 +337,23 @@ static void slices(demo_buf *b, const demo_scene *sc, const scene_text *tx)
         any |= sc->xt[m] != NULL;
     if (!any)
         return;
+    double t_end = sc->frames[sc->samples - 1] / sc->fps;
     P("<h3>x&ndash;t slices of g, h and f</h3><p class=\"explain\">Image row y&nbsp;=&nbsp;%d of every frame "
       "stacked from top (t&nbsp;=&nbsp;0) to bottom (t&nbsp;=&nbsp;%.1f&nbsp;s); colour is vergence in arcmin "
-      "(brighter is nearer). h and f share one colour scale. %s</p><div class=\"grid3\">\n", sc->row,
-      sc->frames[sc->samples - 1] / sc->fps, tx ? tx->look : "");
+      "(brighter is nearer). h and f share one colour scale. %s</p><div class=\"grid3\">\n", sc->row, t_end,
+      tx ? tx->look : "");
     static const char *const what[DEMO_MAPS] = {"original g", "manipulated h", "optimized f"};
     for (int m = 0; m < DEMO_MAPS; m++) {
         if (!sc->xt[m]) {
             P("<figure class=\"missing\"><div>%s: not produced in this build</div></figure>\n", what[m]);
             continue;
         }
-        P("<figure><img class=\"xt\" src=\"%s/xt_%s.png\" alt=\"x-t slice of %s\"><figcaption>%s", sc->name,
-          demo_map_names[m], demo_map_names[m], what[m]);
-        colorbar(b, sc->xt_lo[m], sc->xt_hi[m]);
-        P("</figcaption></figure>\n");
+        char src[160], alt[64];
+        snprintf(src, sizeof src, "%s/xt_%s.png", sc->name, demo_map_names[m]);
+        snprintf(alt, sizeof alt, "x-t slice of %s", demo_map_names[m]);
+        map_figure(b, &(map_fig){.src = src, .alt = alt, .caption = what[m], .xlabel = "x (px)",
+                                 .ylabel = "t (s)", .unit = "vergence (arcmin)", .xmax = sc->width, .ylo = 0,
+                                 .yhi = t_end, .lo = sc->xt_lo[m], .hi = sc->xt_hi[m], .pixelated = true});
     }
     P("</div>\n");
 }
@@ -321,6 +379,41 @@ static void tracks(demo_buf *b, const demo_scene *sc)
     } else
         P("<figure class=\"missing\"><div>h and f: not produced in this build</div></figure>\n");
     P("</div>\n");
+}
+
+/* The paper's quantity for the moving object, and where f departs from h. */
+static void motion(demo_buf *b, const demo_scene *sc, const demo_opts *o)
+{
+    if (sc->motion_points < 3 && !sc->fh_diff)
+        return;
+    P("<h3>Perceived motion in depth of %s</h3><p class=\"explain\">What the method optimises (paper Sec. 4.2): "
+      "the object's vergence velocity over each keyframe interval (every %d frames, %.2f&nbsp;s) through the "
+      "perceptual scale p(v)&nbsp;=&nbsp;sign(v)&nbsp;ln(1&nbsp;+&nbsp;|v|)&nbsp;/&nbsp;k (JND, k&nbsp;=&nbsp;%.2f), "
+      "and its change from one interval to the next, the perceived acceleration in depth. h (dashed) departs "
+      "from g's shape where the operator compresses depth; f should follow g's shape, offset by the smaller range "
+      "it lives in. The MID distortion in the table is the RMS of the acceleration's difference from g over every "
+      "moving pixel; these curves are one object's mean.</p><div class=\"grid2\">\n", sc->tracks[0].name,
+      o->keyframe_stride, o->keyframe_stride / sc->fps, STEREO_WEBER_K);
+    if (sc->motion_points >= 3) {
+        char src[160];
+        snprintf(src, sizeof src, "%s/motion_v.svg", sc->name);
+        img(b, src, "perceived velocity in depth of g, h and f", "perceived velocity in depth (JND)");
+        snprintf(src, sizeof src, "%s/motion_a.svg", sc->name);
+        img(b, src, "perceived acceleration in depth of g, h and f", "perceived acceleration in depth (JND)");
+    }
+    P("</div>\n");
+    if (sc->fh_diff) {
+        char src[160], cap[256];
+        snprintf(src, sizeof src, "%s/fh_diff.png", sc->name);
+        snprintf(cap, sizeof cap, "|f &minus; h| at t&nbsp;=&nbsp;%.2f&nbsp;s (frame %ld), up to %.3f&nbsp;arcmin: "
+                 "where, and by how much, f changes the manipulation (its static RMS in the table: the change "
+                 "where nothing moves)", sc->fh_frame / sc->fps, sc->fh_frame, sc->fh_max);
+        P("<div class=\"grid2\">");
+        map_figure(b, &(map_fig){.src = src, .alt = "|f - h|", .caption = cap, .xlabel = "x (px)",
+                                 .ylabel = "y (px)", .unit = "|f &minus; h| (arcmin)", .xmax = sc->width,
+                                 .ylo = 0, .yhi = o->height, .lo = 0, .hi = sc->fh_max});
+        P("</div>\n");
+    }
 }
 
 static void cascade(demo_buf *b, const demo_scene *sc)
@@ -359,6 +452,63 @@ static void cascade(demo_buf *b, const demo_scene *sc)
     P("</div>\n");
 }
 
+/* Every scene in one table, each cell traced to its capture.json. */
+static void summary(demo_buf *b, const demo_scene *scenes, int count)
+{
+    P("<h2 id=\"summary\">Summary</h2><p class=\"explain\">Per scene: the motion-in-depth distortion of the "
+      "moving objects under the manipulation h and under the optimisation f (lower is better; f&nbsp;/&nbsp;h "
+      "below 1 means motion in depth is restored), the share of pixels outside the comfort range, the optimized "
+      "stereo pair's disparity error and holes against two real cameras, and the median frame time on this "
+      "run's device.</p>\n<table class=\"metrics summary\"><thead><tr><th rowspan=\"2\">scene</th>"
+      "<th colspan=\"3\">MID distortion</th><th colspan=\"2\">out of range (%% of pixels)</th>"
+      "<th rowspan=\"2\">warp error p99 (px)</th><th colspan=\"2\">holes (%% of pixels)</th>"
+      "<th colspan=\"2\">frame (ms)</th></tr><tr><th>h (JND)</th><th>f (JND)</th><th>f / h</th><th>h</th>"
+      "<th>f</th><th>tessellated warp</th><th>image warping</th><th>original</th><th>optimized</th></tr>"
+      "</thead><tbody>\n");
+    for (int i = 0; i < count; i++) {
+        const demo_scene *sc = &scenes[i];
+        const demo_run *a = analysis_run(sc), *opt = NULL, *orig = NULL;
+        for (int m = 0; m < DEMO_MODES; m++) {
+            if (!sc->runs[m].available)
+                continue;
+            if (sc->runs[m].mode == FRAME_MODE_OPTIMIZED)
+                opt = &sc->runs[m];
+            if (sc->runs[m].mode == FRAME_MODE_ORIGINAL)
+                orig = &sc->runs[m];
+        }
+        P("<tr data-scene=\"%s\"><th><a href=\"#%s\">%s</a></th>", sc->name, sc->name, sc->name);
+        char src[DEMO_NAME * 2 + 2];
+        if (a && a->has_mid) {
+            snprintf(src, sizeof src, "%s/%s", sc->name, frame_mode_names[a->mode]);
+            double h = a->mid[0].mid_distortion_jnd, f = a->mid[1].mid_distortion_jnd;
+            cell(b, src, "metrics.h.mid_distortion_jnd", h, 1, 2, "");
+            cell(b, src, "metrics.f.mid_distortion_jnd", f, 1, 2, "");
+            cell(b, src, "metrics.mid_ratio", h > 0 ? f / h : NAN, 1, 2, "");
+            cell(b, src, "metrics.h.range_violation", a->range_violation[0], 100, 2, "");
+            cell(b, src, "metrics.f.range_violation", a->range_violation[1], 100, 2, "");
+        } else
+            empty_cells(b, 5);
+        if (opt) {
+            snprintf(src, sizeof src, "%s/%s", sc->name, frame_mode_names[opt->mode]);
+            cell(b, src, "warp_error_px.p99", opt->warp.error_p99, 1, 3, "");
+            cell(b, src, "hole_fraction", opt->warp.hole_fraction, 100, 3, "");
+            cell(b, src, "imagewarp.hole_fraction", opt->imagewarp.hole_fraction, 100, 2, "");
+        } else
+            empty_cells(b, 3);
+        const demo_run *t[2] = {orig, opt};
+        for (int k = 0; k < 2; k++) {
+            if (!t[k]) {
+                empty_cells(b, 1);
+                continue;
+            }
+            snprintf(src, sizeof src, "%s/%s", sc->name, frame_mode_names[t[k]->mode]);
+            cell(b, src, "frame_ms_median", t[k]->frame_ms, 1, 0, "");
+        }
+        P("</tr>\n");
+    }
+    P("</tbody></table>\n");
+}
+
 /* ------------------------------------------------------------------------- */
 /* Page                                                                      */
 /* ------------------------------------------------------------------------- */
@@ -378,9 +528,17 @@ static const char k_style[] =
     "figcaption{font-size:13px;color:#555;margin-top:6px}"
     ".missing div{aspect-ratio:16/9;display:flex;align-items:center;justify-content:center;background:#f0f0ee;"
     "border:1px dashed #ccc;border-radius:4px;color:#888;font-size:14px;text-align:center;padding:8px}"
-    ".bar{display:flex;align-items:center;gap:6px;margin-top:4px;font-size:12px}.bar i{flex:1;height:8px;"
-    "border-radius:2px;background:linear-gradient(90deg,#440154,#46327e,#365c8d,#277f8e,#1fa187,#4ac16d,"
-    "#a0da39,#fde725)}"
+    ".map{position:relative;margin:0 0 34px 42px}.map img{box-shadow:none;border-radius:0;outline:1px solid #999}"
+    ".tk{position:absolute;font-size:11px;color:#555;white-space:nowrap;line-height:1}"
+    ".tx{top:100%;transform:translate(-50%,6px)}.ty{left:0;transform:translate(calc(-100% - 6px),-50%)}"
+    ".tx::before{content:'';position:absolute;left:50%;top:-6px;height:4px;border-left:1px solid #777}"
+    ".ty::after{content:'';position:absolute;right:-6px;top:50%;width:4px;border-top:1px solid #777}"
+    ".xl,.yl{position:absolute;font-size:12px;color:#333;white-space:nowrap}.xl{top:100%;left:50%;"
+    "transform:translate(-50%,19px)}.yl{left:-38px;top:50%;transform:translate(-50%,-50%) rotate(-90deg)}"
+    ".cbar{position:relative;margin:0 0 30px 42px;height:10px}.cbar i{display:block;height:10px;"
+    "border-radius:2px}.cbar .tk{top:14px;transform:translateX(-50%)}.cbar b{position:absolute;top:28px;"
+    "left:50%;transform:translateX(-50%);font-weight:400;font-size:12px;color:#333;white-space:nowrap}"
+    "table.summary td,table.summary th{padding:5px 8px}table.summary a{color:#1f6fb4;text-decoration:none}"
     ".sw{display:inline-block;width:11px;height:11px;border-radius:2px;margin:0 4px -1px 2px}"
     "table{border-collapse:collapse;font-size:14px;margin:8px 0 4px;font-variant-numeric:tabular-nums}"
     "th,td{padding:5px 10px;border-bottom:1px solid #e4e4e4;text-align:right}thead th{font-weight:600;"
@@ -404,6 +562,7 @@ static void scene_section(demo_buf *b, const demo_scene *sc, const demo_opts *o)
     videos(b, sc, o);
     slices(b, sc, tx);
     tracks(b, sc);
+    motion(b, sc, o);
     cascade(b, sc);
     P("<h3>Metrics</h3><p class=\"explain\">Motion in depth over the keyframes of the clip, computed from the "
       "optimized run's frames: <b>MID distortion</b> is the RMS error of the perceived acceleration in depth "
@@ -459,10 +618,11 @@ vg_status demo_html_write(const demo_opts *o, const demo_scene *scenes, int coun
       "disparity asked for.</p>\n");
     if (!o->ffmpeg && o->video)
         P("<p class=\"note\">ffmpeg is not installed (Debian package <code>ffmpeg</code>): no videos.</p>\n");
-    P("<nav>");
+    P("<nav><a href=\"#summary\">summary</a>");
     for (int i = 0; i < count; i++)
         P("<a href=\"#%s\">%s</a>", scenes[i].name, scenes[i].name);
     P("</nav>\n");
+    summary(b, scenes, count);
     for (int i = 0; i < count; i++)
         scene_section(b, &scenes[i], o);
     P("<h2>Reproduce</h2><p class=\"explain\"><code>vergence demo --out %s --size %ux%u --step %d</code>. "

@@ -211,6 +211,18 @@ static vg_status render_clip(run_ctx *c, frame *f)
         }
         if (r->analysis)
             record_maps(c, fo, i, w, h);
+        /* What f changes of h, at the middle still (the report's map). */
+        if (r->analysis && r->still_count > 0 && fo->f && fo->h && n == r->still_frames[r->still_count / 2] &&
+            !c->sc->fh_diff) {
+            float *d = c->sc->fh_diff = malloc(sizeof(float) * (size_t)w * h);
+            if (!d) {
+                st = VG_ERR_NOMEM;
+                break;
+            }
+            for (size_t p = 0; p < (size_t)w * h; p++)
+                d[p] = fabsf(fo->f[p] - fo->h[p]);
+            c->sc->fh_frame = n;
+        }
         /* Every run's video has the same frames (every o->step-th). */
         if (n % c->o->step == 0)
             video_frame(c, fo);

@@ -141,6 +141,7 @@ void demo_scene_free(demo_scene *sc)
     if (!sc)
         return;
     free(sc->frames);
+    free(sc->fh_diff);
     for (int m = 0; m < DEMO_MAPS; m++) {
         free(sc->xt[m]);
         for (int t = 0; t < sc->track_count; t++)

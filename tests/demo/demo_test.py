@@ -4,8 +4,11 @@
 usage: demo_test.py VERGENCE CASE OUTDIR [full|light]
 
   report    a small demo; headless Chromium opens index.html: every image
-            loads, a screenshot is saved to OUTDIR/report.png; every number
-            of the tables is the one in its capture.json
+            loads, a screenshot is saved to OUTDIR/report.png; every figure
+            is there (stereo, slices with axes and colour bars, the moving
+            object's perceived velocity and acceleration in depth, |f - h|);
+            the summary has a row per scene; every number of the tables
+            (the summary's too) is the one in its capture.json
   operator  two demos that differ only in the disparity operator: the MID
             figures differ, and each table matches its own capture.json
   cli       --help, bad arguments and a missing scene: one clear error line
@@ -62,8 +65,10 @@ class Page(html.parser.HTMLParser):
             self.images.append(a.get("src", ""))
         elif tag == "video":
             self.videos.append(a.get("src", ""))
+        elif tag == "tr":
+            self._row = a.get("data-scene")
         elif tag == "td" and "data-key" in a:
-            self._cell = dict(a, text="")
+            self._cell = dict(a, text="", summary=getattr(self, "_row", None))
 
     def handle_data(self, data):
         if self._cell is not None:
@@ -190,8 +195,9 @@ def case_report():
             fail(f"index.html links {src}, which is not there")
     # Every figure the issue asks for, per scene.
     for scene in scenes:
-        for want in ("still_0_anaglyph.png", "_sbs.png", "xt_g.png", "tracks_g.svg", "cascade.png",
-                     "imagewarp_1_left.png", "warp_1_left.png"):
+        for want in ("still_0_anaglyph.png", "_sbs.png", "xt_g.png", "xt_h.png", "xt_f.png", "tracks_g.svg",
+                     "motion_v.svg", "motion_a.svg", "fh_diff.png", "cascade.png", "imagewarp_1_left.png",
+                     "warp_1_left.png"):
             if not any(s.startswith(scene + "/") and s.endswith(want) for s in page.images):
                 fail(f"{scene}: no {want} in the page")
         if shutil.which("ffmpeg") and not any(v.startswith(scene + "/") for v in page.videos):
@@ -200,11 +206,57 @@ def case_report():
         fail("no progress bar on stderr")
     if not re.search(r"demo .*\d+/\d+", stderr):
         fail("no progress on stderr")
+    check_figures(out, scenes)
     images = browse(out, os.path.join(OUTDIR, "report.png"))
     if images < 9:
         fail(f"only {images} images")
-    check_numbers(out)
+    cells = check_numbers(out)
+    check_summary(cells, scenes)
     shutil.rmtree(out)
+
+
+def check_figures(out, scenes):
+    """Each map figure (x-t slices, |f - h|) has axis ticks, axis labels and
+    a colour bar with ticks and a unit; the motion plots have their axes."""
+    page = open(os.path.join(out, "index.html"), encoding="utf-8").read()
+    maps = re.findall(r'<div class="map"><img[^>]* src="([^"]+)"(.*?)</figure>', page, re.S)
+    for scene in scenes:
+        srcs = [m[0] for m in maps if m[0].startswith(scene + "/")]
+        want = {f"{scene}/xt_{m}.png" for m in "ghf"} | {f"{scene}/fh_diff.png"}
+        if not want <= set(srcs):
+            fail(f"{scene}: map figures with axes {sorted(srcs)}, want {sorted(want)}")
+    for src, body in maps:
+        tx, ty = body.count('class="tk tx"'), body.count('class="tk ty"')
+        bar = re.search(r'<div class="cbar">(.*?)</div>', body, re.S)
+        if tx < 2 or ty < 2 or 'class="xl"' not in body or 'class="yl"' not in body:
+            fail(f"{src}: axes with {tx} x and {ty} y ticks and labels, want both")
+        if not bar or bar.group(1).count('class="tk"') < 2 or "<b>" not in bar.group(1):
+            fail(f"{src}: no colour bar with ticks and a unit")
+    for scene in scenes:
+        for name in ("motion_v.svg", "motion_a.svg"):
+            svg = open(os.path.join(out, scene, name), encoding="utf-8").read()
+            if "(JND)" not in svg or "time (s)" not in svg or svg.count("<path") < 3:
+                fail(f"{scene}/{name}: want g, h and f against time, in JND")
+    print(f"{len(maps)} map figures with axes and colour bars; motion plots in JND")
+
+
+def check_summary(cells, scenes):
+    """One summary row per scene, each figure traced to that scene's files."""
+    rows = {}
+    for c in cells:
+        if c.get("summary"):
+            rows.setdefault(c["summary"], []).append(c)
+    if sorted(rows) != sorted(scenes):
+        fail(f"the summary has rows {sorted(rows)}, want {sorted(scenes)}")
+    for scene, cs in rows.items():
+        keys = [c["data-key"] for c in cs]
+        for want in ("metrics.h.mid_distortion_jnd", "metrics.f.mid_distortion_jnd", "metrics.mid_ratio",
+                     "warp_error_px.p99", "hole_fraction", "frame_ms_median"):
+            if want not in keys:
+                fail(f"summary row {scene}: no {want}")
+        if any(not c["data-src"].startswith(scene + "/") for c in cs):
+            fail(f"summary row {scene}: a figure from another scene's files")
+    print(f"summary: {len(rows)} rows match their capture.json files")
 
 
 def mid_figures(out):
