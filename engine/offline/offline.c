@@ -18,6 +18,7 @@
 #include "disparity/disp_metrics.h"
 #include "disparity/disp_pattern.h"
 #include "disparity/disp_upsample.h"
+#include "figure/figure.h"
 
 #define PATH_CAP 4096
 
@@ -433,6 +434,60 @@ typedef struct outputs {
 } outputs;
 
 /* C: upsample the keyframe correction to every frame and write f. */
+/* The colour scale of a map: g its own range, h and f the target range. */
+static void map_scale(const seq *s, int m, float *lo, float *hi)
+{
+    *lo = (float)(m == 0 ? s->g_min : s->lo);
+    *hi = (float)(m == 0 ? s->g_max : s->hi);
+}
+
+static const char *const k_maps[3] = {"g", "h", "f"};
+
+/* The middle frame of each map as a colour PNG with a legend. */
+static vg_status write_previews(const seq *s, int t, const float *const maps[3])
+{
+    vg_status st = VG_OK;
+    for (int m = 0; m < 3 && st == VG_OK; m++) {
+        char name[32], path[PATH_CAP], title[96];
+        float lo, hi;
+        map_scale(s, m, &lo, &hi);
+        snprintf(name, sizeof name, "preview_%s.png", k_maps[m]);
+        snprintf(title, sizeof title, "%s, frame %d: vergence", k_maps[m], t);
+        st = vg_path_join(path, sizeof path, s->d->out_dir, name);
+        if (st == VG_OK)
+            st = figure_map_png(path, maps[m], s->w, s->h, 1, lo, hi, &(figure_legend){.title = title, .unit = "arcmin"});
+    }
+    return st;
+}
+
+/* One video per map (g.mp4, h.mp4, f.mp4) when ffmpeg is installed. */
+static void videos_open(const seq *s, figure_video *v[3])
+{
+    char ffmpeg[PATH_CAP];
+    const char *exe = s->d->video ? figure_find_ffmpeg(ffmpeg, sizeof ffmpeg) : NULL;
+    for (int m = 0; m < 3; m++) {
+        char name[16], path[PATH_CAP];
+        snprintf(name, sizeof name, "%s.mp4", k_maps[m]);
+        v[m] = exe && vg_path_join(path, sizeof path, s->d->out_dir, name) == VG_OK
+                   ? figure_video_open(exe, path, s->w, s->h, s->fps)
+                   : NULL;
+    }
+    if (s->d->video && !exe)
+        vg_info("optimize: ffmpeg is not installed (Debian package ffmpeg): previews without videos");
+}
+
+static void videos_frame(const seq *s, figure_video *v[3], const float *const maps[3], uint8_t *rgb)
+{
+    for (int m = 0; m < 3; m++) {
+        if (!v[m])
+            continue;
+        float lo, hi;
+        map_scale(s, m, &lo, &hi);
+        figure_map_rgb(maps[m], s->w, s->h, 1, lo, hi, rgb);
+        figure_video_frame(&v[m], rgb);
+    }
+}
+
 static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, outputs *o)
 {
     const offline_desc *d = s->d;
@@ -444,11 +499,14 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     float *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     float *prev = malloc((size_t)s->stride * nf2 * sizeof(float)), *next = malloc((size_t)s->stride * nf2 * sizeof(float));
+    uint8_t *rgb = malloc(np * 3);
+    figure_video *video[3] = {NULL, NULL, NULL};
     vg_status st = VG_OK;
-    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !pos0 || !pos1 || !prev || !next) {
+    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !pos0 || !pos1 || !prev || !next || !rgb) {
         st = VG_ERR_NOMEM;
         goto done;
     }
+    videos_open(s, video);
     /* Fig. 4: the correction is the ratio f / h (vergence is never 0). */
     for (int i = 0; i < w->n; i++)
         ratio[i] = f_sol[i] / w->h[i];
@@ -501,6 +559,10 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             vg_imagef img = {.width = s->w, .height = s->h, .channels = 1, .data = z};
             if (st == VG_OK)
                 st = vg_pfm_write(path, &img);
+            const float *const maps[3] = {g, h, z}; /* z: f as written (unknown g stays unknown) */
+            videos_frame(s, video, maps, rgb);
+            if (st == VG_OK && t == d->first + (d->last - d->first) / 2)
+                st = write_previews(s, t, maps);
             size_t r = (size_t)(t - d->first) * s->w, src = (size_t)row * s->w;
             memcpy(o->slice_g + r, g + src, s->w * sizeof(float));
             memcpy(o->slice_h + r, h + src, s->w * sizeof(float));
@@ -514,6 +576,9 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     if (st == VG_OK)
         vg_progress("optimize: writing", s->frames, s->frames);
 done:
+    for (int m = 0; m < 3; m++)
+        figure_video_close(video[m]);
+    free(rgb);
     free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt);
     free(pos0); free(pos1); free(prev); free(next);
     return st;
@@ -523,23 +588,19 @@ done:
 /* Results                                                                   */
 /* ------------------------------------------------------------------------- */
 
-/* An x-t slice as a grey PNG (time runs down), on a scale shared by g, h, f. */
-static vg_status write_slice(const seq *s, const char *name, const float *v, double lo, double hi)
+/* An x-t slice (time runs down) in colour with a legend. */
+static vg_status write_slice(const seq *s, int m, const float *v, float lo, float hi)
 {
-    size_t n = (size_t)s->w * s->frames;
-    uint8_t *px = malloc(n);
-    if (!px)
-        return VG_ERR_NOMEM;
-    for (size_t i = 0; i < n; i++) {
-        double u = hi > lo ? (v[i] - lo) / (hi - lo) : 0.5;
-        px[i] = (uint8_t)lround(255.0 * fmin(fmax(u, 0.0), 1.0));
-    }
-    char path[PATH_CAP];
-    vg_status st = vg_path_join(path, sizeof path, s->d->out_dir, name);
-    if (st == VG_OK)
-        st = vg_png_write(path, s->w, s->frames, 1, px);
-    free(px);
-    return st;
+    char name[32], path[PATH_CAP], title[128];
+    const offline_desc *d = s->d;
+    snprintf(name, sizeof name, "xt_%s.png", k_maps[m]);
+    snprintf(title, sizeof title, "%s at row %d, frames %d-%d down: vergence", k_maps[m],
+             d->row >= 0 && d->row < s->h ? d->row : s->h / 2, d->first, d->last);
+    vg_status st = vg_path_join(path, sizeof path, d->out_dir, name);
+    int repeat = s->frames < 60 ? (60 + s->frames - 1) / s->frames : 1; /* a short clip still reads */
+    return st == VG_OK ? figure_map_png(path, v, s->w, s->frames, repeat, lo, hi,
+                                        &(figure_legend){.title = title, .unit = "arcmin"})
+                       : st;
 }
 
 static void json_metrics(vg_json *j, const char *key, const disp_metrics *m, double range_violation)
@@ -561,17 +622,18 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     disp_metrics_window(w, o->f_key, NULL, &mf);
     disp_metrics_window(w, f_sol, NULL, &ms);
     double np = (double)s->w * s->h * s->frames;
-    double lo = DBL_MAX, hi = -DBL_MAX;
+    /* g on its own scale; h and f on one, so the two compare pixel for pixel. */
+    float lo[2] = {FLT_MAX, FLT_MAX}, hi[2] = {-FLT_MAX, -FLT_MAX};
     size_t n = (size_t)s->w * s->frames;
     for (size_t i = 0; i < n; i++) {
-        lo = fmin(lo, fmin(o->slice_g[i], fmin(o->slice_h[i], o->slice_f[i])));
-        hi = fmax(hi, fmax(o->slice_g[i], fmax(o->slice_h[i], o->slice_f[i])));
+        lo[0] = fminf(lo[0], o->slice_g[i]), hi[0] = fmaxf(hi[0], o->slice_g[i]);
+        lo[1] = fminf(lo[1], fminf(o->slice_h[i], o->slice_f[i]));
+        hi[1] = fmaxf(hi[1], fmaxf(o->slice_h[i], o->slice_f[i]));
     }
-    vg_status st = write_slice(s, "xt_g.png", o->slice_g, lo, hi);
-    if (st == VG_OK)
-        st = write_slice(s, "xt_h.png", o->slice_h, lo, hi);
-    if (st == VG_OK)
-        st = write_slice(s, "xt_f.png", o->slice_f, lo, hi);
+    const float *slice[3] = {o->slice_g, o->slice_h, o->slice_f};
+    vg_status st = VG_OK;
+    for (int m = 0; m < 3 && st == VG_OK; m++)
+        st = write_slice(s, m, slice[m], lo[m > 0], hi[m > 0]);
     if (st != VG_OK)
         return st;
     vg_json j = {0};
@@ -627,12 +689,21 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
 /* Run                                                                       */
 /* ------------------------------------------------------------------------- */
 
-/* What optimize writes into --out: f_NNNN.pfm, the x-t slices, metrics.json. */
+/* What optimize writes into --out: f_NNNN.pfm, the x-t slices, the
+ * previews, the videos, metrics.json. */
 static bool writes(const char *name)
 {
     size_t n = strlen(name);
-    return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "xt_g.png") ||
-           !strcmp(name, "xt_h.png") || !strcmp(name, "xt_f.png") || !strcmp(name, "metrics.json");
+    for (int m = 0; m < 3; m++) {
+        char x[32];
+        const char *forms[3] = {"xt_%s.png", "preview_%s.png", "%s.mp4"};
+        for (int k = 0; k < 3; k++) {
+            snprintf(x, sizeof x, forms[k], k_maps[m]);
+            if (!strcmp(name, x))
+                return true;
+        }
+    }
+    return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "metrics.json");
 }
 
 static vg_status check_outputs(seq *s)

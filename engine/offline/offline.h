@@ -7,10 +7,15 @@
  *   B. h per frame (the operator, or --h files); coarse keyframe samples of
  *      g, h, depth; keyframe flows composed from the per-frame flows by
  *      tracking the coarse samples through them; then the window solve;
- *   C. per frame: temporal and spatial upsampling of f/h, f written as PFM;
- *      x-t slices of g, h and f at one row; metrics.json written last.
+ *   C. per frame: temporal and spatial upsampling of f/h, f written as PFM,
+ *      and as colour previews for people (engine/figure): the middle frame
+ *      of g, h and f as PNG with a legend, a video of each with ffmpeg;
+ *      x-t slices of g, h and f at one row in colour with a legend;
+ *      metrics.json written last.
  * A stale metrics.json is removed first, so a failed run never looks complete. */
 #pragma once
+#include <stdbool.h>
+
 #include "core/status.h"
 #include "disparity/disp_operator.h"
 #include "disparity/mid_solver.h"
@@ -41,6 +46,7 @@ typedef struct offline_desc {
     disp_g_units g_units;
     double px_zero;           /* pixel disparity shown on the screen plane (px units) */
     float occlusion_tolerance; /* 0 = MID_OCCLUSION_TOLERANCE */
+    bool video;               /* g.mp4, h.mp4, f.mp4 when ffmpeg is installed */
 } offline_desc;
 
 vg_status offline_run(const offline_desc *desc);

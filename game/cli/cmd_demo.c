@@ -21,6 +21,7 @@
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
+#include "figure/figure.h"
 #include "core/manifest.h"
 #include "demo/demo.h"
 #include "scene/scene.h"
@@ -103,23 +104,6 @@ static void progress_add(void *user, int units)
 /* ------------------------------------------------------------------------- */
 /* Set-up                                                                    */
 /* ------------------------------------------------------------------------- */
-
-/* ffmpeg on PATH, or NULL. */
-static const char *find_ffmpeg(char *buf, size_t cap)
-{
-    const char *path = getenv("PATH");
-    while (path && *path) {
-        const char *end = strchr(path, ':');
-        size_t len = end ? (size_t)(end - path) : strlen(path);
-        if (len > 0 && len + 8 < cap) {
-            snprintf(buf, cap, "%.*s/ffmpeg", (int)len, path);
-            if (access(buf, X_OK) == 0)
-                return buf;
-        }
-        path = end ? end + 1 : NULL;
-    }
-    return NULL;
-}
 
 /* What the report writes under --out: index.html and each scene's folder. */
 static char (*g_names)[DEMO_NAME];
@@ -263,7 +247,7 @@ static int run(int argc, char **argv)
         .seconds = o.seconds, .video = !o.no_video, .op = (disp_operator_kind)o.op, .keyframe_stride = o.stride,
         .tess_error = o.tess_error, .display = display_cli_desc(&o.display),
     };
-    d.ffmpeg = d.video ? find_ffmpeg(ffmpeg_buf, sizeof ffmpeg_buf) : NULL;
+    d.ffmpeg = d.video ? figure_find_ffmpeg(ffmpeg_buf, sizeof ffmpeg_buf) : NULL;
     if (d.video && !d.ffmpeg)
         vg_warn("demo: ffmpeg is not installed (Debian package ffmpeg): the report has stills but no videos");
     /* Nothing it writes or removes may be an input (the scenes and their files). */

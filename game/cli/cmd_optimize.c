@@ -16,6 +16,7 @@ static const char *const g_units[] = {"arcmin", "px", NULL};
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *out, *frames, *weights;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units;
+    bool no_video;
     double fps, range, px_zero, occlusion;
     display_cli display;
 } o;
@@ -23,7 +24,7 @@ static struct {
 static const vg_opt g_opts[] = {
     {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM per frame, e.g. 'in/g_%04d.pfm' (required)"},
     {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required)"},
-    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, metrics.json (required)"},
+    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), metrics.json (required)"},
     {.name = "--h", .kind = VG_OPT_STRING, .dest = &o.h, .metavar = "PATTERN", .help = "manipulated disparity h, PFM arcmin (instead of --operator)"},
     {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
     {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
@@ -44,6 +45,7 @@ static const vg_opt g_opts[] = {
     {.name = "--cg-iterations", .kind = VG_OPT_INT, .dest = &o.cg, .metavar = "N", .help = "CG steps per Gauss-Newton iteration (default 8)", .min = 1, .max = 100000},
     {.name = "--threads", .kind = VG_OPT_INT, .dest = &o.threads, .metavar = "N", .help = "worker threads (default: all cores)", .min = 0, .max = 1024},
     {.name = "--occlusion-tolerance", .kind = VG_OPT_FLOAT, .dest = &o.occlusion, .metavar = "R", .help = "relative depth difference of one surface (default 0.2)", .min = 0.001, .max = 10},
+    {.name = "--no-video", .kind = VG_OPT_FLAG, .dest = &o.no_video, .help = "no g.mp4, h.mp4, f.mp4 even when ffmpeg is installed"},
     DISPLAY_CLI_OPTIONS(o.display),
 };
 
@@ -105,7 +107,7 @@ static int run(int argc, char **argv)
         .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
         .display = display_cli_desc(&o.display),
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
-        .occlusion_tolerance = (float)o.occlusion,
+        .occlusion_tolerance = (float)o.occlusion, .video = !o.no_video,
     };
     if (!parse_frames(o.frames, &d.first, &d.last)) {
         vg_error("optimize: --frames '%s' is not A:B with 0 <= A <= B", o.frames);
@@ -134,7 +136,9 @@ const vg_cmd vg_cmd_optimize = {
     .usage = "vergence optimize --g PATTERN --frames A:B --out DIR [options]",
     .details = "Reads per-frame PFM vergence g (or dataset pixel disparity with --g-units px),\n"
                "makes h with an operator (or reads --h), solves the motion-in-depth optimisation\n"
-               "on coarse keyframes and writes the upsampled f for every frame. Patterns take one\n"
+               "on coarse keyframes and writes the upsampled f for every frame, with colour\n"
+               "previews of g, h and f (the middle frame as PNG with a legend, a video of each\n"
+               "with ffmpeg) and x-t slices. Patterns take one\n"
                "%d-style conversion, as in ffmpeg. Missing flow means a static scene; a missing\n"
                "flow direction is approximated by the other one negated.",
     .opts = g_opts,

@@ -12,6 +12,7 @@
 #include "demo.h"
 #include "shared.h"
 #include "demo_image.h"
+#include "figure/figure.h"
 #include "demo_svg.h"
 #include "stereo/stereo_perception.h"
 
@@ -281,7 +282,7 @@ static void ticks(demo_buf *b, const char *cls, const char *side, double lo, dou
 {
     if (!(hi > lo))
         return;
-    double step = demo_nice_step(hi - lo, count);
+    double step = figure_nice_step(hi - lo, count);
     for (double v = ceil(lo / step - 1e-9) * step; v <= hi + 1e-9 * step; v += step) {
         double at = 100.0 * (v - lo) / (hi - lo);
         P("<span class=\"%s\" style=\"%s:%.2f%%\">%g</span>", cls, side, flip ? 100.0 - at : at,
@@ -289,13 +290,13 @@ static void ticks(demo_buf *b, const char *cls, const char *side, double lo, dou
     }
 }
 
-/* The report's colour map as a CSS gradient (demo_colormap's stops). */
+/* The report's colour map as a CSS gradient (figure_colormap's stops). */
 static void gradient(demo_buf *b)
 {
     P("background:linear-gradient(90deg");
     for (int i = 0; i <= 8; i++) {
         uint8_t c[3];
-        demo_colormap(i / 8.0f, c);
+        figure_colormap(i / 8.0f, c);
         P(",#%02x%02x%02x", c[0], c[1], c[2]);
     }
     P(")");
@@ -580,7 +581,12 @@ static void scene_section(demo_buf *b, const demo_scene *sc, const demo_opts *o)
     P("<h3>Time per pass</h3><p class=\"explain\">GPU time of the passes of the frame graph (median over the "
       "frames each mode rendered, %ux%u per eye, on this run's device; passes under 0.05&nbsp;ms in every mode "
       "are left out). The MID passes run in every mode (the modes switch on any frame); the solve is spread "
-      "over the frames of a keyframe interval.</p>\n", (unsigned)o->width, (unsigned)o->height);
+      "over the frames of a keyframe interval, and a frame after skipped ones does their shares too, so the "
+      "modes rendered every %d frames show about %d times the optimized run's <code>mid.solve</code>. The warp "
+      "tessellates each edge until the disparity along it is within %g&nbsp;px of linear, so a map that bends "
+      "more inside the scene's triangles costs more warp time: f where the camera moves (every pixel then "
+      "moves in depth and carries f's upsampled correction; docs/demo.md).</p>\n", (unsigned)o->width,
+      (unsigned)o->height, o->step, o->step, o->tess_error);
     passes_table(b, sc);
     P("</section>\n");
 }

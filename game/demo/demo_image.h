@@ -18,8 +18,7 @@ vg_status demo_png_cascade(const char *dir, const char *name, const frame_output
 vg_status demo_png_holes(const char *dir, const char *name, const uint8_t *eye, uint32_t w, uint32_t h,
                          double *holes);
 /* An x-t slice: rows samples, columns w, values in [lo, hi] through the
- * colour map, each sample repeated `repeat` times vertically. NAN is grey. */
+ * colour map (figure/figure.h), each sample repeated `repeat` times
+ * vertically. NAN is grey. */
 vg_status demo_png_xt(const char *dir, const char *name, const float *v, int w, int rows, int repeat,
                       float lo, float hi);
-/* The report's colour map (perceptually ordered, dark blue -> yellow) at t in [0, 1]. */
-void demo_colormap(float t, uint8_t rgb[3]);

@@ -13,6 +13,7 @@
 #include "core/log.h"
 #include "demo.h"
 #include "demo_image.h"
+#include "figure/figure.h"
 
 typedef struct run_ctx {
     gpu *gpu;
@@ -25,7 +26,7 @@ typedef struct run_ctx {
     int *node_track;             /* node -> track index or -1 */
     bool own[DEMO_MAPS];         /* this run writes the scene's slices and tracks of map m */
     capture_log log;             /* the clip's timings and, in the analysis run, the MID metrics */
-    FILE *video;
+    figure_video *video;
     demo_progress_fn progress;
     void *user;
 } run_ctx;
@@ -99,21 +100,12 @@ static vg_status claim_maps(run_ctx *c, const frame_outputs *fo)
     return VG_OK;
 }
 
-static FILE *video_open(run_ctx *c, uint32_t w, uint32_t h)
+static figure_video *video_open(run_ctx *c, uint32_t w, uint32_t h)
 {
-    if (!c->o->video || !c->o->ffmpeg || strchr(c->dir, '\'') || strchr(c->o->ffmpeg, '\''))
+    char path[4096];
+    if (!c->o->video || vg_path_join(path, sizeof path, c->dir, "video.mp4") != VG_OK)
         return NULL;
-    char cmd[8192];
-    /* H.264 in MP4 plays in every browser; even sizes for yuv420p. */
-    snprintf(cmd, sizeof cmd,
-             "'%s' -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s %ux%u -r %g -i - -an "
-             "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p "
-             "-movflags +faststart '%s/video.mp4'",
-             c->o->ffmpeg, w, h, c->o->fps / c->o->step, c->dir);
-    FILE *p = popen(cmd, "w");
-    if (!p)
-        vg_warn("demo: could not start ffmpeg; no video for %s/%s", c->sc->name, frame_mode_names[c->r->mode]);
-    return p;
+    return figure_video_open(c->o->ffmpeg, path, (int)w, (int)h, c->o->fps / c->o->step);
 }
 
 static void video_frame(run_ctx *c, const frame_outputs *fo)
@@ -126,11 +118,7 @@ static void video_frame(run_ctx *c, const frame_outputs *fo)
         return;
     for (size_t i = 0; i < px; i++)
         memcpy(rgb + 3 * i, fo->stereo + 4 * i, 3);
-    if (fwrite(rgb, 3, px, c->video) != px) {
-        vg_warn("demo: ffmpeg stopped reading; no video for %s/%s", c->sc->name, frame_mode_names[c->r->mode]);
-        pclose(c->video);
-        c->video = NULL;
-    }
+    figure_video_frame(&c->video, rgb);
     free(rgb);
 }
 
@@ -358,14 +346,7 @@ vg_status demo_run_scene_mode(gpu *g, const scene *s, const demo_opts *o, demo_s
         st = render_clip(&c, c.frame = f);
     frame_desc clip = *frame_get_desc(f);
     frame_destroy(f);
-    if (c.video) {
-        r->video = pclose(c.video) == 0;
-        char video[4096];
-        if (r->video && vg_path_join(video, sizeof video, c.dir, "video.mp4") == VG_OK)
-            r->video = vg_write_watch_add(video) == VG_OK; /* ffmpeg wrote it, not core/io */
-        if (!r->video)
-            vg_warn("demo: ffmpeg failed; no video for %s/%s", sc->name, frame_mode_names[r->mode]);
-    }
+    r->video = figure_video_close(c.video);
     r->available = st == VG_OK;
     if (st == VG_OK)
         st = log_finish(&c);

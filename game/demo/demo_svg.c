@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/io.h"
+#include "figure/figure.h"
 
 void demo_buf_printf(demo_buf *b, const char *fmt, ...)
 {
@@ -38,12 +39,6 @@ void demo_buf_printf(demo_buf *b, const char *fmt, ...)
         b->s = p;
         b->cap = cap;
     }
-}
-
-double demo_nice_step(double span, int count)
-{
-    double raw = span / count, mag = pow(10.0, floor(log10(raw))), f = raw / mag;
-    return (f < 1.5 ? 1 : f < 3.5 ? 2 : f < 7.5 ? 5 : 10) * mag;
 }
 
 static void data_range(const demo_chart *c, double *lo, double *hi)
@@ -95,7 +90,7 @@ vg_status demo_svg_chart(const char *dir, const char *name, const demo_chart *c)
         demo_buf_printf(&b, "<text x=\"%g\" y=\"20\" font-size=\"14\" font-weight=\"600\" fill=\"#222\">%s</text>\n", ml,
             c->title);
     /* Grid and ticks. */
-    double ys = demo_nice_step(y1 - y0, 5), xs = demo_nice_step(x1 - x0, 8);
+    double ys = figure_nice_step(y1 - y0, 5), xs = figure_nice_step(x1 - x0, 8);
     for (double v = ceil(y0 / ys) * ys; v <= y1 + 1e-9 * ys; v += ys) {
         double y = PY(v);
         demo_buf_printf(&b, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#e6e6e6\"/>\n", ml, y, ml + pw, y);

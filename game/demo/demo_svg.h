@@ -33,9 +33,5 @@ typedef struct demo_chart {
     float ymin, ymax;        /* both 0 = from the data */
 } demo_chart;
 
-/* A round tick step (1, 2 or 5 times a power of ten) giving about `count`
- * ticks over `span` (the charts' and the page's map axes). */
-double demo_nice_step(double span, int count);
-
 /* Writes DIR/NAME as a standalone SVG. */
 vg_status demo_svg_chart(const char *dir, const char *name, const demo_chart *c);

@@ -233,14 +233,29 @@ static int synthetic_sequence(void)
             CHECK(f.data[i] >= lo - 1e-3 && f.data[i] <= hi + 1e-3, "%s: %.4f outside the range", path, f.data[i]);
         vg_imagef_free(&f);
     }
-    const char *slices[] = {"xt_g.png", "xt_h.png", "xt_f.png"};
-    for (int i = 0; i < 3; i++) {
-        int w, h;
+    /* The x-t slices (one row of every frame) and the previews (the middle
+     * frame) for people: in colour, enlarged 2x to 320 px, a legend below. */
+    const char *figures[] = {"xt_g.png", "xt_h.png", "xt_f.png", "preview_g.png", "preview_h.png", "preview_f.png"};
+    for (int i = 0; i < 6; i++) {
+        int w, h, rows = i < 3 ? LAST + 1 : H;
         uint8_t *px;
-        snprintf(path, sizeof path, "%s/%s", out, slices[i]);
-        CHECK(vg_png_read(path, &w, &h, 1, &px) == VG_OK && w == W && h == LAST + 1, "%s is %dx%d", path, w, h);
+        snprintf(path, sizeof path, "%s/%s", out, figures[i]);
+        CHECK(vg_png_read(path, &w, &h, 3, &px) == VG_OK && w == 2 * W && h > 2 * rows + 30, "%s is %dx%d", path,
+              w, h);
+        int coloured = 0, paper = 0;
+        for (int p = 0; p < w * 2 * rows; p++)
+            coloured += abs(px[3 * p] - px[3 * p + 1]) > 20 || abs(px[3 * p + 1] - px[3 * p + 2]) > 20;
+        for (int p = w * (2 * rows + 2); p < w * h; p++)
+            paper += px[3 * p] == 255 && px[3 * p + 1] == 255 && px[3 * p + 2] == 255;
+        CHECK(coloured > w * rows, "%s: the map is not in colour (%d coloured pixels)", path, coloured);
+        CHECK(paper > w * 10, "%s: no legend strip below the map", path);
         free(px);
     }
+    if (system("command -v ffmpeg > /dev/null 2>&1") == 0)
+        for (int m = 0; m < 3; m++) {
+            snprintf(path, sizeof path, "%s/%c.mp4", out, "ghf"[m]);
+            CHECK(access(path, R_OK) == 0, "ffmpeg is installed but %s is missing", path);
+        }
     return 0;
 }
 
