@@ -193,4 +193,8 @@ vg_status capture_json_finish(vg_json *j, const vg_manifest *m)
     return st;
 }
 
-bool capture_json_writes(const char *name) { return !strncmp(name, "frame_", 6) || !strcmp(name, "capture.json"); }
+bool capture_json_writes(const char *name)
+{
+    return !strncmp(name, "frame_", 6) || !strcmp(name, "capture.json") || !strcmp(name, "preview_g.png") ||
+           !strcmp(name, "preview_h.png") || !strcmp(name, "preview_f.png");
+}

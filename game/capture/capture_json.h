@@ -23,5 +23,5 @@ void capture_json_metrics(vg_json *j, const frame_desc *fd, const frame_info *in
  * the validation count, and writes it as the manifest m (atomically, last);
  * frees j. */
 vg_status capture_json_finish(vg_json *j, const vg_manifest *m);
-/* The names a capture writes into its folder (capture.json, frame_*). */
+/* The names a capture writes into its folder (capture.json, frame_*, preview_{g,h,f}.png). */
 bool capture_json_writes(const char *name);

@@ -7,7 +7,9 @@
  *   frame_NNNN_ids.png          instance id, 24 bits in RGB (R low byte); 0 = background
  *   frame_NNNN_motion_prev.flo  pixels to where each surface point is at the previous keyframe
  *   frame_NNNN_motion_next.flo  ... at the next keyframe
- * and capture.json last, so a folder without it is an incomplete capture. */
+ * the middle frame's g, h and f (those its mode computed) as colour previews
+ * with a legend, preview_{g,h,f}.png, and capture.json last, so a folder
+ * without it is an incomplete capture. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +22,7 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "figure/figure.h"
 #include "core/manifest.h"
 #include "options/display_cli.h"
 #include "options/gpu_cli.h"
@@ -263,6 +266,35 @@ static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, 
 
 /* Everything that can refuse the run (the device, the frame, the graph dump)
  * comes before the earlier result in --out is removed (manifest m). */
+/* The middle frame's g, h and f (those the mode computed) as colour
+ * previews with a legend, for people (engine/figure): g on its own range,
+ * h and f on one shared scale. */
+static vg_status write_previews(const char *dir, long n, const frame_outputs *fo, uint32_t w, uint32_t h)
+{
+    const float *maps[3] = {fo->g, fo->h, fo->f};
+    size_t px = (size_t)w * h;
+    float lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int m = 0; m < 3; m++)
+        for (size_t i = 0; maps[m] && i < px; i++)
+            if (isfinite(maps[m][i])) {
+                lo[m > 0] = fminf(lo[m > 0], maps[m][i]);
+                hi[m > 0] = fmaxf(hi[m > 0], maps[m][i]);
+            }
+    vg_status st = VG_OK;
+    for (int m = 0; m < 3 && st == VG_OK; m++) {
+        if (!maps[m])
+            continue;
+        char name[32], path[4096], title[64];
+        snprintf(name, sizeof name, "preview_%c.png", "ghf"[m]);
+        snprintf(title, sizeof title, "%c, frame %ld: vergence", "ghf"[m], n);
+        st = vg_path_join(path, sizeof path, dir, name);
+        if (st == VG_OK)
+            st = figure_map_png(path, maps[m], (int)w, (int)h, 1, lo[m > 0], hi[m > 0],
+                                &(figure_legend){.title = title, .unit = "arcmin"});
+    }
+    return st;
+}
+
 static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manifest *m)
 {
     frame_desc fd = {
@@ -305,6 +337,8 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         vg_progress("capture", i, o.frames);
         if ((st = capture_log_render(&log, f, first + i)) == VG_OK)
             st = write_frame(o.out, i, frame_get_outputs(f), d->width, d->height);
+        if (st == VG_OK && i == o.frames / 2)
+            st = write_previews(o.out, first + i, frame_get_outputs(f), d->width, d->height);
     }
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);

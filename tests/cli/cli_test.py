@@ -119,6 +119,11 @@ def case_deterministic():
     missing = [f"frame_{i:04d}_{k}" for i in range(3) for k in kinds if f"frame_{i:04d}_{k}" not in files]
     if missing:
         sys.exit(f"FAIL: frame files missing: {missing}")
+    # The middle frame's previews for people, as deterministic as the frames.
+    previews = [f"preview_{m}.png" for m in "ghf"]
+    if any(p not in os.listdir(a) for p in previews):
+        sys.exit(f"FAIL: previews missing: {[p for p in previews if p not in os.listdir(a)]}")
+    files += previews
     match, mismatch, errors = filecmp.cmpfiles(a, b, files, shallow=False)
     if mismatch or errors:
         sys.exit(f"FAIL: files differ between two captures: {mismatch + errors}")
