@@ -2,6 +2,7 @@
 #include "figure.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -167,8 +168,12 @@ struct figure_video {
 
 figure_video *figure_video_open(const char *ffmpeg, const char *path, int w, int h, double fps)
 {
-    if (!ffmpeg || strchr(path, '\'') || strchr(ffmpeg, '\'') || strlen(path) >= 4096)
+    if (!ffmpeg)
         return NULL;
+    if (strchr(path, '\'') || strchr(ffmpeg, '\'') || strlen(path) >= 4096) {
+        vg_warn("%s: a path ffmpeg cannot be given safely (a quote, or too long); no video", path);
+        return NULL;
+    }
     figure_video *v = calloc(1, sizeof *v);
     if (!v)
         return NULL;

@@ -7,7 +7,6 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 
 #include "core/status.h"
 
@@ -20,8 +19,8 @@ void figure_colormap(float t, uint8_t rgb[3]);
 void figure_map_rgb(const float *v, int w, int rows, int repeat, float lo, float hi, uint8_t *rgb);
 
 typedef struct figure_legend {
-    const char *title;   /* above the bar, e.g. "f, frame 12" */
-    const char *unit;    /* after the top value, e.g. "arcmin" */
+    const char *title;   /* above the bar, e.g. "f, frame 12: vergence" */
+    const char *unit;    /* after the title in parentheses, e.g. "arcmin" */
 } figure_legend;
 
 /* The map as an RGB PNG at path, each row repeated `repeat` times; with a

@@ -433,7 +433,6 @@ typedef struct outputs {
     long h_out, f_out;                  /* full-resolution samples outside the range */
 } outputs;
 
-/* C: upsample the keyframe correction to every frame and write f. */
 /* The colour scale of a map: g its own range, h and f the target range. */
 static void map_scale(const seq *s, int m, float *lo, float *hi)
 {
@@ -488,6 +487,8 @@ static void videos_frame(const seq *s, figure_video *v[3], const float *const ma
     }
 }
 
+/* C: upsample the keyframe correction to every frame and write f (and the
+ * previews and videos of g, h and f). */
 static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, outputs *o)
 {
     const offline_desc *d = s->d;
