@@ -116,13 +116,7 @@ static void curve_range_execute(const rg_context *ctx, void *user)
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     bind_curve(w, ctx, K_RANGE, 0);
     vkCmdDispatch(cmd, w->tiles_x, w->tiles_y, 1);
-    VkMemoryBarrier2 mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-                           .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                           .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                           .dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                           .dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
-    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
-                                                   .memoryBarrierCount = 1, .pMemoryBarriers = &mb});
+    gpu_compute_barrier(cmd);
     bind_curve(w, ctx, K_RANGE, 1);
     vkCmdDispatch(cmd, 1, 1, 1);
 }

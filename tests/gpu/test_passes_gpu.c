@@ -363,13 +363,7 @@ static void curve_execute(const rg_context *ctx, void *user, int which)
     }
     vkCmdDispatch(cmd, t->tiles_x, t->tiles_y, 1);
     if (which == 0) { /* the range: per tile, then over the tiles */
-        VkMemoryBarrier2 mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-                               .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                               .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                               .dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                               .dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
-        vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
-                                                       .memoryBarrierCount = 1, .pMemoryBarriers = &mb});
+        gpu_compute_barrier(cmd);
         pc.stage = 1;
         vkCmdPushConstants(cmd, t->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
         vkCmdDispatch(cmd, 1, 1, 1);
