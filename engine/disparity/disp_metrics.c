@@ -2,13 +2,11 @@
 
 #include <math.h>
 
-#define RANGE_SLACK 1e-3f
-
 double disp_metrics_range_violation(const float *x, int n, float lo, float hi)
 {
     long out = 0;
     for (int i = 0; i < n; i++)
-        out += !(x[i] >= lo - RANGE_SLACK && x[i] <= hi + RANGE_SLACK);
+        out += !disp_metrics_in_range(x[i], lo, hi);
     return n > 0 ? (double)out / n : 0.0;
 }
 
@@ -30,9 +28,14 @@ void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics
 {
     float thr = desc && desc->moving_threshold > 0 ? desc->moving_threshold : 1.0f;
     double mid2 = 0, st2 = 0, grad2 = 0;
-    disp_metrics m = {.samples = w->n};
+    disp_metrics m = {0};
+    long out_of_range = 0;
     for (int i = 0; i < w->n; i++) {
         int k = i / w->ns, p = i % w->ns, px = p % w->nx, py = p / w->nx;
+        if (w->unknown[i])
+            continue; /* g unknown: nothing to measure against */
+        m.samples++;
+        out_of_range += !disp_metrics_in_range(x[i], w->range_lo, w->range_hi);
         if (is_moving(w, i, thr)) {
             m.moving++;
             if (w->fwd[i].mask && w->bwd[i].mask) {
@@ -49,13 +52,13 @@ void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics
         m.static_count++;
         double d = (double)x[i] - w->h[i];
         st2 += d * d;
-        double gx = px + 1 < w->nx ? ((double)x[i + 1] - w->h[i + 1]) - d : 0.0;
-        double gy = py + 1 < w->ny ? ((double)x[i + w->nx] - w->h[i + w->nx]) - d : 0.0;
+        double gx = px + 1 < w->nx && !w->unknown[i + 1] ? ((double)x[i + 1] - w->h[i + 1]) - d : 0.0;
+        double gy = py + 1 < w->ny && !w->unknown[i + w->nx] ? ((double)x[i + w->nx] - w->h[i + w->nx]) - d : 0.0;
         grad2 += gx * gx + gy * gy;
     }
     m.mid_distortion_jnd = m.moving_measured ? sqrt(mid2 / m.moving_measured) : 0.0;
     m.static_rms = m.static_count ? sqrt(st2 / m.static_count) : 0.0;
     m.static_grad_rms = m.static_count ? sqrt(grad2 / m.static_count) : 0.0;
-    m.range_violation = disp_metrics_range_violation(x, w->n, w->range_lo, w->range_hi);
+    m.range_violation = m.samples ? (double)out_of_range / m.samples : 0.0;
     *out = m;
 }

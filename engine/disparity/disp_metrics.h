@@ -9,8 +9,11 @@
  *                    e needs both links valid
  *   range violation  fraction of samples outside the target range (+- 1e-3 arcmin)
  *   static RMS       RMS of x - h over the static (not moving) pixels, arcmin
- *   static gradient  RMS over static pixels of |grad (x - h)| (forward differences), arcmin/px */
+ *   static gradient  RMS over static pixels of |grad (x - h)| (forward differences), arcmin/px
+ * Samples of unknown g (w->unknown) are left out of all four. */
 #pragma once
+#include <stdbool.h>
+
 #include "mid_window.h"
 
 typedef struct disp_metrics {
@@ -27,5 +30,10 @@ typedef struct disp_metrics_desc {
 
 void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics_desc *desc,
                          disp_metrics *out);
-/* Fraction of the n values outside [lo - 1e-3, hi + 1e-3]. */
+/* In the target range [lo, hi] up to 1e-3 arcmin (float rounding of the clamp). */
+static inline bool disp_metrics_in_range(float x, float lo, float hi)
+{
+    return x >= lo - 1e-3f && x <= hi + 1e-3f;
+}
+/* Fraction of the n values outside the range (disp_metrics_in_range). */
 double disp_metrics_range_violation(const float *x, int n, float lo, float hi);

@@ -46,6 +46,7 @@ vg_status mid_window_create(const mid_window_desc *desc, mid_window **out)
     w->h = calloc(1, nf);
     w->depth = calloc(1, nf);
     w->id = calloc(1, nf);
+    w->unknown = calloc((size_t)n, 1);
     w->flow_fwd = calloc(2, nf);
     w->flow_bwd = calloc(2, nf);
     w->dt = calloc((size_t)w->nt, sizeof(float));
@@ -65,7 +66,7 @@ vg_status mid_window_create(const mid_window_desc *desc, mid_window **out)
     w->chain_order = calloc((size_t)n, sizeof(int32_t));
     w->chain_group = calloc((size_t)n / MID_CHAIN_GROUP + 2, sizeof(int32_t));
     if (!w->chain_next || !w->chain_prev || !w->chain_head || !w->chain_order || !w->chain_group ||
-        !w->g || !w->h || !w->depth || !w->id || !w->flow_fwd || !w->flow_bwd || !w->dt || !w->fwd ||
+        !w->g || !w->h || !w->depth || !w->id || !w->unknown || !w->flow_fwd || !w->flow_bwd || !w->dt || !w->fwd ||
         !w->bwd || !w->fwd_adj.offset || !w->bwd_adj.offset || !w->edge_x || !w->edge_y ||
         !w->ph || !w->pg_acc || !w->inv_dt_f || !w->inv_dt_b) {
         mid_window_destroy(w);
@@ -88,6 +89,7 @@ void mid_window_destroy(mid_window *w)
     free(w->h);
     free(w->depth);
     free(w->id);
+    free(w->unknown);
     free(w->flow_fwd);
     free(w->flow_bwd);
     free(w->dt);
@@ -145,13 +147,14 @@ static bool round_trip(const float *there, const float *back, int i, int j, floa
  * to the background behind it, whose flow back is zero, so the round trip
  * passes: on balloon such links carried 90 % of h's MID distortion (the
  * object's and the background's motion mixed). Sequences from files have no
- * ids (all 0): the depth and round-trip tests decide alone. */
+ * ids (all 0): the depth and round-trip tests decide alone. A sample of
+ * unknown g has no links and is no tap (its g is made up). */
 static mid_link link_make(const mid_window *w, int i, int dir, float log_tol)
 {
     mid_link l = {0};
     int k = i / w->ns, p = i % w->ns, x = p % w->nx, y = p / w->nx;
     int kk = k + dir;
-    if (kk < 0 || kk >= w->nt)
+    if (kk < 0 || kk >= w->nt || w->unknown[i])
         return l;
     const float *flow = dir > 0 ? w->flow_fwd : w->flow_bwd;
     const float *back = dir > 0 ? w->flow_bwd : w->flow_fwd;
@@ -173,7 +176,7 @@ static mid_link link_make(const mid_window *w, int i, int dir, float log_tol)
     float kept = 0.0f;
     float z0 = w->depth[i], id = w->id[i];
     for (int t = 0; t < 4; t++)
-        if (raw[t] > 0.0f && w->id[idx[t]] == id &&
+        if (raw[t] > 0.0f && w->id[idx[t]] == id && !w->unknown[idx[t]] &&
             (same_surface(z0, w->depth[idx[t]], log_tol) || round_trip(flow, back, i, (int)idx[t], w->flow_tolerance))) {
             l.mask |= 1u << t;
             kept += raw[t];
@@ -301,9 +304,13 @@ static void targets_block(void *c, int block, int begin, int end)
     for (int i = begin; i < end; i++) {
         int k = i / w->ns, p = i % w->ns, x = p % w->nx, y = p / w->nx;
         /* Sec. 4.1: a_x = exp(-10 |dh/dx|), h normalised over the target range;
-         * c_s uses a^2 per edge (the residual is a times the difference). */
-        float ax = x + 1 < w->nx ? mid_edge_weight((w->h[i + 1] - w->h[i]) * b->inv_range) : 0.0f;
-        float ay = y + 1 < w->ny ? mid_edge_weight((w->h[i + w->nx] - w->h[i]) * b->inv_range) : 0.0f;
+         * c_s uses a^2 per edge (the residual is a times the difference).
+         * An edge to a sample of unknown g has none. */
+        bool known = !w->unknown[i];
+        float ax = x + 1 < w->nx && known && !w->unknown[i + 1]
+                       ? mid_edge_weight((w->h[i + 1] - w->h[i]) * b->inv_range) : 0.0f;
+        float ay = y + 1 < w->ny && known && !w->unknown[i + w->nx]
+                       ? mid_edge_weight((w->h[i + w->nx] - w->h[i]) * b->inv_range) : 0.0f;
         w->edge_x[i] = ax * ax;
         w->edge_y[i] = ay * ay;
         /* Targets of c_t and c_a evaluated along the same links as f. */

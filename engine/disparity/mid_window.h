@@ -37,6 +37,8 @@ typedef struct mid_window {
     float *depth;       /* metres (any positive unit: only ratios are used) */
     float *id;          /* instance id of the surface (0: sky), exact below 2^24; all 0 (the
                            default) when unknown, as for sequences from files */
+    uint8_t *unknown;   /* 1 where g is unknown (a dataset's inf or 0): no links, no edges, left out of
+                           the metrics; all 0 (the default) for the engine's frames */
     float *flow_fwd;    /* 2n: (dx, dy) in coarse pixels to keyframe k+1 */
     float *flow_bwd;    /* 2n: (dx, dy) in coarse pixels to keyframe k-1 */
     float *dt;          /* nt - 1: seconds from keyframe k to k+1 */

@@ -105,10 +105,12 @@ static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, 
     return VG_OK;
 }
 
-/* Pixels of unknown disparity (inf, as Middlebury writes them) take the
+/* Pixels of unknown disparity (inf, as Middlebury writes them; KITTI's 0
+ * reads as inf) are marked in s->unknown: their samples are left out of
+ * the costs and the metrics, and f is written as inf there. They take the
  * value of the nearest known pixel of their row (of the nearest row with
- * one); s->unknown marks them, f is written as inf there. Returns how many,
- * -1 when no pixel is known. */
+ * one), so that the operator and the upsampling see a plausible surface.
+ * Returns how many, -1 when no pixel is known. */
 static int fill_unknown(seq *s, float *v)
 {
     int w = s->w, h = s->h, count = 0, known_row = -1;
@@ -346,8 +348,8 @@ static vg_status pass_validate(seq *s)
     if (st == VG_OK)
         vg_progress("optimize: checking inputs", s->frames, s->frames);
     if (st == VG_OK && s->unknown_total)
-        vg_info("optimize: %ld pixels of unknown g (inf) take the value of their row's nearest known pixel; f is "
-                "inf there too", s->unknown_total);
+        vg_info("optimize: %ld pixels of unknown g (inf, or KITTI's 0): left out of the costs and the metrics, "
+                "inf in f, grey in the previews", s->unknown_total);
     if (st == VG_OK && d->row >= s->h) {
         vg_error("optimize: --row %d: the frames have %d rows (0 to %d)", d->row, s->h, s->h - 1);
         st = VG_ERR_ARG;
@@ -411,6 +413,10 @@ static vg_status pass_keyframes(seq *s, mid_window *w, float *g, float *h, float
                 disp_grid_sample(&s->grid, g, 1, w->g + o);
                 disp_grid_sample(&s->grid, h, 1, w->h + o);
                 disp_grid_sample(&s->grid, z, 1, w->depth + o);
+                /* Samples on unknown g: out of the costs and the metrics. */
+                for (int q = 0; q < w->ns; q++)
+                    w->unknown[o + q] = s->unknown[(size_t)disp_grid_py(&s->grid, q / s->grid.nx) * s->w +
+                                                   disp_grid_px(&s->grid, q % s->grid.nx)];
             }
         }
         if (k + 1 < s->nt) {
@@ -549,18 +555,25 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
             disp_upsample_temporal(&ud, tau, span, zc, &k0, has1 ? &k1 : NULL, rt, s->pool);
             disp_upsample_spatial(&ud, h, rt, f, s->pool);
+            if (t == t0)
+                disp_grid_sample(&s->grid, f, 1, o->f_key + (size_t)k * nc);
+            for (size_t i = 0; i < np; i++) {
+                if (s->unknown[i])
+                    continue;
+                o->h_out += !disp_metrics_in_range(h[i], (float)s->lo, (float)s->hi);
+                o->f_out += !disp_metrics_in_range(f[i], (float)s->lo, (float)s->hi);
+            }
+            /* Unknown g stays unknown: inf in f as written, grey in every picture. */
+            for (size_t i = 0; i < np; i++)
+                if (s->unknown[i])
+                    g[i] = h[i] = f[i] = INFINITY;
             char path[PATH_CAP], name[64];
             snprintf(name, sizeof name, "f_%04d.pfm", t);
             st = vg_path_join(path, sizeof path, d->out_dir, name);
-            /* Unknown g stays unknown in f (z is free by now). */
-            memcpy(z, f, np * sizeof(float));
-            for (size_t i = 0; i < np; i++)
-                if (s->unknown[i])
-                    z[i] = INFINITY;
-            vg_imagef img = {.width = s->w, .height = s->h, .channels = 1, .data = z};
+            vg_imagef img = {.width = s->w, .height = s->h, .channels = 1, .data = f};
             if (st == VG_OK)
                 st = vg_pfm_write(path, &img);
-            const float *const maps[3] = {g, h, z}; /* z: f as written (unknown g stays unknown) */
+            const float *const maps[3] = {g, h, f};
             videos_frame(s, video, maps, rgb);
             if (st == VG_OK && t == d->first + (d->last - d->first) / 2)
                 st = write_previews(s, t, maps);
@@ -568,10 +581,6 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             memcpy(o->slice_g + r, g + src, s->w * sizeof(float));
             memcpy(o->slice_h + r, h + src, s->w * sizeof(float));
             memcpy(o->slice_f + r, f + src, s->w * sizeof(float));
-            o->h_out += lround(disp_metrics_range_violation(h, (int)np, (float)s->lo, (float)s->hi) * (double)np);
-            o->f_out += lround(disp_metrics_range_violation(f, (int)np, (float)s->lo, (float)s->hi) * (double)np);
-            if (t == t0)
-                disp_grid_sample(&s->grid, f, 1, o->f_key + (size_t)k * nc);
         }
     }
     if (st == VG_OK)
@@ -622,11 +631,15 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     disp_metrics_window(w, w->h, NULL, &mh);
     disp_metrics_window(w, o->f_key, NULL, &mf);
     disp_metrics_window(w, f_sol, NULL, &ms);
-    double np = (double)s->w * s->h * s->frames;
+    double np = (double)s->w * s->h * s->frames - (double)s->unknown_total; /* pixels of known g */
+    if (np < 1)
+        np = 1;
     /* g on its own scale; h and f on one, so the two compare pixel for pixel. */
     float lo[2] = {FLT_MAX, FLT_MAX}, hi[2] = {-FLT_MAX, -FLT_MAX};
     size_t n = (size_t)s->w * s->frames;
     for (size_t i = 0; i < n; i++) {
+        if (!isfinite(o->slice_g[i]))
+            continue; /* unknown g */
         lo[0] = fminf(lo[0], o->slice_g[i]), hi[0] = fmaxf(hi[0], o->slice_g[i]);
         lo[1] = fminf(lo[1], fminf(o->slice_h[i], o->slice_f[i]));
         hi[1] = fmaxf(hi[1], fmaxf(o->slice_h[i], o->slice_f[i]));

@@ -345,6 +345,62 @@ static int warm_start(void)
     return 0;
 }
 
+/* Samples of unknown g (a dataset's inf or 0) are out of the costs and the
+ * metrics: whatever g holds there, f and the metrics are the same bits;
+ * without the mask the same made-up g changes f. */
+static int unknown_masked(void)
+{
+    float *f[3];
+    disp_metrics m[3];
+    int unknown = 0, n = 0;
+    for (int run = 0; run < 3; run++) {
+        mid_window *w = synth_window(&(synth_desc){.motion = SYNTH_CONSTANT_ACCEL});
+        CHECK(w, "window");
+        n = w->n;
+        unknown = 0;
+        unsigned seed = 5u + (unsigned)run;
+        for (int i = 0; i < w->n; i++) {
+            int x = i % w->ns % w->nx;
+            if (x < w->nx / 2 - 2 || x > w->nx / 2 + 2)
+                continue; /* a band of columns every keyframe, crossed by the ball */
+            w->unknown[i] = run < 2;
+            w->g[i] = run == 0 ? 200.0f : rnd_uniform(&seed, 150, 450);
+            unknown++;
+        }
+        CHECK(mid_window_build(w, NULL) == VG_OK, "build");
+        for (int i = 0; i < w->n && run < 2; i++) {
+            mid_link l[2] = {w->fwd[i], w->bwd[i]};
+            for (int d = 0; d < 2; d++) {
+                uint idx[4] = {l[d].base, l[d].base + 1, l[d].base + (uint)w->nx, l[d].base + (uint)w->nx + 1};
+                for (int t = 0; t < 4; t++)
+                    CHECK(!(l[d].mask & (1u << t)) || (!w->unknown[i] && !w->unknown[idx[t]]),
+                          "a link touches an unknown sample at %d", i);
+            }
+            CHECK(!w->unknown[i] || (w->edge_x[i] == 0 && w->edge_y[i] == 0), "an edge from an unknown sample");
+        }
+        f[run] = malloc(w->n * sizeof(float));
+        mid_solve_stats st;
+        CHECK(mid_solve(w, &(mid_solve_desc){0}, f[run], &st) == VG_OK, "solve");
+        disp_metrics_window(w, f[run], NULL, &m[run]);
+        mid_window_destroy(w);
+    }
+    int same = 0, moved = 0;
+    for (int i = 0; i < n; i++) {
+        same += memcmp(&f[0][i], &f[1][i], sizeof(float)) == 0;
+        moved += fabsf(f[2][i] - f[1][i]) > 1e-3f;
+    }
+    printf("%d of %d samples unknown: f identical at %d of %d with two made-up g's (MID %.4f / %.4f JND over %d / %d "
+           "samples); unmasked, the made-up g moves f at %d samples (MID %.4f JND)\n",
+           unknown, n, same, n, m[0].mid_distortion_jnd, m[1].mid_distortion_jnd, m[0].samples, m[1].samples, moved,
+           m[2].mid_distortion_jnd);
+    CHECK(same == n && m[0].mid_distortion_jnd == m[1].mid_distortion_jnd && m[0].samples == n - unknown,
+          "unknown g leaks into f or the metrics");
+    CHECK(moved > 0, "the made-up g must matter when not masked (the check could not fail)");
+    for (int run = 0; run < 3; run++)
+        free(f[run]);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
@@ -359,6 +415,7 @@ int main(int argc, char **argv)
         {"identity_when_h_is_g", identity_when_h_is_g},
         {"threads_deterministic", threads_deterministic},
         {"warm_start", warm_start},
+        {"unknown_masked", unknown_masked},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }
