@@ -17,7 +17,7 @@
 #include "output/compose_gpu.h"
 #include "output/overlay_gpu.h"
 #include "output/present_gpu.h"
-#include "warp/warp_gpu.h"
+#include "warp/gpu/warp_gpu.h"
 
 /* One image (or buffer: height 0, width = bytes) copied to the host after
  * the frame, and the frame_outputs field that points at its copy. */

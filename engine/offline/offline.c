@@ -19,6 +19,7 @@
 #include "disparity/disp_pattern.h"
 #include "disparity/disp_upsample.h"
 #include "figure/figure.h"
+#include "warp/image_warp.h"
 
 #define PATH_CAP 4096
 
@@ -28,8 +29,8 @@
 
 typedef struct seq {
     const offline_desc *d;
-    disp_pattern pg, ph, pz, pfn, pfp, ps;
-    bool has_h, has_z, has_fn, has_fp, has_s;
+    disp_pattern pg, ph, pz, pfn, pfp, ps, pid, pim;
+    bool has_h, has_z, has_fn, has_fp, has_s, has_id, has_im;
     int w, h, frames, stride, nt;
     int *key;             /* frame number of each keyframe */
     double fps, lo, hi, g_min, g_max;
@@ -41,6 +42,7 @@ typedef struct seq {
     uint8_t *unknown;     /* scratch: the last frame read's pixels of unknown g (inf) */
     vg_manifest man;      /* the result in out_dir: metrics.json lists its files */
     long unknown_total;   /* over the sequence, counted when checking the inputs */
+    long holes;           /* of the new pair before the fill, both eyes over the sequence */
     const char *g_png;    /* g from dataset PNGs: "KITTI" or "Sintel" (pixels), else NULL */
     double raw_min, raw_max; /* known g as read, before any unit conversion */
     double raw_median;    /* of the first frame's known g, as read */
@@ -48,6 +50,12 @@ typedef struct seq {
 
 /* g in pixels: --g-units px, or a dataset's PNGs. */
 static bool g_in_px(const seq *s) { return s->d->g_units == DISP_G_PX || s->g_png; }
+
+/* The view of --image is the left camera's. */
+static bool image_left(const seq *s)
+{
+    return s->d->image_view == OFFLINE_VIEW_LEFT || (s->d->image_view == OFFLINE_VIEW_AUTO && g_in_px(s));
+}
 
 static bool is_png(const char *path)
 {
@@ -253,6 +261,50 @@ static vg_status read_saliency(seq *s, int t, float *out)
     return VG_OK;
 }
 
+/* Instance ids of a frame (capture's frame_NNNN_ids.png), as floats. */
+static vg_status read_ids(seq *s, int t, float *out)
+{
+    char path[PATH_CAP];
+    vg_status st = frame_path(&s->pid, t, path);
+    int w, h;
+    uint8_t *px;
+    if (st == VG_OK)
+        st = vg_png_read(path, &w, &h, 3, &px);
+    if (st != VG_OK)
+        return st;
+    if (w != s->w || h != s->h) {
+        vg_error("%s: ids are %dx%d but the sequence is %dx%d (all frames must have the same size)", path, w, h,
+                 s->w, s->h);
+        free(px);
+        return VG_ERR_FORMAT;
+    }
+    for (int i = 0; out && i < w * h; i++)
+        out[i] = (float)(px[3 * i] | px[3 * i + 1] << 8 | px[3 * i + 2] << 16);
+    free(px);
+    return VG_OK;
+}
+
+/* The view of frame t (--image), RGB; *out is freed with free(). */
+static vg_status read_image(seq *s, int t, uint8_t **out)
+{
+    char path[PATH_CAP];
+    vg_status st = frame_path(&s->pim, t, path);
+    int w, h;
+    uint8_t *px = NULL;
+    if (st == VG_OK)
+        st = vg_png_read(path, &w, &h, 3, &px);
+    if (st == VG_OK && (w != s->w || h != s->h)) {
+        vg_error("%s: the image is %dx%d but the sequence is %dx%d (all frames must have the same size)", path, w,
+                 h, s->w, s->h);
+        st = VG_ERR_FORMAT;
+    }
+    if (st == VG_OK && out)
+        *out = px;
+    else
+        free(px);
+    return st;
+}
+
 /* Flow of frame t to t+1 (next) or t-1 (prev). A missing direction is
  * approximated by the other one negated at the same pixel (docs/method.md);
  * no flow at all means a static camera and scene. */
@@ -344,6 +396,10 @@ static vg_status pass_validate(seq *s)
             st = read_flow(s, t, false, NULL);
         if (st == VG_OK && s->has_s)
             st = read_saliency(s, t, NULL);
+        if (st == VG_OK && s->has_id)
+            st = read_ids(s, t, NULL);
+        if (st == VG_OK && s->has_im)
+            st = read_image(s, t, NULL);
     }
     if (st == VG_OK)
         vg_progress("optimize: checking inputs", s->frames, s->frames);
@@ -373,7 +429,8 @@ static vg_status keyframe_flow(seq *s, int a, int b, float *flow_c, float *scrat
 {
     int nc = s->grid.nx * s->grid.ny;
     disp_grid_positions(&s->grid, pos);
-    for (int t = a; t != b; t += b > a ? 1 : -1) {
+    /* Flows to the keyframes hold the whole interval in one step. */
+    for (int t = a; t != b; t = s->d->flow_to_keyframe ? b : t + (b > a ? 1 : -1)) {
         vg_status st = read_flow(s, t, b > a, scratch);
         if (st != VG_OK)
             return st;
@@ -413,6 +470,12 @@ static vg_status pass_keyframes(seq *s, mid_window *w, float *g, float *h, float
                 disp_grid_sample(&s->grid, g, 1, w->g + o);
                 disp_grid_sample(&s->grid, h, 1, w->h + o);
                 disp_grid_sample(&s->grid, z, 1, w->depth + o);
+                if (s->has_id) { /* z is free again */
+                    vg_status st = read_ids(s, t, z);
+                    if (st != VG_OK)
+                        return st;
+                    disp_grid_sample(&s->grid, z, 1, w->id + o);
+                }
                 /* Samples on unknown g: out of the costs and the metrics. */
                 for (int q = 0; q < w->ns; q++)
                     w->unknown[o + q] = s->unknown[(size_t)disp_grid_py(&s->grid, q / s->grid.nx) * s->w +
@@ -493,6 +556,46 @@ static void videos_frame(const seq *s, figure_video *v[3], const float *const ma
     }
 }
 
+/* The new stereo pair of frame t from f: the image's pixels move to where
+ * f puts them in each eye, the engine's image warping (warp/image_warp.h,
+ * the pass imagewarp.left/right), then the hole fill. With P(a) the image
+ * parallax of vergence a (x_right - x_left, pixels of this image across the
+ * panel width) and the image at s on the baseline (0 the centre view, -1/2
+ * the left), a pixel at x moves to x - s P(g) + e P(f), e = -1/2 left, +1/2
+ * right. Writes left_NNNN.png, right_NNNN.png and a side-by-side video frame. */
+static vg_status write_pair(seq *s, int t, const float *g, const float *f, const float *z, figure_video **video)
+{
+    size_t np = (size_t)s->w * s->h;
+    uint8_t *src = NULL, *eye = malloc(np * 3), *hole = malloc(np), *sbs = *video ? malloc(2 * np * 3) : NULL;
+    float *shift = malloc(np * sizeof(float)), *zo = malloc(np * sizeof(float));
+    vg_status st = eye && hole && shift && zo && (sbs || !*video) ? read_image(s, t, &src) : VG_ERR_NOMEM;
+    double to_px = (double)s->w / s->disp.width_m, at = image_left(s) ? -0.5 : 0.0;
+    for (int e = 0; e < 2 && st == VG_OK; e++) {
+        double side = e ? 0.5 : -0.5;
+        for (size_t i = 0; i < np; i++)
+            shift[i] = (float)(to_px * (side * stereo_parallax_from_vergence(&s->disp, f[i]) -
+                                        at * stereo_parallax_from_vergence(&s->disp, g[i])));
+        long holes = image_warp(src, s->w, s->h, 3, shift, z, eye, zo, hole);
+        if (holes < 0) {
+            st = VG_ERR_NOMEM;
+            break;
+        }
+        s->holes += holes;
+        image_warp_fill(eye, s->w, s->h, 3, zo, hole);
+        char name[64], path[PATH_CAP];
+        snprintf(name, sizeof name, "%s_%04d.png", e ? "right" : "left", t);
+        st = vg_path_join(path, sizeof path, s->d->out_dir, name);
+        if (st == VG_OK)
+            st = vg_png_write(path, s->w, s->h, 3, eye);
+        for (int y = 0; sbs && y < s->h; y++)
+            memcpy(sbs + ((size_t)y * 2 * s->w + (size_t)e * s->w) * 3, eye + (size_t)y * s->w * 3, (size_t)s->w * 3);
+    }
+    if (st == VG_OK && sbs)
+        figure_video_frame(video, sbs);
+    free(src); free(eye); free(hole); free(sbs); free(shift); free(zo);
+    return st;
+}
+
 /* C: upsample the keyframe correction to every frame and write f (and the
  * previews and videos of g, h and f). */
 static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, outputs *o)
@@ -507,13 +610,19 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     float *prev = malloc((size_t)s->stride * nf2 * sizeof(float)), *next = malloc((size_t)s->stride * nf2 * sizeof(float));
     uint8_t *rgb = malloc(np * 3);
-    figure_video *video[3] = {NULL, NULL, NULL};
+    figure_video *video[3] = {NULL, NULL, NULL}, *pair_video = NULL;
     vg_status st = VG_OK;
     if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !pos0 || !pos1 || !prev || !next || !rgb) {
         st = VG_ERR_NOMEM;
         goto done;
     }
     videos_open(s, video);
+    if (video[0] && s->has_im) { /* ffmpeg is there: the new pair side by side */
+        char ffmpeg[PATH_CAP], path[PATH_CAP];
+        if (figure_find_ffmpeg(ffmpeg, sizeof ffmpeg) &&
+            vg_path_join(path, sizeof path, d->out_dir, "stereo.mp4") == VG_OK)
+            pair_video = figure_video_open(ffmpeg, path, 2 * s->w, s->h, s->fps);
+    }
     /* Fig. 4: the correction is the ratio f / h (vergence is never 0). */
     for (int i = 0; i < w->n; i++)
         ratio[i] = f_sol[i] / w->h[i];
@@ -524,7 +633,8 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     for (int k = 0; k < s->nt && st == VG_OK; k++) {
         int t0 = s->key[k], t1 = k + 1 < s->nt ? s->key[k + 1] : t0;
         int t_end = k + 1 < s->nt ? t1 : t0 + 1;
-        /* The segment's per-frame flows, held for the tracking of each frame. */
+        /* The segment's per-frame flows, held for the tracking of each frame
+         * (with flows to the keyframes, each frame's own). */
         for (int t = t0 + 1; t < t1 && st == VG_OK; t++) {
             st = read_flow(s, t, false, prev + (size_t)(t - t0) * nf2);
             if (st == VG_OK)
@@ -546,11 +656,12 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
                 break;
             disp_grid_sample(&s->grid, z, 1, zc);
             /* Where frame t's coarse samples are in the two keyframes. */
+            bool direct = d->flow_to_keyframe;
             disp_grid_positions(&s->grid, pos0);
-            for (int m = t; m > t0; m--)
+            for (int m = t; m > t0; m = direct ? t0 : m - 1)
                 disp_flow_advect(prev + (size_t)(m - t0) * nf2, s->w, s->h, pos0, nc);
             disp_grid_positions(&s->grid, pos1);
-            for (int m = t; m < t1 && t > t0; m++) /* at a keyframe only k0 counts */
+            for (int m = t; m < t1 && t > t0; m = direct ? t1 : m + 1) /* at a keyframe only k0 counts */
                 disp_flow_advect(next + (size_t)(m - t0) * nf2, s->w, s->h, pos1, nc);
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
             disp_upsample_temporal(&ud, tau, span, zc, &k0, has1 ? &k1 : NULL, rt, s->pool);
@@ -563,6 +674,8 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
                 o->h_out += !disp_metrics_in_range(h[i], (float)s->lo, (float)s->hi);
                 o->f_out += !disp_metrics_in_range(f[i], (float)s->lo, (float)s->hi);
             }
+            if (s->has_im && (st = write_pair(s, t, g, f, z, &pair_video)) != VG_OK)
+                break;
             /* Unknown g stays unknown: inf in f as written, grey in every picture. */
             for (size_t i = 0; i < np; i++)
                 if (s->unknown[i])
@@ -588,6 +701,7 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
 done:
     for (int m = 0; m < 3; m++)
         figure_video_close(video[m]);
+    figure_video_close(pair_video);
     free(rgb);
     free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt);
     free(pos0); free(pos1); free(prev); free(next);
@@ -681,6 +795,13 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_num(&j, "range_lo", s->lo);
     vg_json_num(&j, "range_hi", s->hi);
     vg_json_object_end(&j);
+    if (s->has_im) {
+        vg_json_object_begin(&j, "stereo_pair");
+        vg_json_str(&j, "image_view", image_left(s) ? "left" : "centre");
+        vg_json_num(&j, "hole_fraction", s->holes / (2.0 * s->w * s->h * s->frames));
+        vg_json_str(&j, "hole_fill", "each run of holes in a row takes its farther neighbour's colour");
+        vg_json_object_end(&j);
+    }
     stereo_display_json(&j, &s->d->display);
     /* metrics.json is the manifest of the result, written last. */
     st = vg_manifest_files(&s->man, &j);
@@ -717,7 +838,9 @@ static bool writes(const char *name)
                 return true;
         }
     }
-    return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "metrics.json");
+    bool png = n > 4 && !strcmp(name + n - 4, ".png");
+    return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "metrics.json") ||
+           (png && (!strncmp(name, "left_", 5) || !strncmp(name, "right_", 6))) || !strcmp(name, "stereo.mp4");
 }
 
 static vg_status check_outputs(seq *s)
@@ -726,7 +849,8 @@ static vg_status check_outputs(seq *s)
     vg_inputs in = {0};
     struct { const disp_pattern *p; bool has; const char *label; } seqs[] = {
         {&s->pg, true, "--g"}, {&s->ph, s->has_h, "--h"}, {&s->pz, s->has_z, "--depth"},
-        {&s->pfn, s->has_fn, "--flow-next"}, {&s->pfp, s->has_fp, "--flow-prev"}, {&s->ps, s->has_s, "--saliency"}};
+        {&s->pfn, s->has_fn, "--flow-next"}, {&s->pfp, s->has_fp, "--flow-prev"}, {&s->ps, s->has_s, "--saliency"},
+        {&s->pid, s->has_id, "--ids"}, {&s->pim, s->has_im, "--image"}};
     vg_status st = VG_OK;
     for (size_t k = 0; k < sizeof seqs / sizeof seqs[0] && st == VG_OK; k++)
         for (int t = d->first; seqs[k].has && t <= d->last && st == VG_OK; t++) {
@@ -751,6 +875,7 @@ static vg_status parse_patterns(seq *s)
         {d->g, "--g", &s->pg, NULL},          {d->h, "--h", &s->ph, &s->has_h},
         {d->depth, "--depth", &s->pz, &s->has_z}, {d->flow_next, "--flow-next", &s->pfn, &s->has_fn},
         {d->flow_prev, "--flow-prev", &s->pfp, &s->has_fp}, {d->saliency, "--saliency", &s->ps, &s->has_s},
+        {d->ids, "--ids", &s->pid, &s->has_id}, {d->image, "--image", &s->pim, &s->has_im},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         if (!list[i].text)
@@ -802,12 +927,23 @@ vg_status offline_run(const offline_desc *d)
     /* Nothing it writes or removes may be an input. */
     if ((st = check_outputs(&s)) != VG_OK)
         return st;
+    s.frames = d->last - d->first + 1;
+    s.stride = d->keyframe_stride > 0 ? d->keyframe_stride : 10;
+    if (d->flow_to_keyframe && (!s.has_fn || !s.has_fp)) {
+        vg_error("optimize: flows to the keyframes need both --flow-next and --flow-prev (one is not the other "
+                 "negated across a keyframe interval)");
+        return VG_ERR_ARG;
+    }
+    if (d->flow_to_keyframe && (s.frames - 1) % s.stride) {
+        vg_error("optimize: flows to the keyframes: --frames %d:%d must end on a keyframe (%d + a multiple of "
+                 "--keyframe-stride %d, e.g. %d:%d)", d->first, d->last, d->first, s.stride, d->first,
+                 d->first + (s.frames - 1) / s.stride * s.stride);
+        return VG_ERR_ARG;
+    }
     if (!s.has_fn && !s.has_fp)
         vg_warn("optimize: no --flow-next or --flow-prev: assuming a static camera and scene (zero flow)");
     else if (!s.has_fn || !s.has_fp)
         vg_info("optimize: approximating %s by the other flow negated", s.has_fn ? "--flow-prev" : "--flow-next");
-    s.frames = d->last - d->first + 1;
-    s.stride = d->keyframe_stride > 0 ? d->keyframe_stride : 10;
     s.fps = d->fps > 0 ? d->fps : 60.0;
     stereo_display_init(&s.disp, &d->display);
     if ((st = vg_pool_create(&(vg_pool_desc){.threads = d->threads}, &s.pool)) != VG_OK ||

@@ -11,6 +11,7 @@
  *      and as colour previews for people (engine/figure): the middle frame
  *      of g, h and f as PNG with a legend, a video of each with ffmpeg;
  *      x-t slices of g, h and f at one row in colour with a legend;
+ *      with --image, a new stereo pair from f (warp/image_warp.h);
  *      metrics.json written last.
  * A stale metrics.json is removed first, so a failed run never looks complete. */
 #pragma once
@@ -26,9 +27,21 @@ typedef enum disp_g_units {
     DISP_G_PX,         /* stereo-dataset pixel disparity x_left - x_right, larger = nearer */
 } disp_g_units;
 
+typedef enum offline_view {
+    OFFLINE_VIEW_AUTO = 0, /* left for pixel disparities (datasets), else centre */
+    OFFLINE_VIEW_CENTRE,   /* the engine's captures: g of the centre camera */
+    OFFLINE_VIEW_LEFT,     /* stereo datasets: g of the left camera */
+} offline_view;
+
 typedef struct offline_desc {
-    /* printf-style patterns (disp_pattern.h); all but g and out optional */
-    const char *g, *h, *depth, *flow_next, *flow_prev, *saliency;
+    /* printf-style patterns (disp_pattern.h); all but g and out optional.
+     * ids: instance ids as capture writes them (24-bit RGB PNG, R the low
+     * byte; 0 = background), for the links' same-surface test. */
+    const char *g, *h, *depth, *flow_next, *flow_prev, *saliency, *ids;
+    const char *image;        /* 8-bit RGB PNG per frame, the view g belongs to: a new stereo pair from f */
+    offline_view image_view;  /* where that view is */
+    bool flow_to_keyframe;    /* flows go to the previous / next keyframe (as capture writes them),
+                                 not to the previous / next frame; first is a keyframe */
     const char *out_dir;
     int first, last;          /* inclusive frame numbers */
     int keyframe_stride;      /* frames between keyframes, 0 = 10 (paper 4.4) */

@@ -3,8 +3,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "commands.h"
+#include "core/io.h"
+#include "core/json_read.h"
 #include "core/log.h"
 #include "offline/offline.h"
 #include "options/display_cli.h"
@@ -12,16 +15,19 @@
 static const char *const g_solvers[] = {"gauss-newton", "descent", NULL};
 static const char *const g_presets[] = {"comfort", "study", NULL};
 static const char *const g_units[] = {"arcmin", "px", NULL};
+static const char *const g_flow_to[] = {"frame", "keyframe", NULL};
+static const char *const g_views[] = {"auto", "centre", "left", NULL};
 
 static struct {
-    const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *out, *frames, *weights;
-    int stride, coarse, row, iterations, cg, threads, solver, preset, units;
+    const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
+    int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view;
     bool no_video;
     double fps, range, px_zero, occlusion;
     display_cli display;
 } o;
 
 static const vg_opt g_opts[] = {
+    {.name = "--capture", .kind = VG_OPT_STRING, .dest = &o.capture, .metavar = "DIR", .help = "a folder from 'vergence capture': its g, h, depth, ids, flows to the keyframes, colour image (a new pair), frames, stride, fps, display and range (flags override)"},
     {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM per frame, e.g. 'in/g_%04d.pfm' (required)"},
     {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required)"},
     {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), metrics.json (required)"},
@@ -31,6 +37,10 @@ static const vg_opt g_opts[] = {
     {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth, PFM metres (default: from g)"},
     {.name = "--flow-next", .kind = VG_OPT_STRING, .dest = &o.flow_next, .metavar = "PATTERN", .help = "per-frame .flo flow to the next frame"},
     {.name = "--flow-prev", .kind = VG_OPT_STRING, .dest = &o.flow_prev, .metavar = "PATTERN", .help = "per-frame .flo flow to the previous frame"},
+    {.name = "--image", .kind = VG_OPT_STRING, .dest = &o.image, .metavar = "PATTERN", .help = "8-bit RGB PNG of the view g belongs to: a new stereo pair from f, left_/right_%04d.png (and stereo.mp4)"},
+    {.name = "--image-view", .kind = VG_OPT_CHOICE, .dest = &o.view, .metavar = "V", .help = "where --image was taken: centre (the engine's) or left (datasets); auto: left for pixel disparities", .choices = g_views},
+    {.name = "--flow-to", .kind = VG_OPT_CHOICE, .dest = &o.flow_to, .metavar = "TO", .help = "the flows go to the next/previous frame (default) or keyframe (as capture writes them)", .choices = g_flow_to},
+    {.name = "--ids", .kind = VG_OPT_STRING, .dest = &o.ids, .metavar = "PATTERN", .help = "instance ids, 24-bit RGB PNG as capture writes them (links stay on one object)"},
     {.name = "--saliency", .kind = VG_OPT_STRING, .dest = &o.saliency, .metavar = "PATTERN", .help = "8-bit grey PNG saliency for the operator"},
     {.name = "--g-units", .kind = VG_OPT_CHOICE, .dest = &o.units, .metavar = "U", .help = "units of g: arcmin (vergence) or px (dataset disparity x_l - x_r)", .choices = g_units},
     {.name = "--px-zero", .kind = VG_OPT_FLOAT, .dest = &o.px_zero, .metavar = "D", .help = "with --g-units px: the disparity that lands on the screen (default 0)"},
@@ -84,31 +94,121 @@ static bool parse_weights(const char *text, mid_weights *w)
     return v[0] > 0.0f; /* the data term keeps the problem well posed */
 }
 
+/* `--capture DIR`: what a capture folder holds, for the options not given.
+ * g, depth, ids, the flows to the keyframes and the centre image (a new
+ * pair) always; h (the engine's own)
+ * when the capture's mode computed it, else the saliency for the operator;
+ * frames from the first keyframe to the last; stride, fps, the display and
+ * the target range from capture.json. */
+static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, char pat[8][4096], char *display)
+{
+    char path[4096];
+    vg_jdoc doc = {0};
+    vg_status st = vg_path_join(path, sizeof path, o.capture, "capture.json");
+    if (st == VG_OK && access(path, R_OK) != 0) {
+        vg_error("optimize: --capture %s: no capture.json (not a capture folder, or an incomplete capture)", o.capture);
+        st = VG_ERR_IO;
+    }
+    if (st == VG_OK)
+        st = vg_json_read_file(path, &doc);
+    if (st != VG_OK)
+        return st;
+    const vg_jvalue *r = doc.root;
+    int count = (int)vg_jnum(r, "frames", 0), first_index = (int)vg_jnum(r, "first_frame", 0);
+    int stride = (int)vg_jnum(r, "keyframe_stride", 0);
+    if (count < 1 || stride < 1 || first_index < 0) {
+        vg_error("%s: no frames, first_frame or keyframe_stride", path);
+        vg_jdoc_free(&doc);
+        return VG_ERR_FORMAT;
+    }
+    /* File numbers from 0; the engine's keyframes are the multiples of the stride. */
+    int first = (stride - first_index % stride) % stride, last = first + (count - 1 - first) / stride * stride;
+    if (!o.frames) {
+        if (first > count - 1) {
+            vg_error("%s: %d frames from frame %d hold no keyframe (stride %d)", path, count, first_index, stride);
+            vg_jdoc_free(&doc);
+            return VG_ERR_FORMAT;
+        }
+        snprintf(frames_buf, cap, "%d:%d", first, last);
+        o.frames = frames_buf;
+        if (first > 0 || last < count - 1)
+            vg_info("optimize: --capture %s: frames %d:%d, from its first keyframe to its last", o.capture, first, last);
+    }
+    if (!o.stride)
+        d->keyframe_stride = stride;
+    if (!(o.fps > 0))
+        d->fps = vg_jnum(r, "fps", 60);
+    if (!o.coarse)
+        d->coarse = (int)vg_jnum(r, "metrics.coarse_stride", 0);
+    double lo = vg_jnum(r, "metrics.range_lo", 0), hi = vg_jnum(r, "metrics.range_hi", 0);
+    if (!(o.range > 0) && hi > lo)
+        d->target_range = 0.5 * (hi - lo);
+    vg_jdoc_free(&doc);
+    if (!o.display.file)
+        o.display.file = strcpy(display, path);
+    /* The file patterns, named as capture writes them. */
+    static const char *const names[7] = {"g.pfm", "depth.pfm", "ids.png", "motion_next.flo", "motion_prev.flo",
+                                         "color.png", "h.pfm"};
+    const char **dest[7] = {&d->g, &d->depth, &d->ids, &d->flow_next, &d->flow_prev, &d->image, &d->h};
+    for (int k = 0; k < 7; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "frame_%%04d_%s", names[k]);
+        if ((st = vg_path_join(pat[k], 4096, o.capture, name)) != VG_OK)
+            return st;
+        if (*dest[k])
+            continue;
+        if (k == 6) { /* h when the capture computed it, else the operator (with the saliency) */
+            snprintf(name, sizeof name, "frame_%04d_h.pfm", first);
+            if ((st = vg_path_join(path, sizeof path, o.capture, name)) != VG_OK)
+                return st;
+            if (access(path, R_OK) != 0 || o.op)
+                continue;
+        }
+        *dest[k] = pat[k];
+    }
+    if (!d->h && !d->saliency) {
+        vg_path_join(pat[7], 4096, o.capture, "frame_%04d_saliency.png");
+        d->saliency = pat[7];
+    }
+    if (o.flow_to < 0 && !o.flow_next && !o.flow_prev)
+        d->flow_to_keyframe = true;
+    return VG_OK;
+}
+
 static int run(int argc, char **argv)
 {
     memset(&o, 0, sizeof o);
     o.row = -1;
+    o.flow_to = -1; /* unset: frame, or keyframe with --capture */
     bool help;
     display_cli_renames("optimize", argc, argv);
     vg_status st = vg_cli_parse(&vg_cmd_optimize, argc, argv, &help);
     if (st != VG_OK || help)
         return help ? 0 : fail(st);
-    if ((st = display_cli_load(&o.display)) != VG_OK)
-        return fail(st);
-    if (vg_cli_require(&vg_cmd_optimize, "--g", o.g) != VG_OK ||
-        vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
-        vg_cli_require(&vg_cmd_optimize, "--out", o.out) != VG_OK)
-        return fail(VG_ERR_ARG);
     offline_desc d = {
         .g = o.g, .h = o.h, .depth = o.depth, .flow_next = o.flow_next, .flow_prev = o.flow_prev,
-        .saliency = o.saliency, .out_dir = o.out, .keyframe_stride = o.stride, .coarse = o.coarse,
+        .saliency = o.saliency, .ids = o.ids, .image = o.image, .image_view = (offline_view)o.view, .flow_to_keyframe = o.flow_to == 1,
+        .out_dir = o.out, .keyframe_stride = o.stride, .coarse = o.coarse,
         .fps = o.fps, .row = o.row, .preset = (disp_operator_preset)o.preset, .target_range = o.range,
         .solver = o.solver == 1 ? MID_SOLVER_DESCENT : MID_SOLVER_GAUSS_NEWTON,
         .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
-        .display = display_cli_desc(&o.display),
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
         .occlusion_tolerance = (float)o.occlusion, .video = !o.no_video,
     };
+    static char frames_buf[32], patterns[8][4096], display[4096];
+    if (o.capture && o.g) {
+        vg_error("optimize: give --capture DIR or --g PATTERN, not both");
+        return fail(VG_ERR_ARG);
+    }
+    if (o.capture && (st = from_capture(&d, frames_buf, sizeof frames_buf, patterns, display)) != VG_OK)
+        return fail(st);
+    if ((st = display_cli_load(&o.display)) != VG_OK)
+        return fail(st);
+    d.display = display_cli_desc(&o.display);
+    if ((!o.capture && vg_cli_require(&vg_cmd_optimize, "--g", o.g) != VG_OK) ||
+        vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
+        vg_cli_require(&vg_cmd_optimize, "--out", o.out) != VG_OK)
+        return fail(VG_ERR_ARG);
     if (!parse_frames(o.frames, &d.first, &d.last)) {
         vg_error("optimize: --frames '%s' is not A:B with 0 <= A <= B", o.frames);
         return fail(VG_ERR_ARG);

@@ -553,6 +553,118 @@ def case_optimize_data():
     print("the pixel / arcmin warnings and the too-few-frames error: as documented")
 
 
+def read_pfm(path):
+    """A PFM 'Pf' map as rows, top row first."""
+    with open(path, "rb") as f:
+        data = f.read()
+    parts = data.split(b"\n", 3)
+    w, h = map(int, parts[1].split())
+    scale = float(parts[2])
+    v = struct.unpack(("<" if scale < 0 else ">") + "%df" % (w * h), parts[3][:4 * w * h])
+    return [v[(h - 1 - y) * w:(h - y) * w] for y in range(h)]
+
+
+def read_png_rgb(path):
+    """An 8-bit RGB PNG (any of the five filters) as (w, h, bytes), read here."""
+    import zlib
+    with open(path, "rb") as f:
+        data = f.read()
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h, bits, ctype = struct.unpack(">IIBB", body[:10])
+            if bits != 8 or ctype != 2:
+                sys.exit(f"FAIL: {path} is not 8-bit RGB")
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, out, stride = zlib.decompress(idat), bytearray(), 3 * w
+    prev = bytearray(stride)
+    for y in range(h):
+        kind, row = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = row[i - 3] if i >= 3 else 0
+            b, c = prev[i], prev[i - 3] if i >= 3 else 0
+            if kind == 1:
+                row[i] = (row[i] + a) & 255
+            elif kind == 2:
+                row[i] = (row[i] + b) & 255
+            elif kind == 3:
+                row[i] = (row[i] + (a + b) // 2) & 255
+            elif kind == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                row[i] = (row[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        out += row
+        prev = row
+    return w, h, bytes(out)
+
+
+def case_optimize_roundtrip():
+    """capture -> optimize --capture at the default keyframe stride reproduces
+    the engine's f within the tolerance docs/method.md states, and its new
+    stereo pair is the engine's image warping (the GPU pass, pixel for pixel)."""
+    tmp = tempfile.mkdtemp(prefix="vergence_roundtrip_")
+    cap, opt = os.path.join(tmp, "cap"), os.path.join(tmp, "opt")
+    cj = capture(os.path.join("content", "cubes.gltf"), cap, 41, "160x90", ["--time", "1", "--no-reference"])
+    run(["optimize", "--capture", cap, "--out", opt])
+    m = json.load(open(os.path.join(opt, "metrics.json")))
+    worst, diffs = 0.0, []
+    for t in range(m["input"]["first"], m["input"]["last"] + 1):
+        fe = read_pfm(os.path.join(cap, f"frame_{t:04d}_f.pfm"))
+        fo = read_pfm(os.path.join(opt, f"f_{t:04d}.pfm"))
+        diffs += [abs(a - b) for ra, rb in zip(fe, fo) for a, b in zip(ra, rb)]
+        for e in ("left", "right"):
+            w, h, _ = read_png_rgb(os.path.join(opt, f"{e}_{t:04d}.png"))
+            if (w, h) != (160, 90):
+                sys.exit(f"FAIL: {e}_{t:04d}.png is {w}x{h}")
+    diffs.sort()
+    p99, worst = diffs[int(0.99 * (len(diffs) - 1))], diffs[-1]
+    he, ho = cj["metrics"]["h"]["mid_distortion_jnd"], m["h"]["mid_distortion_jnd"]
+    re, ro = cj["metrics"]["mid_ratio"], m["mid_ratio"]
+    print(f"capture -> optimize, cubes 160x90, frames {m['input']['first']}:{m['input']['last']}, stride "
+          f"{cj['keyframe_stride']}: h MID {he:.3f} / {ho:.3f} JND, f/h {re:.3f} (engine) / {ro:.3f} (optimize); "
+          f"|f - f_engine| p99 {p99:.3f}, max {worst:.3f} arcmin; new pair holes "
+          f"{m['stereo_pair']['hole_fraction']:.4f} before the fill")
+    if cj["validation_messages"] != 0 or cj["keyframe_stride"] != 10 or m["input"]["keyframes"] != 5:
+        sys.exit("FAIL: the capture is not the default stride's, or validation spoke")
+    if abs(he - ho) > 1e-3 * he or he < 1:
+        sys.exit("FAIL: the same h, flows and ids must give the engine's window (h's MID distortion)")
+    if abs(re - ro) > 0.05 or p99 > 0.3 or worst > 1.5:
+        sys.exit("FAIL: optimize's f is not the engine's within the stated tolerance")
+    if not 0 < m["stereo_pair"]["hole_fraction"] < 0.1:
+        sys.exit("FAIL: the new pair's holes")
+    # The engine's own image warping of g (mode original) against optimize's of f = g (operator none).
+    cap2, opt2 = os.path.join(tmp, "cap_iw"), os.path.join(tmp, "opt_iw")
+    capture(os.path.join("content", "cubes.gltf"), cap2, 11, "160x90",
+            ["--time", "1", "--keyframe-stride", "5", "--no-reference", "--stereo-render", "imagewarp", "--mode",
+             "original"])
+    run(["optimize", "--capture", cap2, "--operator", "none", "--out", opt2])
+    # A splat whose x + 0.5 + shift falls on a pixel boundary (a whole row of
+    # the ground plane at some depths) may round to either side: the CPU's
+    # colour is the GPU's at x or one pixel beside it.
+    same = near = covered = holes = 0
+    for t in (0, 5, 10):
+        for e in ("left", "right"):
+            w, _, gpu = read_png_rgb(os.path.join(cap2, f"frame_{t:04d}_{e}.png"))
+            _, _, cpu = read_png_rgb(os.path.join(opt2, f"{e}_{t:04d}.png"))
+            for i in range(0, len(gpu), 3):
+                if gpu[i:i + 3] == b"\0\0\0":
+                    holes += 1
+                    continue
+                covered += 1
+                x, c = i // 3 % w, cpu[i:i + 3]
+                same += gpu[i:i + 3] == c
+                near += c in (gpu[i:i + 3], gpu[i - 3:i] if x > 0 else b"", gpu[i + 3:i + 6] if x + 1 < w else b"")
+    cpu_holes = json.load(open(os.path.join(opt2, "metrics.json")))["stereo_pair"]["hole_fraction"]
+    print(f"image warping, CPU (optimize) vs GPU (capture --stereo-render imagewarp), covered pixels: {same} of "
+          f"{covered} equal, {near} equal to the GPU's at x or x +- 1; holes GPU {holes / (covered + holes):.4f}, "
+          f"CPU {cpu_holes:.4f} (all frames)")
+    if near < 0.999 * covered or same < 0.95 * covered or abs(holes / (covered + holes) - cpu_holes) > 0.005:
+        sys.exit("FAIL: optimize's new pair is not the engine's image warping")
+
+
 if __name__ == "__main__":
     VERGENCE = os.path.abspath(sys.argv[1])
     globals()["case_" + sys.argv[2]]()
