@@ -417,7 +417,8 @@ static vg_status pass_validate(seq *s)
     if (st == VG_OK && s->nt < 3) {
         vg_error("optimize: --frames %d:%d is %d frame(s): %d keyframe(s) at --keyframe-stride %d, and the "
                  "acceleration in depth needs 3 (give %d frames or more, or a smaller --keyframe-stride)",
-                 d->first, d->last, s->frames, s->nt, s->stride, s->stride > 1 ? s->stride + 2 : 3);
+                 d->first, d->last, s->frames, s->nt, s->stride,
+                 d->flow_to_keyframe ? 2 * s->stride + 1 : s->stride > 1 ? s->stride + 2 : 3);
         st = VG_ERR_ARG;
     }
     return st;

@@ -411,7 +411,7 @@ static int third_party(void)
              "--g-units px --operator linear --out '%s'", out);
     CHECK(run_vergence(args) == 2 && count_errors(g_stderr) == 1 && strstr(g_stderr, "needs 3"),
           "FlyingThings3D pair, two frames: the too-few-frames error\n%s", g_stderr);
-    /* The pair and its second frame again, a keyframe each. */
+    /* The pair and its second frame again, a keyframe each, with the left images. */
     for (int t = 0; t < 3; t++) {
         vg_imagef in;
         snprintf(path, sizeof path, STEREO "flyingthings3d_pair_from_RAFT-3D/disp%d.pfm", t ? 2 : 1);
@@ -419,9 +419,16 @@ static int third_party(void)
         snprintf(path, sizeof path, "%s/ft3d_%d.pfm", g_work, t);
         CHECK(vg_pfm_write(path, &in) == VG_OK, "%s", path);
         vg_imagef_free(&in);
+        int iw, ih;
+        uint8_t *rgb;
+        snprintf(path, sizeof path, STEREO "flyingthings3d_pair_from_RAFT-3D/image%d.png", t ? 2 : 1);
+        CHECK(vg_png_read(path, &iw, &ih, 3, &rgb) == VG_OK, "%s", path);
+        snprintf(path, sizeof path, "%s/ft3d_image_%d.png", g_work, t);
+        CHECK(vg_png_write(path, iw, ih, 3, rgb) == VG_OK, "%s", path);
+        free(rgb);
     }
-    snprintf(args, sizeof args, "--g '%s/ft3d_%%d.pfm' --frames 0:2 --keyframe-stride 1 --g-units px "
-             "--operator linear --out '%s'", g_work, out);
+    snprintf(args, sizeof args, "--g '%s/ft3d_%%d.pfm' --image '%s/ft3d_image_%%d.png' --frames 0:2 "
+             "--keyframe-stride 1 --g-units px --operator linear --no-video --out '%s'", g_work, g_work, out);
     CHECK(run_vergence(args) == 0, "FlyingThings3D pair, three frames:\n%s", g_stderr);
     snprintf(path, sizeof path, "%s/metrics.json", out);
     uint8_t *json;
@@ -436,6 +443,19 @@ static int third_party(void)
            gmax, want_lo, want_hi, rv);
     CHECK(fabs(gmin - want_lo) < 0.5 && fabs(gmax - want_hi) < 0.5, "pixel disparity -> vergence");
     CHECK(rv == 0.0, "f outside the range");
+    /* A new pair from f, the image taken as the left view (pixel disparities). */
+    double holes = json_number((char *)json, "stereo_pair", "hole_fraction");
+    printf("new stereo pair: %.4f holes before the fill, view %s\n", holes,
+           strstr((char *)json, "\"image_view\": \"left\"") ? "left" : "not left");
+    CHECK(holes > 0 && holes < 0.2 && strstr((char *)json, "\"image_view\": \"left\""), "the new pair");
+    for (int t = 0; t < 3; t++)
+        for (int e = 0; e < 2; e++) {
+            int iw, ih;
+            uint8_t *rgb;
+            snprintf(path, sizeof path, "%s/%s_%04d.png", out, e ? "right" : "left", t);
+            CHECK(vg_png_read(path, &iw, &ih, 3, &rgb) == VG_OK && iw == 960 && ih == 540, "%s", path);
+            free(rgb);
+        }
     free(json);
     vg_imagef f;
     snprintf(path, sizeof path, "%s/f_0002.pfm", out);
