@@ -3,9 +3,10 @@
 // mid.upsample.time: the ratio at the coarse samples of this frame, from the
 // two nearest keyframes along the motion (the G-buffer's exact motion to the
 // previous and next keyframe), each keyframe's ratio and slope sampled
-// bilinearly over the taps that pass the depth test, interpolated by cubic
-// Hermite in time (C1 at keyframes); a keyframe that fails (occluded, out of
-// frame) drops out (disp_upsample_temporal()).
+// bilinearly over the taps on the sample's surface as the solver's links
+// decide it (its instance, and its depth or its trajectory), interpolated by
+// cubic Hermite in time (C1 at keyframes); a keyframe that fails (occluded,
+// out of frame) drops out (disp_upsample_temporal()).
 #include "mid_upsample.glsl"
 layout(local_size_x = 64) in;
 layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
@@ -13,6 +14,7 @@ layout(set = 0, binding = 1, rgba32f) uniform readonly image2D motion_image;
 layout(set = 0, binding = 2) readonly buffer StoreBlock { float store[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
 layout(set = 0, binding = 4) writeonly buffer RatioBlock { float ratio_t[]; };
+layout(set = 0, binding = 5, r32ui) uniform readonly uimage2D id_image;
 
 const float LOST = -1.0e30;
 
@@ -33,10 +35,17 @@ float key_depth(uint slot, int q)
     return store[slot * MID_STORE_FLOATS * up.nx * up.ny + MID_STORE_DEPTH * up.nx * up.ny + uint(q)];
 }
 
+float key_field(uint slot, uint field, uint i)
+{
+    return store[slot * MID_STORE_FLOATS * up.nx * up.ny + field * up.nx * up.ny + i];
+}
+
 // The keyframe's ratio, weight and slope at a full-resolution position:
-// bilinear over the coarse samples, keeping only taps on the same surface
-// (sample_keyframe()).
-vec3 sample_keyframe(vec2 pos, float z, uint slot, bool test_depth)
+// bilinear over the coarse samples, keeping only taps on the sample's
+// surface: its instance id, and its depth or its trajectory (its own flow to
+// the interval's other keyframe, forward from k0, backward from k1, lands at
+// `other`, the sample's position there; LOST: none) (sample_keyframe()).
+vec3 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool forward, bool test)
 {
     if (pos.x == LOST)
         return vec3(1.0, 0.0, 0.0);
@@ -52,9 +61,17 @@ vec3 sample_keyframe(vec2 pos, float z, uint slot, bool test_depth)
         if (w <= 0.0 || x >= int(up.nx) || y >= int(up.ny))
             continue;
         int q = y * int(up.nx) + x;
-        float d = key_depth(slot, q);
-        if (test_depth && !(z > 0.0 && d > 0.0 && abs(log(d / z)) <= up.log_tol))
-            continue;
+        if (test) {
+            float d = key_depth(slot, q);
+            bool same_depth = z > 0.0 && d > 0.0 && abs(log(d / z)) <= up.log_tol;
+            uint fl = forward ? MID_STORE_FLOW_F : MID_STORE_FLOW_B;
+            bool on_path = other.x != LOST &&
+                           mid_on_trajectory(float(x), float(y), key_field(slot, fl, 2u * uint(q)),
+                                             key_field(slot, fl, 2u * uint(q) + 1u), (other.x - s2) / float(up.stride),
+                                             (other.y - s2) / float(up.stride)) != 0u;
+            if (key_field(slot, MID_STORE_ID, uint(q)) != id || !(same_depth || on_path))
+                continue;
+        }
         acc += w * key_ratio(slot, q);
         sacc += w * key_slope(slot, q);
         wsum += w;
@@ -68,16 +85,18 @@ void main()
     if (q >= int(up.nx * up.ny))
         return;
     ivec2 x = ivec2(grid_px(q % int(up.nx)), grid_py(q / int(up.nx)));
-    float z = imageLoad(depth_image, x).r;
+    float z = imageLoad(depth_image, x).r, id = float(imageLoad(id_image, x).r);
     vec4 m = imageLoad(motion_image, x);
     // At a keyframe only k0 counts, at the sample itself.
     vec2 pos0 = up.at_key != 0u ? vec2(x) : advect(x, m.xy);
     vec2 pos1 = up.at_key != 0u ? vec2(LOST) : advect(x, m.zw);
-    vec3 a = sample_keyframe(pos0, z, up.slot0, true);
-    vec3 b = vec3(1.0, 0.0, 0.0);
     bool has1 = up.has1 != 0u && up.at_key == 0u;
+    // At a keyframe (no k1) the sample itself: depth and id alone.
+    vec2 other1 = has1 && up.tau > 0.0 ? pos1 : vec2(LOST);
+    vec3 a = sample_keyframe(pos0, z, id, other1, up.slot0, true, true);
+    vec3 b = vec3(1.0, 0.0, 0.0);
     if (has1 && up.tau > 0.0)
-        b = sample_keyframe(pos1, z, up.slot1, true);
+        b = sample_keyframe(pos1, z, id, pos0, up.slot1, false, true);
     // Fig. 4: interpolate along the flow in time; one keyframe alone when
     // the other fails.
     bool ok0 = a.y >= MID_LINK_MIN_WEIGHT && up.tau < 1.0, ok1 = b.y >= MID_LINK_MIN_WEIGHT && up.tau > 0.0;
@@ -95,5 +114,5 @@ void main()
     vec2 pos = near0 ? pos0 : pos1;
     if (pos.x == LOST)
         pos = vec2(x);
-    ratio_t[q] = sample_keyframe(pos, z, near0 ? up.slot0 : up.slot1, false).x;
+    ratio_t[q] = sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false).x;
 }

@@ -141,7 +141,7 @@ typedef struct alone {
     upsample_gpu *ups;
     operator_gpu *op;
     gpu_buffer store, published;
-    rg_res depth, motion, hmap, fmap, g, color, ratio, r_store, r_pub, state;
+    rg_res depth, motion, ids, hmap, fmap, g, color, ratio, r_store, r_pub, state;
 } alone;
 
 /* Clears the inputs: a flat scene 10 m away, h and g 300 arcmin, some motion. */
@@ -152,7 +152,7 @@ static void clear_execute(const rg_context *ctx, void *user)
     struct { rg_res r; VkClearColorValue v; } items[] = {
         {a->depth, {.float32 = {10, 0, 0, 0}}}, {a->motion, {.float32 = {1.0f, 0.5f, -1.0f, -0.5f}}},
         {a->hmap, {.float32 = {300, 0, 0, 0}}}, {a->g, {.float32 = {300, 0, 0, 0}}},
-        {a->color, {.float32 = {0, 0, 0, 0.5f}}}};
+        {a->color, {.float32 = {0, 0, 0, 0.5f}}}, {a->ids, {.uint32 = {1, 0, 0, 0}}}};
     VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
         vkCmdClearColorImage(cmd, rg_ctx_image(ctx, items[i].r), rg_ctx_layout(ctx, items[i].r), &items[i].v, 1, &all);
@@ -173,8 +173,8 @@ static void time_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
     upsample_gpu_frame fr = ups_frame(a);
-    VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion);
-    upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
+    VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion), id = image_of(ctx, a->ids);
+    upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, &id, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
                         rg_ctx_buffer(ctx, a->ratio));
 }
 
@@ -208,6 +208,7 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
     rg_graph *g = rg_create();
     a->depth = rg_image(g, &(rg_image_desc){"gbuffer.depth", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
     a->motion = rg_image(g, &(rg_image_desc){"gbuffer.motion", VK_FORMAT_R32G32B32A32_SFLOAT, a->w, a->h, 1});
+    a->ids = rg_image(g, &(rg_image_desc){"gbuffer.ids", VK_FORMAT_R32_UINT, a->w, a->h, 1});
     a->hmap = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
     a->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
     a->color = rg_image(g, &(rg_image_desc){"gbuffer.color", VK_FORMAT_R8G8B8A8_UNORM, a->w, a->h, 1});
@@ -219,7 +220,7 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
     a->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", operator_gpu_state_size(a->op)}, &rw);
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "clear", .type = RG_PASS_TRANSFER, .execute = clear_execute,
                                                .user = a, .side_effects = true});
-    rg_res cleared[] = {a->depth, a->motion, a->hmap, a->g, a->color};
+    rg_res cleared[] = {a->depth, a->motion, a->ids, a->hmap, a->g, a->color};
     for (size_t i = 0; i < sizeof cleared / sizeof cleared[0]; i++)
         rg_use(g, p, cleared[i], RG_TRANSFER_DST);
     if (chain == 0 && passes >= 1) {
@@ -227,6 +228,7 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
                                            .user = a, .side_effects = true});
         rg_use(g, p, a->depth, RG_STORAGE_READ);
         rg_use(g, p, a->motion, RG_STORAGE_READ);
+        rg_use(g, p, a->ids, RG_STORAGE_READ);
         rg_use(g, p, a->r_store, RG_STORAGE_READ);
         rg_use(g, p, a->r_pub, RG_STORAGE_READ);
         rg_use(g, p, a->ratio, RG_STORAGE_WRITE);

@@ -77,13 +77,16 @@ void disp_flow_advect(const float *flow, int w, int h, float *pos, int count)
 
 typedef struct keyframe_sample {
     float ratio, slope;
-    float weight; /* bilinear weight that passed the depth test */
+    float weight; /* bilinear weight of the taps on the sample's surface */
 } keyframe_sample;
 
 /* The keyframe's ratio and slope at a full-resolution position: bilinear
- * over the coarse samples, keeping only taps on the same surface (depth test). */
-static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, float z,
-                                       const disp_keyframe_view *k, float log_tol, bool test_depth)
+ * over the coarse samples, keeping only taps on the sample's surface (with
+ * `test`): its instance id, and its depth or its trajectory (the position
+ * `other` of the sample in the interval's other keyframe, full-resolution
+ * px, NaN when lost or none). */
+static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, float z, float id,
+                                       const float *other, const disp_keyframe_view *k, float log_tol, bool test)
 {
     keyframe_sample s = {1.0f, 0.0f, 0.0f};
     if (isnan(px) || isnan(py))
@@ -100,8 +103,14 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
         if (w <= 0.0f || x >= g->nx || y >= g->ny)
             continue;
         int q = y * g->nx + x;
-        if (test_depth && !(z > 0.0f && k->depth[q] > 0.0f && fabsf(logf(k->depth[q] / z)) <= log_tol))
-            continue;
+        if (test) {
+            bool same_depth = z > 0.0f && k->depth[q] > 0.0f && fabsf(logf(k->depth[q] / z)) <= log_tol;
+            bool on_path = k->flow && other && !isnan(other[0]) &&
+                           mid_on_trajectory((float)x, (float)y, k->flow[2 * q], k->flow[2 * q + 1],
+                                             (other[0] - s2) / (float)g->stride, (other[1] - s2) / (float)g->stride);
+            if ((k->id ? k->id[q] : 0.0f) != id || !(same_depth || on_path))
+                continue;
+        }
         acc += w * k->ratio[q];
         sacc += w * (k->slope ? k->slope[q] : 0.0f);
         wsum += w;
@@ -117,7 +126,7 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
 typedef struct time_ctx {
     const disp_upsample_desc *d;
     float tau, span, log_tol;
-    const float *depth_t;
+    const float *depth_t, *id_t;
     const disp_keyframe_view *k0, *k1;
     float *out;
 } time_ctx;
@@ -129,15 +138,17 @@ static void temporal_block(void *c, int block, int begin, int end)
     const disp_grid *g = &x->d->grid;
     const disp_keyframe_view *k0 = x->k0, *k1 = x->k1;
     for (int q = begin; q < end; q++) {
-        float z = x->depth_t[q];
-        keyframe_sample a = sample_keyframe(g, k0->pos[2 * q], k0->pos[2 * q + 1], z, k0, x->log_tol, true);
+        float z = x->depth_t[q], id = x->id_t ? x->id_t[q] : 0.0f;
+        /* At a keyframe (no k1) the sample itself: depth and id alone. */
+        const float *at0 = k0->pos + 2 * q, *at1 = k1 && x->tau > 0.0f ? k1->pos + 2 * q : NULL;
+        keyframe_sample a = sample_keyframe(g, at0[0], at0[1], z, id, at1, k0, x->log_tol, true);
         keyframe_sample b = {1.0f, 0.0f, 0.0f};
-        if (k1 && x->tau > 0.0f)
-            b = sample_keyframe(g, k1->pos[2 * q], k1->pos[2 * q + 1], z, k1, x->log_tol, true);
+        if (at1)
+            b = sample_keyframe(g, at1[0], at1[1], z, id, at0, k1, x->log_tol, true);
         /* Fig. 4: interpolate along the flow in time, by cubic Hermite with
          * the keyframes' slopes (C1 at keyframes), or linearly without them;
-         * a keyframe whose sample is occluded (depth test) or out of frame
-         * drops out. */
+         * a keyframe whose sample is occluded (not the sample's surface) or
+         * out of frame drops out. */
         bool ok0 = a.weight >= MID_LINK_MIN_WEIGHT && x->tau < 1.0f;
         bool ok1 = b.weight >= MID_LINK_MIN_WEIGHT && x->tau > 0.0f;
         if (ok0 && ok1) {
@@ -158,16 +169,16 @@ static void temporal_block(void *c, int block, int begin, int end)
             px = (float)disp_grid_px(g, q % g->nx);
             py = (float)disp_grid_py(g, q / g->nx);
         }
-        x->out[q] = sample_keyframe(g, px, py, z, k, x->log_tol, false).ratio;
+        x->out[q] = sample_keyframe(g, px, py, z, id, NULL, k, x->log_tol, false).ratio;
     }
 }
 
 void disp_upsample_temporal(const disp_upsample_desc *d, float tau, float span, const float *depth_t,
-                            const disp_keyframe_view *k0, const disp_keyframe_view *k1, float *ratio_t,
-                            vg_pool *pool)
+                            const float *id_t, const disp_keyframe_view *k0, const disp_keyframe_view *k1,
+                            float *ratio_t, vg_pool *pool)
 {
     float tol = d->occlusion_tolerance > 0 ? d->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
-    time_ctx c = {.d = d, .tau = tau, .span = span, .log_tol = logf(1.0f + tol), .depth_t = depth_t,
+    time_ctx c = {.d = d, .tau = tau, .span = span, .log_tol = logf(1.0f + tol), .depth_t = depth_t, .id_t = id_t,
                   .k0 = k0, .k1 = k1, .out = ratio_t};
     vg_parallel_for(pool, d->grid.nx * d->grid.ny, MID_BLOCK, temporal_block, &c);
 }

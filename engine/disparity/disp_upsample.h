@@ -54,15 +54,21 @@ typedef struct disp_keyframe_view {
     const float *ratio; /* f / h */
     const float *slope; /* d(f / h)/dt along the motion, per second (mid_window_ratio_slopes); NULL: linear */
     const float *depth;
+    const float *id;    /* instance ids (0: sky); NULL: all 0 (sequences from files without ids) */
+    const float *flow;  /* coarse px to the interval's other keyframe (k0: forward, k1: backward); NULL: none */
 } disp_keyframe_view;
 
-/* Time. tau = (t - t0) / (t1 - t0), span = t1 - t0 in seconds; depth_t:
- * coarse depth of frame t; k1 may be NULL (no later keyframe, or tau = 0).
- * Cubic Hermite between the keyframes when both have slopes (C1 at
- * keyframes), else linear. Writes ratio_t. */
+/* Time. tau = (t - t0) / (t1 - t0), span = t1 - t0 in seconds; depth_t,
+ * id_t: coarse depth and instance ids of frame t (id_t NULL: all 0); k1 may
+ * be NULL (no later keyframe, or tau = 0). A keyframe tap counts when it is
+ * the sample's surface as the solver's links decide it: the same instance,
+ * and the depth test or the trajectory test (mid_on_trajectory: the tap's
+ * flow to the other keyframe lands where the sample is there). Cubic Hermite
+ * between the keyframes when both have slopes (C1 at keyframes), else
+ * linear. Writes ratio_t. */
 void disp_upsample_temporal(const disp_upsample_desc *d, float tau, float span, const float *depth_t,
-                            const disp_keyframe_view *k0, const disp_keyframe_view *k1, float *ratio_t,
-                            vg_pool *pool);
+                            const float *id_t, const disp_keyframe_view *k0, const disp_keyframe_view *k1,
+                            float *ratio_t, vg_pool *pool);
 
 /* Space. f_full = clamp(h_full * JBU(ratio_coarse; guide h_full)). */
 void disp_upsample_spatial(const disp_upsample_desc *d, const float *h_full,

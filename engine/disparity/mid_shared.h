@@ -263,6 +263,18 @@ MID_FN float mid_ratio_slope(float r, float rf, float rb, uint has_f, uint has_b
  * correction is C1 in time. Linear interpolation kinks at every keyframe
  * (an acceleration impulse of the whole interval's curvature in one frame);
  * with s0 = s1 = (r1 - r0) / span this is that linear interpolation. */
+/* The temporal upsampling's trajectory test (docs/method.md Sec. 8), the
+ * links' round trip for a frame between keyframes: a keyframe tap at (tx,
+ * ty) whose own flow (fx, fy) to the interval's other keyframe lands where
+ * frame t's sample is in that keyframe (ox, oy) follows the sample's motion;
+ * all in coarse pixels, within MID_FLOW_TOLERANCE + 10 % of the flow. */
+MID_FN uint mid_on_trajectory(float tx, float ty, float fx, float fy, float ox, float oy)
+{
+    float dx = tx + fx - ox, dy = ty + fy - oy;
+    float lim = MID_FLOW_TOLERANCE + 0.1f * (mid_abs(fx) + mid_abs(fy));
+    return MID_UINT(dx * dx + dy * dy <= lim * lim ? 1 : 0);
+}
+
 MID_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, float span)
 {
     float t2 = tau * tau, t3 = t2 * tau;

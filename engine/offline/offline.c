@@ -607,13 +607,13 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     float *g = malloc(np * sizeof(float)), *h = malloc(np * sizeof(float)), *z = malloc(np * sizeof(float));
     float *f = malloc(np * sizeof(float)), *ratio = malloc((size_t)w->n * sizeof(float));
     float *slope = malloc((size_t)w->n * sizeof(float));
-    float *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
+    float *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float)), *idc = malloc(nc * sizeof(float));
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     float *prev = malloc((size_t)s->stride * nf2 * sizeof(float)), *next = malloc((size_t)s->stride * nf2 * sizeof(float));
     uint8_t *rgb = malloc(np * 3);
     figure_video *video[3] = {NULL, NULL, NULL}, *pair_video = NULL;
     vg_status st = VG_OK;
-    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !pos0 || !pos1 || !prev || !next || !rgb) {
+    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !idc || !pos0 || !pos1 || !prev || !next || !rgb) {
         st = VG_ERR_NOMEM;
         goto done;
     }
@@ -642,8 +642,9 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
                 st = read_flow(s, t, true, next + (size_t)(t - t0) * nf2);
         }
         size_t ko = (size_t)k * nc;
-        disp_keyframe_view k0 = {pos0, ratio + ko, slope + ko, w->depth + ko};
-        disp_keyframe_view k1 = {pos1, ratio + ko + nc, slope + ko + nc, w->depth + ko + nc};
+        disp_keyframe_view k0 = {pos0, ratio + ko, slope + ko, w->depth + ko, w->id + ko, w->flow_fwd + 2 * ko};
+        disp_keyframe_view k1 = {pos1, ratio + ko + nc, slope + ko + nc, w->depth + ko + nc, w->id + ko + nc,
+                                 w->flow_bwd + 2 * (ko + nc)};
         bool has1 = k + 1 < s->nt;
         float span = has1 && w->inv_dt_f[k] > 0 ? 1.0f / w->inv_dt_f[k] : 0.0f;
         for (int t = t0; t < t_end && st == VG_OK; t++) {
@@ -656,6 +657,11 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             if (st != VG_OK)
                 break;
             disp_grid_sample(&s->grid, z, 1, zc);
+            if (s->has_id) { /* f is free until the upsampling */
+                if ((st = read_ids(s, t, f)) != VG_OK)
+                    break;
+                disp_grid_sample(&s->grid, f, 1, idc);
+            }
             /* Where frame t's coarse samples are in the two keyframes. */
             bool direct = d->flow_to_keyframe;
             disp_grid_positions(&s->grid, pos0);
@@ -665,7 +671,7 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             for (int m = t; m < t1 && t > t0; m = direct ? t1 : m + 1) /* at a keyframe only k0 counts */
                 disp_flow_advect(next + (size_t)(m - t0) * nf2, s->w, s->h, pos1, nc);
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
-            disp_upsample_temporal(&ud, tau, span, zc, &k0, has1 ? &k1 : NULL, rt, s->pool);
+            disp_upsample_temporal(&ud, tau, span, zc, s->has_id ? idc : NULL, &k0, has1 ? &k1 : NULL, rt, s->pool);
             disp_upsample_spatial(&ud, h, rt, f, s->pool);
             if (t == t0)
                 disp_grid_sample(&s->grid, f, 1, o->f_key + (size_t)k * nc);
@@ -704,7 +710,7 @@ done:
         figure_video_close(video[m]);
     figure_video_close(pair_video);
     free(rgb);
-    free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt);
+    free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt); free(idc);
     free(pos0); free(pos1); free(prev); free(next);
     return st;
 }

@@ -125,8 +125,8 @@ static int temporal_flow_and_occlusion(void)
         pos1[2 * q + 1] = py;
         pos0[2 * q] = px + (st ? (float)(x0 - xt) : 0.0f);
     }
-    disp_keyframe_view k0 = {pos0, ratio0, NULL, depth0}, k1 = {pos1, ratio1, NULL, depth1};
-    disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, depth_t, &k0, &k1, out, NULL);
+    disp_keyframe_view k0 = {pos0, ratio0, NULL, depth0, NULL, NULL}, k1 = {pos1, ratio1, NULL, depth1, NULL, NULL};
+    disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, depth_t, NULL, &k0, &k1, out, NULL);
     double err_square = 0, err_uncovered = 0, err_static = 0;
     int n_square = 0, n_uncovered = 0;
     for (int q = 0; q < nc; q++) {
@@ -150,7 +150,7 @@ static int temporal_flow_and_occlusion(void)
     CHECK(err_static < 1e-6, "%.3g", err_static);
     /* At a keyframe (tau 0) the keyframe's own correction comes back exactly. */
     disp_grid_positions(&d.grid, pos0);
-    disp_upsample_temporal(&d, 0.0f, 0.0f, depth0, &k0, NULL, out, NULL);
+    disp_upsample_temporal(&d, 0.0f, 0.0f, depth0, NULL, &k0, NULL, out, NULL);
     for (int q = 0; q < nc; q++)
         CHECK(out[q] == ratio0[q], "tau 0, sample %d: %.7f vs %.7f", q, out[q], ratio0[q]);
 #undef IN_SQUARE
@@ -192,9 +192,10 @@ static int temporal_hermite(void)
         for (int t = 0; t <= 2 * frames; t++) {
             int k = t < frames ? 0 : 1;
             float tau = (float)(t - k * frames) / (float)frames;
-            disp_keyframe_view k0 = {pos, r + (size_t)k * nc, pass ? NULL : sl + (size_t)k * nc, depth};
-            disp_keyframe_view k1 = {pos, r + (size_t)(k + 1) * nc, pass ? NULL : sl + (size_t)(k + 1) * nc, depth};
-            disp_upsample_temporal(&d, tau, span, depth, &k0, tau > 0 ? &k1 : NULL, out + (size_t)t * nc, NULL);
+            disp_keyframe_view k0 = {pos, r + (size_t)k * nc, pass ? NULL : sl + (size_t)k * nc, depth, NULL, NULL};
+            disp_keyframe_view k1 = {pos, r + (size_t)(k + 1) * nc, pass ? NULL : sl + (size_t)(k + 1) * nc, depth, NULL,
+                                     NULL};
+            disp_upsample_temporal(&d, tau, span, depth, NULL, &k0, tau > 0 ? &k1 : NULL, out + (size_t)t * nc, NULL);
         }
         for (int t = 1; t < 2 * frames; t++)
             for (int q = 0; q < nc; q++) {
@@ -242,6 +243,42 @@ static int flow_composition(void)
     return 0;
 }
 
+/* Occlusion in time as the solver's links decide it: a surface that moves
+ * fast in depth (2 -> 2.5 -> 3.2 m, 25 % and 28 % per half interval, beyond
+ * the 20 % depth tolerance) keeps both keyframes when its trajectory
+ * matches (each keyframe's flow to the other lands on the sample there),
+ * and loses a keyframe whose instance differs or whose flow goes elsewhere. */
+static int temporal_trajectory(void)
+{
+    enum { NX = 8, NY = 6, NC = NX * NY };
+    disp_upsample_desc d = {0};
+    disp_grid_init(&d.grid, NX * 5, NY * 5, 5);
+    float pos[2 * NC], z0[NC], zt[NC], z1[NC], r0[NC], r1[NC], id[NC], other_id[NC], still[2 * NC], away[2 * NC],
+        out[NC];
+    disp_grid_positions(&d.grid, pos);
+    for (int q = 0; q < NC; q++) {
+        z0[q] = 2.0f, zt[q] = 2.5f, z1[q] = 3.2f, r0[q] = 1.0f, r1[q] = 1.2f, id[q] = 3.0f, other_id[q] = 7.0f;
+        still[2 * q] = still[2 * q + 1] = 0.0f;
+        away[2 * q] = 3.0f, away[2 * q + 1] = 0.0f; /* three coarse pixels off the sample's path */
+    }
+    struct { const char *what; const float *id_t, *flow; float want; } cases[] = {
+        {"on its trajectory: both keyframes", id, still, 1.1f},
+        {"another instance: the nearer keyframe alone", other_id, still, 1.2f},
+        {"off its trajectory: the nearer keyframe alone", id, away, 1.2f},
+        {"no flow (depth test only, as before): the nearer keyframe alone", id, NULL, 1.2f},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        disp_keyframe_view k0 = {pos, r0, NULL, z0, id, cases[c].flow}, k1 = {pos, r1, NULL, z1, id, cases[c].flow};
+        disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, zt, cases[c].id_t, &k0, &k1, out, NULL);
+        double worst = 0;
+        for (int q = 0; q < NC; q++)
+            worst = fmax(worst, fabs(out[q] - cases[c].want));
+        printf("%s: ratio %.4f (want %.4f)\n", cases[c].what, out[0], cases[c].want);
+        CHECK(worst < 1e-6, "%s: off by %.3g", cases[c].what, worst);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
@@ -250,6 +287,7 @@ int main(int argc, char **argv)
         {"temporal_flow_and_occlusion", temporal_flow_and_occlusion},
         {"flow_composition", flow_composition},
         {"temporal_hermite", temporal_hermite},
+        {"temporal_trajectory", temporal_trajectory},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }

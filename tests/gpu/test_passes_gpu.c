@@ -153,14 +153,14 @@ static int operator_lang_smoothed(void) { return operator_agrees(DISP_OPERATOR_L
 typedef struct up_test {
     upsample_gpu *u;
     upsample_gpu_frame fr;
-    rg_res depth, motion, h, f, ratio, store, published;
+    rg_res depth, motion, ids, h, f, ratio, store, published;
 } up_test;
 
 static void up_time_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
-    VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion);
-    upsample_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, rg_ctx_buffer(ctx, t->store),
+    VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion), id = image_info(ctx, t->ids);
+    upsample_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, &id, rg_ctx_buffer(ctx, t->store),
                         rg_ctx_buffer(ctx, t->published), rg_ctx_buffer(ctx, t->ratio));
 }
 
@@ -175,8 +175,8 @@ static void up_space_execute(const rg_context *ctx, void *user)
 /* A frame between two keyframes: a far slanted background, a near box and a
  * disc that move (some pixels leave the frame), keyframe depths that differ
  * where the frame disoccludes, smooth keyframe ratios. */
-static void up_inputs(float *depth, float *motion, float *h, const disp_grid *grid, float *z0, float *z1,
-                      float *r0, float *r1)
+static void up_inputs(float *depth, float *motion, float *h, uint32_t *ids, const disp_grid *grid, float *z0,
+                      float *z1, float *r0, float *r1, float *id0, float *id1, float *fl0, float *fl1)
 {
     unsigned s = 5u;
     for (int y = 0; y < UP_H; y++)
@@ -192,6 +192,7 @@ static void up_inputs(float *depth, float *motion, float *h, const disp_grid *gr
             m[2] = disc ? 40.0f : box ? 4.0f : 0.0f; /* the disc leaves the frame towards k1 */
             m[3] = disc ? 3.0f : box ? 1.0f : 0.0f;
             h[i] = (float)(330.0 - 300.0 / depth[i] + rnd_uniform(&s, -1.0f, 1.0f) + 2.0 * sin(0.3 * x));
+            ids[i] = disc ? 2u : box ? 1u : 0u;
         }
     for (int q = 0; q < grid->nx * grid->ny; q++) {
         int qx = q % grid->nx, qy = q / grid->nx;
@@ -200,6 +201,20 @@ static void up_inputs(float *depth, float *motion, float *h, const disp_grid *gr
         z1[q] = qy < 3 ? zc * 0.5f : zc;
         r0[q] = (float)(1.0 + 0.06 * sin(0.2 * qx + 0.3 * qy));
         r1[q] = (float)(1.0 + 0.05 * cos(0.25 * qx - 0.1 * qy));
+        /* The keyframes' instances (another one on a strip of k1) and their
+         * flows to each other in coarse px: the box's along its motion (its
+         * trajectory test passes where a depth test would not), the rest
+         * still, a band of k0 astray. */
+        uint32_t idq = ids[disp_grid_py(grid, qy) * UP_W + disp_grid_px(grid, qx)];
+        id0[q] = (float)idq;
+        id1[q] = qx > 10 && qx < 13 ? 5.0f : (float)idq;
+        bool box = idq == 1u;
+        fl0[2 * q] = box ? 7.0f / UP_STRIDE : qy > 12 && qy < 15 ? 2.5f : 0.0f;
+        fl0[2 * q + 1] = box ? 1.0f / UP_STRIDE : 0.0f;
+        fl1[2 * q] = box ? -7.0f / UP_STRIDE : 0.0f;
+        fl1[2 * q + 1] = box ? -1.0f / UP_STRIDE : 0.0f;
+        if (box)
+            z1[q] = zc * 1.5f; /* the box moves away fast: no depth test passes at k1 */
     }
 }
 
@@ -213,9 +228,14 @@ static int upsample_agrees(float tau, bool at_key)
     float *z0 = malloc(nc * sizeof(float)), *z1 = malloc(nc * sizeof(float)), *r0 = malloc(nc * sizeof(float));
     float *r1 = malloc(nc * sizeof(float)), *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
     float *s0 = malloc(nc * sizeof(float)), *s1 = malloc(nc * sizeof(float));
+    float *id0 = malloc(nc * sizeof(float)), *id1 = malloc(nc * sizeof(float)), *idc = malloc(nc * sizeof(float));
+    float *fl0 = malloc(2 * (size_t)nc * sizeof(float)), *fl1 = malloc(2 * (size_t)nc * sizeof(float));
+    uint32_t *ids = malloc(np * sizeof(uint32_t));
     const float span = 1.0f / 6.0f;
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
-    up_inputs(depth, motion, h, &grid, z0, z1, r0, r1);
+    up_inputs(depth, motion, h, ids, &grid, z0, z1, r0, r1, id0, id1, fl0, fl1);
+    for (int q = 0; q < nc; q++)
+        idc[q] = (float)ids[disp_grid_py(&grid, q / grid.nx) * UP_W + disp_grid_px(&grid, q % grid.nx)];
     for (int q = 0; q < nc; q++) { /* slopes per second: up to 0.05 of the ratio over the interval */
         s0[q] = (float)(0.3 * sin(0.15 * (q % grid.nx) - 0.2 * (q / grid.nx)));
         s1[q] = (float)(-0.25 * cos(0.1 * (q % grid.nx) + 0.3 * (q / grid.nx)));
@@ -232,8 +252,8 @@ static int upsample_agrees(float tau, bool at_key)
         }
         disp_flow_advect(flow, UP_W, UP_H, c ? pos1 : pos0, nc);
     }
-    disp_keyframe_view k0 = {pos0, r0, s0, z0}, k1 = {pos1, r1, s1, z1};
-    disp_upsample_temporal(&ud, tau, span, zc, &k0, at_key ? NULL : &k1, rt, NULL);
+    disp_keyframe_view k0 = {pos0, r0, s0, z0, id0, fl0}, k1 = {pos1, r1, s1, z1, id1, fl1};
+    disp_upsample_temporal(&ud, tau, span, zc, idc, &k0, at_key ? NULL : &k1, rt, NULL);
     disp_upsample_spatial(&ud, h, rt, f, NULL);
 
     harness hs;
@@ -243,6 +263,7 @@ static int upsample_agrees(float tau, bool at_key)
     CHECK(upsample_gpu_create(hs.gpu, &t.u) == VG_OK, "GPU upsampling");
     t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.motion = harness_image_add(&hs, "motion", VK_FORMAT_R32G32B32A32_SFLOAT, UP_W, UP_H, true, false);
+    t.ids = harness_image_add(&hs, "ids", VK_FORMAT_R32_UINT, UP_W, UP_H, true, false);
     t.h = harness_image_add(&hs, "h", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.f = harness_image_add(&hs, "f", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, false, true);
     CHECK(harness_upload(&hs) == 0, "upload");
@@ -258,6 +279,10 @@ static int upsample_agrees(float tau, bool at_key)
     float *sf = store.mapped, *pr = (float *)((mid_published *)pub.mapped + 1);
     memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z0, nc * sizeof(float));
     memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z1, nc * sizeof(float));
+    memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_ID) * (size_t)nc, id0, nc * sizeof(float));
+    memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_ID) * (size_t)nc, id1, nc * sizeof(float));
+    memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_FLOW_F) * (size_t)nc, fl0, 2 * nc * sizeof(float));
+    memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_FLOW_B) * (size_t)nc, fl1, 2 * nc * sizeof(float));
     memcpy(pr + nc, r0, nc * sizeof(float));
     memcpy(pr, r1, nc * sizeof(float));
     memcpy(pr + 3 * (size_t)nc, s0, nc * sizeof(float));
@@ -271,6 +296,7 @@ static int upsample_agrees(float tau, bool at_key)
                                                           .execute = up_time_execute, .user = &t});
     rg_use(hs.graph, time, t.depth, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.motion, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.ids, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.store, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.published, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.ratio, RG_STORAGE_WRITE);
@@ -285,6 +311,7 @@ static int upsample_agrees(float tau, bool at_key)
     rg_bind_buffer(hs.graph, t.published, pub.buffer);
     memcpy(harness_data(&hs, t.depth), depth, np * sizeof(float));
     memcpy(harness_data(&hs, t.motion), motion, 4 * (size_t)np * sizeof(float));
+    memcpy(harness_data(&hs, t.ids), ids, np * sizeof(uint32_t));
     memcpy(harness_data(&hs, t.h), h, np * sizeof(float));
     CHECK(harness_run(&hs) == 0, "run");
     const float *fg = harness_data(&hs, t.f);
@@ -308,6 +335,7 @@ static int upsample_agrees(float tau, bool at_key)
     CHECK(harness_close(&hs) == 0, "validation messages");
     free(depth); free(motion); free(h); free(f); free(flow); free(z0); free(z1); free(r0); free(r1);
     free(zc); free(rt); free(pos0); free(pos1); free(s0); free(s1);
+    free(id0); free(id1); free(idc); free(fl0); free(fl1); free(ids);
     return 0;
 }
 

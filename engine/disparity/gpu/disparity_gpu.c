@@ -155,7 +155,8 @@ static void time_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo z = image_of(ctx, d->res->depth), m = image_of(ctx, d->res->motion);
-    upsample_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, rg_ctx_buffer(ctx, d->r_store),
+    VkDescriptorImageInfo ids = image_of(ctx, d->res->ids);
+    upsample_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, &ids, rg_ctx_buffer(ctx, d->r_store),
                         rg_ctx_buffer(ctx, d->r_published), rg_ctx_buffer(ctx, d->ratio));
 }
 
@@ -239,6 +240,7 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     p = compute_pass(g, "mid.upsample.time", time_execute, d);
     rg_use(g, p, res->depth, RG_STORAGE_READ);
     rg_use(g, p, res->motion, RG_STORAGE_READ);
+    rg_use(g, p, res->ids, RG_STORAGE_READ);
     rg_use(g, p, d->r_store, RG_STORAGE_READ);
     rg_use(g, p, d->r_published, RG_STORAGE_READ);
     rg_use(g, p, d->ratio, RG_STORAGE_WRITE);

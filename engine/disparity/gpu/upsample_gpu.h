@@ -1,7 +1,7 @@
 /* vergence — mid.upsample on the GPU (DESIGN.md step 7, paper 4.4): the
  * solver's coarse keyframe correction f / h to this frame's full-resolution
  * f, as disp_upsample.c: in time along the G-buffer's motion to the two
- * nearest keyframes with the depth occlusion test, in space by joint
+ * nearest keyframes with the links' occlusion test, in space by joint
  * bilateral upsampling guided by the full-resolution h. Processing is linear
  * in the output pixels (paper 4.5). */
 #pragma once
@@ -29,11 +29,13 @@ vg_status upsample_gpu_create(gpu *g, upsample_gpu **out);
 void upsample_gpu_destroy(upsample_gpu *u);
 
 /* Coarse ratio of the frame (nx * ny floats in ratio) from depth, motion
- * (RGBA32F: px to the previous keyframe xy, to the next zw), the keyframe
- * store and the published ratios and slopes (mid_published, then
- * slots x nx x ny ratios, then as many slopes per second). */
+ * (RGBA32F: px to the previous keyframe xy, to the next zw), instance ids
+ * (R32_UINT), the keyframe store and the published ratios and slopes
+ * (mid_published, then slots x nx x ny ratios, then as many slopes per
+ * second). */
 void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
-                         const VkDescriptorImageInfo *motion, VkBuffer store, VkBuffer published, VkBuffer ratio);
+                         const VkDescriptorImageInfo *motion, const VkDescriptorImageInfo *ids, VkBuffer store,
+                         VkBuffer published, VkBuffer ratio);
 /* Full-resolution f from h and the coarse ratio, clamped to the published range. */
 void upsample_gpu_record_space(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *h,
                           VkBuffer published, VkBuffer ratio, const VkDescriptorImageInfo *out);
