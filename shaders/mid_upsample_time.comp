@@ -69,7 +69,9 @@ vec3 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool fo
                            mid_on_trajectory(float(x), float(y), key_field(slot, fl, 2u * uint(q)),
                                              key_field(slot, fl, 2u * uint(q) + 1u), (other.x - s2) / float(up.stride),
                                              (other.y - s2) / float(up.stride)) != 0u;
-            if (key_field(slot, MID_STORE_ID, uint(q)) != id || !(same_depth || on_path))
+            bool keep = up.depth_only != 0u ? same_depth
+                                             : key_field(slot, MID_STORE_ID, uint(q)) == id && (same_depth || on_path);
+            if (!keep)
                 continue;
         }
         acc += w * key_ratio(slot, q);

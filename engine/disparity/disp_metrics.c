@@ -2,14 +2,6 @@
 
 #include <math.h>
 
-double disp_metrics_range_violation(const float *x, int n, float lo, float hi)
-{
-    long out = 0;
-    for (int i = 0; i < n; i++)
-        out += !disp_metrics_in_range(x[i], lo, hi);
-    return n > 0 ? (double)out / n : 0.0;
-}
-
 /* A pixel moves in depth when g changes along a valid link by at least the
  * threshold velocity (the image-space motion alone is not motion in depth). */
 static bool is_moving(const mid_window *w, int i, float thr)

@@ -35,5 +35,3 @@ static inline bool disp_metrics_in_range(float x, float lo, float hi)
 {
     return x >= lo - 1e-3f && x <= hi + 1e-3f;
 }
-/* Fraction of the n values outside the range (disp_metrics_in_range). */
-double disp_metrics_range_violation(const float *x, int n, float lo, float hi);

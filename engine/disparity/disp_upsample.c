@@ -86,7 +86,8 @@ typedef struct keyframe_sample {
  * `other` of the sample in the interval's other keyframe, full-resolution
  * px, NaN when lost or none). */
 static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, float z, float id,
-                                       const float *other, const disp_keyframe_view *k, float log_tol, bool test)
+                                       const float *other, const disp_keyframe_view *k, float log_tol, bool test,
+                                       bool depth_only)
 {
     keyframe_sample s = {1.0f, 0.0f, 0.0f};
     if (isnan(px) || isnan(py))
@@ -108,7 +109,8 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
             bool on_path = k->flow && other && !isnan(other[0]) &&
                            mid_on_trajectory((float)x, (float)y, k->flow[2 * q], k->flow[2 * q + 1],
                                              (other[0] - s2) / (float)g->stride, (other[1] - s2) / (float)g->stride);
-            if ((k->id ? k->id[q] : 0.0f) != id || !(same_depth || on_path))
+            bool keep = depth_only ? same_depth : (k->id ? k->id[q] : 0.0f) == id && (same_depth || on_path);
+            if (!keep)
                 continue;
         }
         acc += w * k->ratio[q];
@@ -141,10 +143,10 @@ static void temporal_block(void *c, int block, int begin, int end)
         float z = x->depth_t[q], id = x->id_t ? x->id_t[q] : 0.0f;
         /* At a keyframe (no k1) the sample itself: depth and id alone. */
         const float *at0 = k0->pos + 2 * q, *at1 = k1 && x->tau > 0.0f ? k1->pos + 2 * q : NULL;
-        keyframe_sample a = sample_keyframe(g, at0[0], at0[1], z, id, at1, k0, x->log_tol, true);
+        keyframe_sample a = sample_keyframe(g, at0[0], at0[1], z, id, at1, k0, x->log_tol, true, x->d->depth_only);
         keyframe_sample b = {1.0f, 0.0f, 0.0f};
         if (at1)
-            b = sample_keyframe(g, at1[0], at1[1], z, id, at0, k1, x->log_tol, true);
+            b = sample_keyframe(g, at1[0], at1[1], z, id, at0, k1, x->log_tol, true, x->d->depth_only);
         /* Fig. 4: interpolate along the flow in time, by cubic Hermite with
          * the keyframes' slopes (C1 at keyframes), or linearly without them;
          * a keyframe whose sample is occluded (not the sample's surface) or
@@ -169,7 +171,7 @@ static void temporal_block(void *c, int block, int begin, int end)
             px = (float)disp_grid_px(g, q % g->nx);
             py = (float)disp_grid_py(g, q / g->nx);
         }
-        x->out[q] = sample_keyframe(g, px, py, z, id, NULL, k, x->log_tol, false).ratio;
+        x->out[q] = sample_keyframe(g, px, py, z, id, NULL, k, x->log_tol, false, false).ratio;
     }
 }
 

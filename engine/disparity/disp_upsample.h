@@ -10,6 +10,8 @@
  *          full-resolution h of frame t; then f = clamp(h r, target range).
  * Equations: docs/method.md "Upsampling". */
 #pragma once
+#include <stdbool.h>
+
 #include "core/parallel.h"
 
 /* The coarse grid of a full-resolution frame: sample (qx, qy) is the
@@ -46,6 +48,7 @@ typedef struct disp_upsample_desc {
     float sigma_spatial;       /* coarse pixels, 0 = 0.5 */
     float sigma_range;         /* arcmin, 0 = 4 */
     float range_lo, range_hi;  /* clamp of f; both 0 = none */
+    bool depth_only;           /* occlusion in time by depth alone (paper 4.4), not the links' test */
 } disp_upsample_desc;
 
 /* One keyframe as frame t sees it (coarse arrays of the keyframe). */

@@ -457,7 +457,7 @@ struct disp_upsample_push {
     float tau, log_tol, inv_2ss, inv_2sr;
     uint at_key, store_cap;       /* at_key: frame t is keyframe k0 (tau = 0); store_cap: ring slots */
     float span;                   /* seconds from k0 to k1 */
-    uint unused0;
+    uint depth_only;              /* 1: the occlusion test in time by depth alone (no ids, no trajectory) */
 };
 
 #if defined(__STDC__) || defined(__cplusplus)

@@ -93,6 +93,8 @@ typedef struct frame_desc {
     mid_solver_kind solver;      /* 0 = Gauss-Newton (the CPU reference's default) */
     int solver_iterations;       /* outer iterations per window, 0 = the solver's default for the first
                                     window and MID_GN_WARM_ITERATIONS for each warm-started move */
+    bool temporal_depth_only;    /* the temporal upsampling's occlusion test by depth alone (paper 4.4),
+                                    not the links' test: kept to measure the two (docs/method.md Sec. 8) */
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at

@@ -29,10 +29,11 @@
 #include "frame/frame.h"
 #include "shared.h"
 #include "disparity/disp_curve.h"
+#include "rules/game.h"
 
 typedef struct capture_opts {
     const char *scene, *out, *dump_graph;
-    int frames, camera, stride, solver_iterations;
+    int frames, camera, stride, solver_iterations, throw_no, occlusion;
     double time, fps;
     int size[2];
     int stereo, mode, compose, op;
@@ -49,8 +50,10 @@ typedef struct capture_opts {
 static capture_opts o = {
     .frames = 1, .fps = 60, .stride = 10, .size = {960, 540}, .gpu = {.device = -1},
     .stereo = FRAME_STEREO_WARP, .mode = FRAME_MODE_OPTIMIZED, .compose = FRAME_COMPOSE_SBS,
-    .op = DISP_OPERATOR_LANG,
+    .op = DISP_OPERATOR_LANG, .throw_no = -1,
 };
+
+static const char *const k_occlusion[] = {"links", "depth", NULL};
 
 static const vg_opt k_opts[] = {
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF 2.0 scene (.gltf or .glb)", NULL, 0, 0},
@@ -61,6 +64,10 @@ static const vg_opt k_opts[] = {
     {"--size", VG_OPT_SIZE, o.size, "WxH", "image size (default 960x540)", NULL, 0, 0},
     {"--camera", VG_OPT_INT, &o.camera, "N", "camera node of the scene to use (default 0)", NULL, 0, 1000},
     {"--keyframe-stride", VG_OPT_INT, &o.stride, "S", "frames between keyframes (default 10, paper 4.4)", NULL, 1, 1000},
+    {"--throw", VG_OPT_INT, &o.throw_no, "N", "throw the scene's 'ball' as the game's free play draws throw N, "
+     "launched at --time (the arena)", NULL, 0, 100000},
+    {"--temporal-occlusion", VG_OPT_CHOICE, &o.occlusion, "TEST", "the upsampling's occlusion test in time: links "
+     "(instance, and depth or trajectory; default) or depth (alone, paper 4.4)", k_occlusion, 0, 0},
     {"--solver-iterations", VG_OPT_INT, &o.solver_iterations, "N", "outer solver iterations each time the keyframe window moves (default: the frame's)", NULL, 1, 64},
     {"--stereo-render", VG_OPT_CHOICE, &o.stereo, "HOW", "how the stereo pair is made (default warp)", frame_stereo_names, 0, 0},
     {"--mode", VG_OPT_ENUM, &o.mode, "MODE", "disparity shown: g, h or f (default optimized)", frame_mode_names, 0, 0},
@@ -251,6 +258,8 @@ static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, 
     capture_json_passes(&j, log);
     if (fd->stereo != FRAME_STEREO_OFF)
         capture_json_stereo(&j, fd, &log->warp);
+    if (o.throw_no >= 0)
+        vg_json_int(&j, "throw", o.throw_no);
     if (o.caption) {
         vg_json_str(&j, "caption", o.caption);
         vg_json_num(&j, "caption_parallax_px", o.caption_parallax);
@@ -307,7 +316,7 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         .measure = true,
         .curve = curve,
         .op = (disp_operator_kind)o.op, .target_range = o.target_range,
-        .solver_iterations = o.solver_iterations,
+        .solver_iterations = o.solver_iterations, .temporal_depth_only = o.occlusion == 1,
         .overlay = o.caption != NULL,
         .display = display_cli_desc(&o.display),
     };
@@ -392,6 +401,27 @@ static int run(int argc, char **argv)
             vg_error("--camera %d: %s has no camera node (0 is the automatic camera)", o.camera, o.scene);
         scene_destroy(s);
         return 2;
+    }
+    /* --throw: the ball flies as in the game, from the first frame (its pose
+     * hook answers every time the frame asks, the keyframes ahead too). */
+    static game_ball ball;
+    if (o.throw_no >= 0) {
+        ball = (game_ball){.node = scene_find_node(s, "ball"), .t_launch = lround(o.time * o.fps) / o.fps};
+        if (ball.node < 0) {
+            vg_error("--throw: %s has no node named 'ball' (see docs/content.md)", o.scene);
+            scene_destroy(s);
+            return 2;
+        }
+        memcpy(ball.scale, s->nodes[ball.node].scale, sizeof ball.scale);
+        scene_state s0;
+        vg_camera cam;
+        if ((st = scene_state_init(s, &s0)) == VG_OK) {
+            scene_evaluate(s, 0.0f, &s0);
+            scene_camera_resolve(s, &s0, o.camera, (float)o.size[0] / (float)o.size[1], &cam);
+            scene_state_free(&s0);
+            game_throw_free_play(1, o.throw_no, GAME_VISIBLE_S, &cam, &ball.th);
+            scene_set_pose_hook(s, game_ball_pose, &ball);
+        }
     }
     /* Nothing it writes or removes may be one of its inputs. */
     vg_inputs in = {0};

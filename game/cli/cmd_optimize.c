@@ -28,9 +28,9 @@ static struct {
 
 static const vg_opt g_opts[] = {
     {.name = "--capture", .kind = VG_OPT_STRING, .dest = &o.capture, .metavar = "DIR", .help = "a folder from 'vergence capture': its g, h, depth, ids, flows to the keyframes, colour image (a new pair), frames, stride, fps, display and range (flags override)"},
-    {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM per frame, e.g. 'in/g_%04d.pfm' (required)"},
-    {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required)"},
-    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), metrics.json (required)"},
+    {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM (or KITTI/Sintel PNG) per frame, e.g. 'in/g_%04d.pfm' (required, or --capture)"},
+    {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required with --g)"},
+    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), with --image left_/right_%04d.png and stereo.mp4, metrics.json (required)"},
     {.name = "--h", .kind = VG_OPT_STRING, .dest = &o.h, .metavar = "PATTERN", .help = "manipulated disparity h, PFM arcmin (instead of --operator)"},
     {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
     {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
@@ -96,8 +96,8 @@ static bool parse_weights(const char *text, mid_weights *w)
 
 /* `--capture DIR`: what a capture folder holds, for the options not given.
  * g, depth, ids, the flows to the keyframes and the centre image (a new
- * pair) always; h (the engine's own)
- * when the capture's mode computed it, else the saliency for the operator;
+ * pair) always; h (the engine's own) when the capture's mode computed it,
+ * else the saliency for the operator;
  * frames from the first keyframe to the last; stride, fps, the display and
  * the target range from capture.json. */
 static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, char pat[8][4096], char *display)
@@ -167,7 +167,8 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
         *dest[k] = pat[k];
     }
     if (!d->h && !d->saliency) {
-        vg_path_join(pat[7], 4096, o.capture, "frame_%04d_saliency.png");
+        if ((st = vg_path_join(pat[7], 4096, o.capture, "frame_%04d_saliency.png")) != VG_OK)
+            return st;
         d->saliency = pat[7];
     }
     if (o.flow_to < 0 && !o.flow_next && !o.flow_prev)
@@ -233,14 +234,17 @@ static int run(int argc, char **argv)
 const vg_cmd vg_cmd_optimize = {
     .name = "optimize",
     .summary = "optimise disparity videos for motion in depth (Kellnhofer et al. Sec. 4)",
-    .usage = "vergence optimize --g PATTERN --frames A:B --out DIR [options]",
+    .usage = "vergence optimize --g PATTERN --frames A:B --out DIR [options]\n"
+             "       vergence optimize --capture DIR --out DIR [options]",
     .details = "Reads per-frame PFM vergence g (or dataset pixel disparity with --g-units px),\n"
                "makes h with an operator (or reads --h), solves the motion-in-depth optimisation\n"
                "on coarse keyframes and writes the upsampled f for every frame, with colour\n"
                "previews of g, h and f (the middle frame as PNG with a legend, a video of each\n"
-               "with ffmpeg) and x-t slices. Patterns take one\n"
-               "%d-style conversion, as in ffmpeg. Missing flow means a static scene; a missing\n"
-               "flow direction is approximated by the other one negated.",
+               "with ffmpeg) and x-t slices; given the images (--image), a new stereo pair from f.\n"
+               "Unknown g (inf, KITTI's 0) is left out of the costs and the metrics. --capture DIR\n"
+               "takes a folder of 'vergence capture' whole. Patterns take one %d-style\n"
+               "conversion, as in ffmpeg. Missing flow means a static scene; a missing flow\n"
+               "direction is approximated by the other one negated.",
     .opts = g_opts,
     .opt_count = (int)(sizeof g_opts / sizeof g_opts[0]),
     .run = run,

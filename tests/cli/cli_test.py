@@ -635,6 +635,8 @@ def case_optimize_roundtrip():
         sys.exit("FAIL: optimize's f is not the engine's within the stated tolerance")
     if not 0 < m["stereo_pair"]["hole_fraction"] < 0.1:
         sys.exit("FAIL: the new pair's holes")
+    expect_error(["optimize", "--capture", tmp, "--out", os.path.join(tmp, "x")], "capture.json")
+    expect_error(["optimize", "--capture", cap, "--g", "g_%d.pfm", "--out", os.path.join(tmp, "x")], "--capture")
     # The engine's own image warping of g (mode original) against optimize's of f = g (operator none).
     cap2, opt2 = os.path.join(tmp, "cap_iw"), os.path.join(tmp, "opt_iw")
     capture(os.path.join("content", "cubes.gltf"), cap2, 11, "160x90",

@@ -375,6 +375,7 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
         .tau = (float)phase / (float)d->interval, .at_key = phase == 0, .has1 = true,
         .slot0 = ring_slot(d, k), .slot1 = ring_slot(d, k + 1), .slots = (uint32_t)d->ring,
         .span = (float)(d->fc->desc.keyframe_stride / d->fc->desc.fps),
+        .depth_only = d->fc->desc.temporal_depth_only,
     };
     return VG_OK;
 }

@@ -62,7 +62,7 @@ static disp_upsample_push push_of(const upsample_gpu_frame *f)
         .slot0 = f->slot0, .slot1 = f->slot1, .has1 = f->has1,
         .tau = f->at_key ? 0.0f : f->tau, .log_tol = logf(1.0f + tol),
         .inv_2ss = 1.0f / (2.0f * ss * ss), .inv_2sr = 1.0f / (2.0f * sr * sr),
-        .at_key = f->at_key, .store_cap = f->slots, .span = f->span,
+        .at_key = f->at_key, .store_cap = f->slots, .span = f->span, .depth_only = f->depth_only,
     };
 }
 

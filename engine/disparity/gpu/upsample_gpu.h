@@ -23,6 +23,7 @@ typedef struct upsample_gpu_frame {
     float span;                      /* seconds from k0 to k1 */
     float occlusion_tolerance;       /* relative depth, 0 = MID_OCCLUSION_TOLERANCE */
     float sigma_spatial, sigma_range;/* 0 = MID_SIGMA_SPATIAL, MID_SIGMA_RANGE */
+    bool depth_only;                 /* occlusion in time by depth alone (disp_upsample_desc) */
 } upsample_gpu_frame;
 
 vg_status upsample_gpu_create(gpu *g, upsample_gpu **out);
