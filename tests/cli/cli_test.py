@@ -635,6 +635,13 @@ def case_optimize_roundtrip():
         sys.exit("FAIL: optimize's f is not the engine's within the stated tolerance")
     if not 0 < m["stereo_pair"]["hole_fraction"] < 0.1:
         sys.exit("FAIL: the new pair's holes")
+    # The arena's ball thrown as the game does, the old occlusion test in time kept to measure against.
+    tj = capture(os.path.join("content", "arena.gltf"), os.path.join(tmp, "throw"), 3, "96x54",
+                 ["--time", "1", "--throw", "2", "--temporal-occlusion", "depth", "--no-reference"])
+    if tj.get("throw") != 2 or tj["metrics"]["temporal_occlusion"] != "depth" or tj["validation_messages"]:
+        sys.exit(f"FAIL: capture --throw / --temporal-occlusion not recorded: {tj.get('throw')}")
+    expect_error(["capture", "--scene", os.path.join("content", "cubes.gltf"), "--throw", "0", "--out",
+                  os.path.join(tmp, "x")], "ball")
     expect_error(["optimize", "--capture", tmp, "--out", os.path.join(tmp, "x")], "capture.json")
     expect_error(["optimize", "--capture", cap, "--g", "g_%d.pfm", "--out", os.path.join(tmp, "x")], "--capture")
     # The engine's own image warping of g (mode original) against optimize's of f = g (operator none).
