@@ -565,40 +565,13 @@ def read_pfm(path):
 
 
 def read_png_rgb(path):
-    """An 8-bit RGB PNG (any of the five filters) as (w, h, bytes), read here."""
-    import zlib
-    with open(path, "rb") as f:
-        data = f.read()
-    pos, idat, w = 8, b"", 0
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR":
-            w, h, bits, ctype = struct.unpack(">IIBB", body[:10])
-            if bits != 8 or ctype != 2:
-                sys.exit(f"FAIL: {path} is not 8-bit RGB")
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + n
-    raw, out, stride = zlib.decompress(idat), bytearray(), 3 * w
-    prev = bytearray(stride)
-    for y in range(h):
-        kind, row = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = row[i - 3] if i >= 3 else 0
-            b, c = prev[i], prev[i - 3] if i >= 3 else 0
-            if kind == 1:
-                row[i] = (row[i] + a) & 255
-            elif kind == 2:
-                row[i] = (row[i] + b) & 255
-            elif kind == 3:
-                row[i] = (row[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                row[i] = (row[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        out += row
-        prev = row
-    return w, h, bytes(out)
+    """An 8-bit RGB PNG as (w, h, bytes): the decoder of tests/warp (one PNG reader for the Python tests)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "warp"))
+    from warp_test import png
+    w, h, channels, rows = png(path)
+    if channels != 3:
+        sys.exit(f"FAIL: {path} is not RGB")
+    return w, h, b"".join(rows)
 
 
 def case_optimize_roundtrip():
