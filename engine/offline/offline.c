@@ -239,63 +239,19 @@ static vg_status read_plane(seq *s, const disp_pattern *p, int t, const char *wh
     return st;
 }
 
-static vg_status read_saliency(seq *s, int t, float *out)
+/* An 8-bit PNG of frame t with `comp` channels, of the sequence's size;
+ * *out (freed with free()) or, without out, only checked. */
+static vg_status read_png_frame(seq *s, const disp_pattern *p, int t, int comp, const char *what, uint8_t **out)
 {
     char path[PATH_CAP];
-    vg_status st = frame_path(&s->ps, t, path);
-    int w, h;
-    uint8_t *px;
-    if (st == VG_OK)
-        st = vg_png_read(path, &w, &h, 1, &px);
-    if (st != VG_OK)
-        return st;
-    if (w != s->w || h != s->h) {
-        vg_error("%s: saliency is %dx%d but the sequence is %dx%d (all frames must have the same size)",
-                 path, w, h, s->w, s->h);
-        free(px);
-        return VG_ERR_FORMAT;
-    }
-    for (int i = 0; out && i < w * h; i++)
-        out[i] = px[i] / 255.0f;
-    free(px);
-    return VG_OK;
-}
-
-/* Instance ids of a frame (capture's frame_NNNN_ids.png), as floats. */
-static vg_status read_ids(seq *s, int t, float *out)
-{
-    char path[PATH_CAP];
-    vg_status st = frame_path(&s->pid, t, path);
-    int w, h;
-    uint8_t *px;
-    if (st == VG_OK)
-        st = vg_png_read(path, &w, &h, 3, &px);
-    if (st != VG_OK)
-        return st;
-    if (w != s->w || h != s->h) {
-        vg_error("%s: ids are %dx%d but the sequence is %dx%d (all frames must have the same size)", path, w, h,
-                 s->w, s->h);
-        free(px);
-        return VG_ERR_FORMAT;
-    }
-    for (int i = 0; out && i < w * h; i++)
-        out[i] = (float)(px[3 * i] | px[3 * i + 1] << 8 | px[3 * i + 2] << 16);
-    free(px);
-    return VG_OK;
-}
-
-/* The view of frame t (--image), RGB; *out is freed with free(). */
-static vg_status read_image(seq *s, int t, uint8_t **out)
-{
-    char path[PATH_CAP];
-    vg_status st = frame_path(&s->pim, t, path);
+    vg_status st = frame_path(p, t, path);
     int w, h;
     uint8_t *px = NULL;
     if (st == VG_OK)
-        st = vg_png_read(path, &w, &h, 3, &px);
+        st = vg_png_read(path, &w, &h, comp, &px);
     if (st == VG_OK && (w != s->w || h != s->h)) {
-        vg_error("%s: the image is %dx%d but the sequence is %dx%d (all frames must have the same size)", path, w,
-                 h, s->w, s->h);
+        vg_error("%s: %s is %dx%d but the sequence is %dx%d (all frames must have the same size)", path, what, w, h,
+                 s->w, s->h);
         st = VG_ERR_FORMAT;
     }
     if (st == VG_OK && out)
@@ -303,6 +259,35 @@ static vg_status read_image(seq *s, int t, uint8_t **out)
     else
         free(px);
     return st;
+}
+
+static vg_status read_saliency(seq *s, int t, float *out)
+{
+    uint8_t *px;
+    vg_status st = read_png_frame(s, &s->ps, t, 1, "saliency", out ? &px : NULL);
+    for (int i = 0; st == VG_OK && out && i < s->w * s->h; i++)
+        out[i] = px[i] / 255.0f;
+    if (st == VG_OK && out)
+        free(px);
+    return st;
+}
+
+/* Instance ids of a frame (capture's frame_NNNN_ids.png, R the low byte), as floats. */
+static vg_status read_ids(seq *s, int t, float *out)
+{
+    uint8_t *px;
+    vg_status st = read_png_frame(s, &s->pid, t, 3, "ids", out ? &px : NULL);
+    for (int i = 0; st == VG_OK && out && i < s->w * s->h; i++)
+        out[i] = (float)(px[3 * i] | px[3 * i + 1] << 8 | px[3 * i + 2] << 16);
+    if (st == VG_OK && out)
+        free(px);
+    return st;
+}
+
+/* The view of frame t (--image), RGB; *out is freed with free(). */
+static vg_status read_image(seq *s, int t, uint8_t **out)
+{
+    return read_png_frame(s, &s->pim, t, 3, "the image", out);
 }
 
 /* Flow of frame t to t+1 (next) or t-1 (prev). A missing direction is
