@@ -133,6 +133,12 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
         o.frames = frames_buf;
         if (first > 0 || last < count - 1)
             vg_info("optimize: --capture %s: frames %d:%d, from its first keyframe to its last", o.capture, first, last);
+    } else if (o.flow_to < 0 && !o.flow_next && !o.flow_prev && !o.stride && atoi(o.frames) % stride != first % stride) {
+        /* The capture's flows go to its keyframes: the range must start on one. */
+        vg_error("optimize: --frames %s: with --capture %s the first frame must be a keyframe (%d + a multiple of %d)",
+                 o.frames, o.capture, first, stride);
+        vg_jdoc_free(&doc);
+        return VG_ERR_ARG;
     }
     if (!o.stride)
         d->keyframe_stride = stride;

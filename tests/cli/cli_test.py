@@ -616,6 +616,7 @@ def case_optimize_roundtrip():
     expect_error(["capture", "--scene", os.path.join("content", "cubes.gltf"), "--throw", "0", "--out",
                   os.path.join(tmp, "x")], "ball")
     expect_error(["optimize", "--capture", tmp, "--out", os.path.join(tmp, "x")], "capture.json")
+    expect_error(["optimize", "--capture", cap, "--frames", "3:23", "--out", os.path.join(tmp, "x")], "--frames")
     expect_error(["optimize", "--capture", cap, "--g", "g_%d.pfm", "--out", os.path.join(tmp, "x")], "--capture")
     # The engine's own image warping of g (mode original) against optimize's of f = g (operator none).
     cap2, opt2 = os.path.join(tmp, "cap_iw"), os.path.join(tmp, "opt_iw")
