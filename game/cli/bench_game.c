@@ -55,20 +55,12 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     static const frame_mode modes[MODES] = {FRAME_MODE_ORIGINAL, FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED};
     static const char *const labels[MODES] = {"original g", "manipulated h", "optimized f"};
     vg_status st = VG_OK;
-    replay r = {.ball.node = scene_find_node(sc, "ball")};
-    if (r.ball.node < 0) {
+    replay r = {0};
+    if (!game_ball_attach(sc, &r.ball, &r.cam)) {
         vg_error("--scene %s: no node named 'ball' to throw (see docs/content.md)", scene_path);
         return VG_ERR_FORMAT;
     }
-    memcpy(r.ball.scale, sc->nodes[r.ball.node].scale, sizeof r.ball.scale);
-    scene_state s0;
-    if ((st = scene_state_init(sc, &s0)) == VG_OK) {
-        scene_evaluate(sc, 0.0f, &s0);
-        scene_camera_resolve(sc, &s0, 0, 16.0f / 9.0f, &r.cam); /* as play aims its throws */
-        scene_state_free(&s0);
-    }
     throw_make(&r, 0);
-    scene_set_pose_hook(sc, game_ball_pose, &r.ball);
 
     uint32_t w, h;
     game_render_size(g, GAME_LAYOUT, GAME_WINDOW_W, GAME_WINDOW_H, &w, &h);

@@ -406,22 +406,14 @@ static int run(int argc, char **argv)
      * hook answers every time the frame asks, the keyframes ahead too). */
     static game_ball ball;
     if (o.throw_no >= 0) {
-        ball = (game_ball){.node = scene_find_node(s, "ball"), .t_launch = lround(o.time * o.fps) / o.fps};
-        if (ball.node < 0) {
+        vg_camera aim;
+        if (!game_ball_attach(s, &ball, &aim)) {
             vg_error("--throw: %s has no node named 'ball' (see docs/content.md)", o.scene);
             scene_destroy(s);
             return 2;
         }
-        memcpy(ball.scale, s->nodes[ball.node].scale, sizeof ball.scale);
-        scene_state s0;
-        vg_camera cam;
-        if ((st = scene_state_init(s, &s0)) == VG_OK) {
-            scene_evaluate(s, 0.0f, &s0);
-            scene_camera_resolve(s, &s0, o.camera, (float)o.size[0] / (float)o.size[1], &cam);
-            scene_state_free(&s0);
-            game_throw_free_play(1, o.throw_no, GAME_VISIBLE_S, &cam, &ball.th);
-            scene_set_pose_hook(s, game_ball_pose, &ball);
-        }
+        ball.t_launch = lround(o.time * o.fps) / o.fps;
+        game_throw_free_play(1, o.throw_no, GAME_VISIBLE_S, &aim, &ball.th);
     }
     /* Nothing it writes or removes may be one of its inputs. */
     vg_inputs in = {0};

@@ -317,3 +317,20 @@ void game_ball_pose(void *user, const scene *s, float t, float *local)
     const game_ball *b = user;
     game_ball_local(&b->th, b->t_launch, t, t < b->t_launch + b->th.visible_s, b->scale, local + (size_t)b->node * 10);
 }
+
+bool game_ball_attach(scene *s, game_ball *b, vg_camera *aim)
+{
+    int node = scene_find_node(s, "ball");
+    if (node < 0)
+        return false;
+    b->node = node;
+    memcpy(b->scale, s->nodes[node].scale, sizeof b->scale);
+    scene_state s0;
+    if (aim && scene_state_init(s, &s0) == VG_OK) {
+        scene_evaluate(s, 0.0f, &s0);
+        scene_camera_resolve(s, &s0, 0, 16.0f / 9.0f, aim); /* as play aims its throws */
+        scene_state_free(&s0);
+    }
+    scene_set_pose_hook(s, game_ball_pose, b);
+    return true;
+}

@@ -167,3 +167,8 @@ typedef struct game_ball {
     double t_launch;
 } game_ball;
 void game_ball_pose(void *user, const scene *s, float t, float *local);
+/* b throws the scene's `ball` node: its node and shown scale from the scene,
+ * the pose hook set; aim (optional) receives the camera play aims its
+ * throws with (camera 0 at t = 0, 16:9 whatever the window's shape).
+ * False, with nothing set, when the scene has no node named `ball`. */
+bool game_ball_attach(scene *s, game_ball *b, vg_camera *aim);
