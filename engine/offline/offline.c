@@ -554,13 +554,17 @@ static vg_status write_pair(seq *s, int t, const float *g, const float *f, const
     size_t np = (size_t)s->w * s->h;
     uint8_t *src = NULL, *eye = malloc(np * 3), *hole = malloc(np), *sbs = *video ? malloc(2 * np * 3) : NULL;
     float *shift = malloc(np * sizeof(float)), *zo = malloc(np * sizeof(float));
-    vg_status st = eye && hole && shift && zo && (sbs || !*video) ? read_image(s, t, &src) : VG_ERR_NOMEM;
+    double *pf = malloc(np * sizeof(double)), *pg = malloc(np * sizeof(double));
+    vg_status st = eye && hole && shift && zo && pf && pg && (sbs || !*video) ? read_image(s, t, &src) : VG_ERR_NOMEM;
     double to_px = (double)s->w / s->disp.width_m, at = image_left(s) ? -0.5 : 0.0;
+    for (size_t i = 0; st == VG_OK && i < np; i++) { /* once for both eyes */
+        pf[i] = stereo_parallax_from_vergence(&s->disp, f[i]);
+        pg[i] = at * stereo_parallax_from_vergence(&s->disp, g[i]);
+    }
     for (int e = 0; e < 2 && st == VG_OK; e++) {
         double side = e ? 0.5 : -0.5;
         for (size_t i = 0; i < np; i++)
-            shift[i] = (float)(to_px * (side * stereo_parallax_from_vergence(&s->disp, f[i]) -
-                                        at * stereo_parallax_from_vergence(&s->disp, g[i])));
+            shift[i] = (float)(to_px * (side * pf[i] - pg[i]));
         long holes = image_warp(src, s->w, s->h, 3, shift, z, eye, zo, hole);
         if (holes < 0) {
             st = VG_ERR_NOMEM;
@@ -578,7 +582,7 @@ static vg_status write_pair(seq *s, int t, const float *g, const float *f, const
     }
     if (st == VG_OK && sbs)
         figure_video_frame(video, sbs);
-    free(src); free(eye); free(hole); free(sbs); free(shift); free(zo);
+    free(src); free(eye); free(hole); free(sbs); free(shift); free(zo); free(pf); free(pg);
     return st;
 }
 
