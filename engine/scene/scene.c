@@ -266,6 +266,8 @@ static void place_instances(const scene *s, scene_state *st)
 /* Evaluate                                                                  */
 /* ------------------------------------------------------------------------- */
 
+static void state_bounds(const scene *s, scene_state *st);
+
 void scene_evaluate(const scene *s, float t, scene_state *st)
 {
     if (!isfinite(t))
@@ -278,7 +280,34 @@ void scene_evaluate(const scene *s, float t, scene_state *st)
     pose_world(s, st);
     pose_joints(s, st);
     place_instances(s, st);
+    state_bounds(s, st);
+}
 
+void scene_evaluate_known(const scene *s, const scene_past *past, float t, scene_state *st)
+{
+    if (!past || !isfinite(t) || t <= past->now->t) {
+        scene_evaluate(s, t, st);
+        return;
+    }
+    const scene_state *a = past->before, *b = past->now;
+    float span = b->t - a->t, u = span > 0.0f ? (t - b->t) / span : 0.0f;
+    st->t = t;
+    /* Nodes: the translation goes on, the rotation and scale are held (a
+     * linear step of a rotation matrix is no rotation). */
+    size_t nn = (size_t)s->node_count * 16;
+    memcpy(st->world, b->world, nn * sizeof(float));
+    for (int n = 0; n < s->node_count; n++)
+        for (int k = 12; k < 15; k++)
+            st->world[16 * n + k] += u * (b->world[16 * n + k] - a->world[16 * n + k]);
+    size_t nv = (size_t)s->vertex_count * 3;
+    for (size_t i = 0; i < nv; i++)
+        st->positions[i] = b->positions[i] + u * (b->positions[i] - a->positions[i]);
+    memcpy(st->normals, b->normals, nv * sizeof(float));
+    state_bounds(s, st);
+}
+
+static void state_bounds(const scene *s, scene_state *st)
+{
     size_t n = (size_t)s->vertex_count;
     for (int k = 0; k < 3; k++) {
         st->bounds_min[k] = n ? INFINITY : 0.0f;

@@ -204,6 +204,18 @@ void scene_state_free(scene_state *st);
  * non-finite t is treated as 0. */
 void scene_evaluate(const scene *s, float t, scene_state *st);
 
+/* The scene as a host that cannot see ahead knows it (`--look-ahead
+ * causal`, docs/method.md "Look-ahead"): evaluated up to now->t, predicted
+ * after it. A prediction moves every vertex and every node's origin on at
+ * the velocity it had from before->t to now->t (constant velocity, from the
+ * last two evaluations only); node rotations, scales and normals are held. */
+typedef struct scene_past {
+    const scene_state *now, *before; /* evaluated at now->t > before->t (the last frame and one step before) */
+} scene_past;
+/* scene_evaluate for t <= past->now->t (or past NULL: the scene's own
+ * future, perfect foresight), else the prediction at t. */
+void scene_evaluate_known(const scene *s, const scene_past *past, float t, scene_state *st);
+
 /* Run-time motion (the game's ball): scene_evaluate calls fn after the
  * animation channels and before the hierarchy is composed, with every node's
  * local T (3), R (4, x y z w), S (3) at t (node i at local + 10 i), and fn

@@ -469,3 +469,60 @@ void test_hierarchy(void)
     free(bin);
     scene_destroy(s);
 }
+
+/* scene_evaluate_known (the causal look-ahead): up to now it is the scene;
+ * after it, every vertex and node origin goes on at its last velocity.
+ * BoxAnimated: node 0 rises linearly over [0, 1.25] s and then stops; node 2
+ * turns over [1.25, 2.5] s. */
+void test_predict(void)
+{
+    scene *s = unit_load(unit_asset("BoxAnimated/glTF/BoxAnimated.gltf"));
+    if (!s)
+        return;
+    scene_state now, before, pred, truth;
+    EXPECT(scene_state_init(s, &now) == VG_OK && scene_state_init(s, &before) == VG_OK &&
+               scene_state_init(s, &pred) == VG_OK && scene_state_init(s, &truth) == VG_OK,
+           "states");
+    const float step = 1.0f / 60.0f;
+    const float nows[2] = {0.5f, 1.5f};
+    for (int c = 0; c < 2; c++) {
+        float t0 = nows[c];
+        scene_evaluate(s, t0, &now);
+        scene_evaluate(s, t0 - step, &before);
+        scene_past past = {.now = &now, .before = &before};
+        /* Up to now (and without a past) it is scene_evaluate. */
+        const float known[3] = {t0 - 0.3f, t0, t0 + 0.4f};
+        for (int i = 0; i < 3; i++) {
+            scene_evaluate_known(s, i < 2 ? &past : NULL, known[i], &pred);
+            scene_evaluate(s, known[i], &truth);
+            EXPECT(memcmp(pred.positions, truth.positions, 3 * sizeof(float) * s->vertex_count) == 0,
+                   "t %.3f (now %.3f%s): not the scene's own state", known[i], t0, i < 2 ? "" : ", no past");
+        }
+        /* After now: p_now + (t - now) / step (p_now - p_before), rotations held. */
+        float t = t0 + 0.5f, u = (t - t0) / step;
+        scene_evaluate_known(s, &past, t, &pred);
+        for (uint32_t v = 0; v < 3 * s->vertex_count; v += 5)
+            EXPECT_NEAR(pred.positions[v], now.positions[v] + u * (now.positions[v] - before.positions[v]), 1e-4,
+                        "vertex float %u at %.2f from %.2f", v, t, t0);
+        for (int k = 0; k < 12; k++)
+            EXPECT(pred.world[2 * 16 + k] == now.world[2 * 16 + k], "node 2's rotation is not held ([%d])", k);
+        EXPECT(pred.t == t, "t %g", pred.t);
+    }
+    /* A constant velocity is foreseen exactly: node 0 from 0.5 s to 1.0 s. */
+    scene_evaluate(s, 0.5f, &now);
+    scene_evaluate(s, 0.5f - step, &before);
+    scene_past past = {.now = &now, .before = &before};
+    scene_evaluate_known(s, &past, 1.0f, &pred);
+    scene_evaluate(s, 1.0f, &truth);
+    EXPECT_NEAR(pred.world[13], truth.world[13], 1e-3, "node 0 at 1.0 s predicted from 0.5 s");
+    /* ... and a change of motion is not: it stops at 1.25 s (y 2.52 m). */
+    scene_evaluate_known(s, &past, 2.0f, &pred);
+    scene_evaluate(s, 2.0f, &truth);
+    EXPECT(fabsf(pred.world[13] - truth.world[13]) > 1.0f, "node 0 at 2.0 s: predicted %.3f, truth %.3f",
+           pred.world[13], truth.world[13]);
+    scene_state_free(&now);
+    scene_state_free(&before);
+    scene_state_free(&pred);
+    scene_state_free(&truth);
+    scene_destroy(s);
+}
