@@ -30,6 +30,14 @@ vec2 sample_at(uint s)
 
 void main()
 {
+    // Keyframes fitted again (the causal window predicts its future anew at
+    // each move): the chain goes on from the keyframe before the first tile.
+    if ((op.flags & DISP_OP_FLAG_CHAIN_FROM) != 0u) {
+        for (uint f = gl_LocalInvocationID.x; f < DISP_OP_STATE_FLOATS; f += gl_WorkGroupSize.x)
+            state[DISP_OP_ENTRY_CHAIN * DISP_OP_STATE_FLOATS + f] = state[op.prev * DISP_OP_STATE_FLOATS + f];
+        memoryBarrierBuffer();
+        barrier();
+    }
     for (tile = 0u; tile < op.tiles; tile++) {
         uint e = DISP_OP_ENTRY_TILE0 + tile;
         op_fit(e, DISP_OP_ENTRY_CHAIN, op.key_alpha);

@@ -436,6 +436,7 @@ struct disp_op_push {
 #define DISP_OP_FLAG_NO_SALIENCY 1u /* every pixel weighs 1 */
 #define DISP_OP_FLAG_RESET 2u       /* forget the temporal state (lang-smoothed) */
 #define DISP_OP_FLAG_KEY_RING 4u    /* keyframe fits also go to the keyframes' ring */
+#define DISP_OP_FLAG_CHAIN_FROM 8u  /* keyframe fits: the chain restarts from entry `prev` (a ring slot) */
 /* State entries: the frame's mapping, the keyframes' running mapping, one
  * per keyframe tile rendered this frame, then a ring of each keyframe's
  * running mapping (the store's slots: a frame blends with its keyframe's). */

@@ -360,6 +360,14 @@ mid_params mid_window_params(const mid_window *w, float w_data, float w_spatial,
     };
 }
 
+void mid_window_split(double seconds, double keyframe_seconds, double future_share, int *past, int *future)
+{
+    int keys = (int)lround(seconds / keyframe_seconds);
+    *future = (int)lround(keys * future_share);
+    *future = *future < 2 ? 2 : *future;
+    *past = keys - *future > 0 ? keys - *future : 0;
+}
+
 void mid_window_warm_start(const mid_window *w, const float *prev, int shift, float *out)
 {
     for (int k = 0; k < w->nt; k++) {

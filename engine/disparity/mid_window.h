@@ -66,6 +66,15 @@ typedef struct mid_window {
     bool built;
 } mid_window;
 
+/* The sliding window's length (paper 4.2: "several seconds") and its share
+ * ahead of the frame, by default. */
+#define MID_WINDOW_SECONDS 3.0
+#define MID_WINDOW_FUTURE 0.5
+/* Keyframes of a sliding window of `seconds` behind and ahead of the frame's
+ * keyframe: `future_share` of them ahead, at least 2 (the solve runs one
+ * interval ahead: docs/method.md "GPU passes"). */
+void mid_window_split(double seconds, double keyframe_seconds, double future_share, int *past, int *future);
+
 vg_status mid_window_create(const mid_window_desc *desc, mid_window **out);
 void mid_window_destroy(mid_window *w);
 /* Derives links, adjoints, edge weights and targets from the inputs. */

@@ -11,6 +11,7 @@
 #include "core/clock.h"
 #include "core/log.h"
 #include "disparity/gpu/disparity_gpu.h"
+#include "disparity/mid_window.h"
 #include "render/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
 #include "shared.h"
@@ -346,9 +347,9 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     if (d.solver == MID_SOLVER_DEFAULT)
         d.solver = MID_SOLVER_GAUSS_NEWTON;
     if (!(d.window_seconds > 0))
-        d.window_seconds = 3.0;
+        d.window_seconds = MID_WINDOW_SECONDS;
     if (!(d.window_future > 0) || d.window_future >= 1)
-        d.window_future = 0.5;
+        d.window_future = MID_WINDOW_FUTURE;
     if (d.coarse_stride <= 0)
         d.coarse_stride = MID_COARSE_STRIDE;
     return d;
@@ -383,6 +384,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         fc->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
 
     vg_status st = scene_gpu_create(g, s, &fc->sg);
+    if (fc->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
+        fc->sg.causal_step = (float)(1.0 / fc->desc.fps); /* the last frame and one time step before it */
     if (st == VG_OK)
         st = create_layouts(fc);
     if (st == VG_OK)

@@ -28,6 +28,14 @@ typedef enum frame_mode {
     FRAME_MODE_OPTIMIZED,        /* f: motion in depth restored */
 } frame_mode;
 
+/* Where the keyframe window's future comes from (paper 4.5: "a prediction
+ * of future frames"). */
+typedef enum frame_look_ahead {
+    FRAME_LOOK_AHEAD_FORESIGHT = 0, /* the scene evaluated ahead: every animation is known */
+    FRAME_LOOK_AHEAD_CAUSAL,        /* the past only: scene_evaluate_known's constant-velocity prediction,
+                                       every future keyframe predicted again at each window move */
+} frame_look_ahead;
+
 /* How the two eyes are packed into one output image. */
 typedef enum frame_compose {
     FRAME_COMPOSE_DEFAULT = 0,   /* = sbs */
@@ -53,6 +61,7 @@ typedef enum frame_compose {
 extern const char *const frame_compose_names[];
 extern const char *const frame_stereo_names[];
 extern const char *const frame_mode_names[];
+extern const char *const frame_look_ahead_names[]; /* "foresight", "causal" */
 
 typedef struct frame_desc {
     uint32_t width, height;      /* 0 = 960x540 */
@@ -93,6 +102,8 @@ typedef struct frame_desc {
     mid_solver_kind solver;      /* 0 = Gauss-Newton (the CPU reference's default) */
     int solver_iterations;       /* outer iterations per window, 0 = the solver's default for the first
                                     window and MID_GN_WARM_ITERATIONS for each warm-started move */
+    frame_look_ahead look_ahead; /* the window's future keyframes: the scene's own (perfect foresight,
+                                    0) or predicted from the past (causal; docs/method.md "Look-ahead") */
     bool temporal_depth_only;    /* the temporal upsampling's occlusion test by depth alone (paper 4.4),
                                     not the links' test: kept to measure the two (docs/method.md Sec. 8) */
 } frame_desc;

@@ -133,6 +133,8 @@ vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *sg)
     if (st == VG_OK)
         st = scene_state_init(s, &sg->next);
     if (st == VG_OK)
+        st = scene_state_init(s, &sg->before);
+    if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){
             .name = "scene statics", .size = (VkDeviceSize)nv * 6 * sizeof(float),
             .usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, .host_visible = true}, &sg->statics);
@@ -196,6 +198,7 @@ void scene_gpu_destroy(gpu *g, scene_gpu *sg)
     scene_state_free(&sg->now);
     scene_state_free(&sg->prev);
     scene_state_free(&sg->next);
+    scene_state_free(&sg->before);
     *sg = (scene_gpu){0};
 }
 
@@ -204,6 +207,10 @@ void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_ne
     const scene *s = sg->scene;
     scene_evaluate(s, t, &sg->now);
     scene_evaluate(s, t_prev, &sg->prev);
+    if (sg->causal_step > 0.0f) {
+        scene_evaluate(s, t - sg->causal_step, &sg->before);
+        sg->past = (scene_past){.now = &sg->now, .before = &sg->before};
+    }
     scene_evaluate(s, t_next, &sg->next);
     float *cur = sg->dynamic[slot].mapped;
     float *prev = (float *)((uint8_t *)sg->dynamic[slot].mapped + sg->offset_prev);
@@ -215,6 +222,8 @@ void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_ne
     memcpy(prev, sg->prev.positions, (size_t)s->vertex_count * 3 * sizeof(float));
     memcpy(next, sg->next.positions, (size_t)s->vertex_count * 3 * sizeof(float));
 }
+
+const scene_past *scene_gpu_known(const scene_gpu *sg) { return sg->causal_step > 0.0f ? &sg->past : NULL; }
 
 /* ------------------------------------------------------------------------- */
 /* Drawing                                                                   */

@@ -1,6 +1,6 @@
 /* vergence — a scene on the GPU: static attributes, indices, textures, and
  * per-frame world-space vertices at the frame's time and at its neighbouring
- * keyframe times (for motion vectors and, later, look-ahead). */
+ * keyframe times (for motion vectors and the keyframes' look-ahead). */
 #pragma once
 #include "gpu/gpu.h"
 #include "scene/scene.h"
@@ -30,13 +30,25 @@ typedef struct scene_gpu {
     VkDescriptorPool pool;
     VkDescriptorSet texture_set;
     scene_state now, prev, next;               /* evaluated states of the last update */
+    /* Causal look-ahead (causal_step > 0, set by the owner): the keyframes
+     * of the window after the frame's time are predicted from now and
+     * `before` (causal_step seconds earlier; scene_evaluate_known). The
+     * frame's own motion to its next keyframe stays exact (docs/method.md
+     * "Look-ahead": what the metrics measure with). */
+    float causal_step;
+    scene_state before;
+    scene_past past;
 } scene_gpu;
 
 vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *out);
 void scene_gpu_destroy(gpu *g, scene_gpu *sg);
 
-/* Evaluates the scene at t, t_prev and t_next and writes slot's vertices. */
+/* Evaluates the scene at t, t_prev and t_next (and causal_step before t)
+ * and writes slot's vertices. */
 void scene_gpu_update(scene_gpu *sg, int slot, float t, float t_prev, float t_next);
+/* What the keyframe window knows of the scene at the last update: NULL
+ * (all of it, the scene's own future) unless causal_step > 0. */
+const scene_past *scene_gpu_known(const scene_gpu *sg);
 
 /* What a scene pipeline reads (locations: 0 position, 1 normal, 2 previous
  * position, 3 next position, 4 texcoord, 5 colour). */

@@ -16,7 +16,7 @@
 
 typedef struct play_opts {
     const char *scene;
-    int mode, op;
+    int mode, op, look_ahead;
     double visible_s;
     display_cli display;
     play_window_cli win;
@@ -31,6 +31,9 @@ static const vg_opt k_opts[] = {
     {"--mode", VG_OPT_ENUM, &o.mode, "MODE", "disparity shown first: original (g), manipulated (h) or "
      "optimized (f); default original", frame_mode_names, 0, 0},
     {"--operator", VG_OPT_ENUM, &o.op, "OP", "the manipulation h (default lang)", disp_operator_names, 0, 0},
+    {"--look-ahead", VG_OPT_CHOICE, &o.look_ahead, "HOW", "the optimized mode's keyframe window future: "
+     "foresight (the game's own future; default) or causal (predicted from the past frames only)",
+     frame_look_ahead_names, 0, 0},
     {"--visible", VG_OPT_FLOAT, &o.visible_s, "S", "seconds the ball is shown after launch (default 0.6)",
      NULL, 0.1, 3},
     {"--seed", VG_OPT_INT, &o.win.seed, "S", "seed of the throws (default: the clock)", NULL, 0, 2147483647},
@@ -58,7 +61,7 @@ static int run(int argc, char **argv)
     uint64_t seed = o.win.seed >= 0 ? (uint64_t)o.win.seed : (uint64_t)time(NULL);
     vg_status st = play_session_run(&(play_session_desc){
         .win = &o.win, .scene_path = scene_path, .mode = (frame_mode)o.mode,
-        .op = (disp_operator_kind)o.op, .display = display_cli_desc(&o.display),
+        .op = (disp_operator_kind)o.op, .look_ahead = (frame_look_ahead)o.look_ahead, .display = display_cli_desc(&o.display),
         .visible_s = o.visible_s, .seed = seed,
     });
     return vg_status_exit_code(st);
@@ -67,7 +70,7 @@ static int run(int argc, char **argv)
 const vg_cmd vg_cmd_play = {
     .name = "play",
     .summary = "the hit-prediction game in a window (anaglyph by default)",
-    .usage = "vergence play [--output LAYOUT] [--mode MODE] [--operator OP] [--fullscreen] [--size WxH]",
+    .usage = "vergence play [--output LAYOUT] [--mode MODE] [--operator OP] [--look-ahead HOW] [--fullscreen] [--size WxH]",
     .details = "Watch the ball for its first moments, then click where it will land on the\n"
                "ground; the miss is the distance from the true landing spot to the ray through\n"
                "your click (paper Sec. 5). Keys: M cycles original / manipulated / optimized,\n"

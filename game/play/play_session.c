@@ -244,6 +244,7 @@ static frame_desc session_frame_desc(const session *ss, frame_mode mode)
                                     d->op, ss->study);
     fd.display = d->display;
     fd.swap_eyes = ss->swap_eyes;
+    fd.look_ahead = d->look_ahead;
     return fd;
 }
 
@@ -407,8 +408,8 @@ static void hud_build(session *ss, frame *f)
         hud_add(ss, "%s", prompt[ss->ph]);
     if (ss->hud_tech) {
         hud_add(ss, "mode: %s%s", k_mode_text[ss->mode], ss->study ? "   (set by the study)" : "   M cycles, 1-3 pick");
-        hud_add(ss, "operator: %s   output: %s %ux%u", disp_operator_kind_name(ss->d->op),
-                frame_compose_names[ss->compose], ss->rw, ss->rh);
+        hud_add(ss, "operator: %s   look-ahead: %s   output: %s %ux%u", disp_operator_kind_name(ss->d->op),
+                frame_look_ahead_names[ss->d->look_ahead], frame_compose_names[ss->compose], ss->rw, ss->rh);
         const char *names[RG_MAX_PASSES];
         double ms[RG_MAX_PASSES], total = 0;
         frame_time_passes(f, true); /* from the next frame on; off with the HUD (it costs the overlap) */

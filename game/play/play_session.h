@@ -77,6 +77,7 @@ typedef struct play_session_desc {
     const char *scene_path;
     frame_mode mode;             /* free play: the first mode (0 = original) */
     disp_operator_kind op;
+    frame_look_ahead look_ahead; /* the optimized mode's window future (0: the scene's own) */
     stereo_display_desc display;
     double visible_s;            /* 0 = GAME_VISIBLE_S */
     uint64_t seed;               /* the throws */

@@ -254,14 +254,24 @@ def case_frame_ticks():
     # The first throw launches at tick 60 and is seen until tick 96; the
     # replay ends after the ball is gone. P at 100 and 110: the paused game
     # draws frame 100 again and again.
+    # Then --look-ahead causal (the window's future predicted from the past) through the throw's launch.
     runs = {}
-    for ticks, script in ((1, "180 key Q\n"), (3, "100 key P\n110 key P\n180 key Q\n")):
+    for ticks, script, extra in ((1, "180 key Q\n", []), (3, "100 key P\n110 key P\n180 key Q\n", []),
+                                 ("causal", "90 key Q\n", ["--look-ahead", "causal"])):
         out = tempfile.mkdtemp(prefix="vergence_dumpf_")
         g = Game(["play", "--size", "320x180", "--render-size", "160x90", "--seed", "4", "--mode", "optimized",
-                  "--replay", replay_file(script), "--frame-ticks", str(ticks), "--dump-f", out])
+                  "--replay", replay_file(script), "--frame-ticks", str(3 if extra else ticks), "--dump-f", out] + extra)
         g.finish(300)
         runs[ticks] = {int(re.search(r"\d+", n).group(0)): os.path.join(out, n)
                        for n in os.listdir(out) if n.endswith(".pfm")}
+    causal = runs.pop("causal")
+    shared = sorted(set(causal) & set(runs[3]))
+    moved = max(float(np.abs(read_pfm(causal[i]) - read_pfm(runs[3][i])).max()) for i in shared) if shared else 0
+    finite = all(np.isfinite(read_pfm(p)).all() for p in causal.values())
+    shutil.rmtree(os.path.dirname(next(iter(causal.values()))), ignore_errors=True)
+    print(f"--look-ahead causal: {len(causal)} frames, max |f(causal) - f(foresight)| {moved:.3g} arcmin")
+    if len(shared) < 20 or not finite or not 1e-4 < moved < 60:
+        fail(f"play --look-ahead causal: {len(shared)} frames shared, finite {finite}, f moved {moved:.3g} arcmin")
     common = sorted(set(runs[1]) & set(runs[3]))
     frames = {i: read_pfm(runs[1][i]) - read_pfm(runs[3][i]) for i in common}
     for r in runs.values():

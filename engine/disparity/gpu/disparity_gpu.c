@@ -9,6 +9,7 @@
 #include "gpu/pipeline.h"
 #include "keyframe_gpu.h"
 #include "disparity/mid_shared.h"
+#include "disparity/mid_window.h"
 #include "operator_gpu.h"
 #include "shared.h"
 #include "solve_gpu.h"
@@ -33,6 +34,7 @@ struct disparity_gpu {
 
     uint32_t stride, nx, ny, ns;
     int past, future, ring, interval; /* window keyframes behind / ahead; ring slots; frames per keyframe */
+    bool causal;                      /* the future keyframes are predictions, rendered again at each move */
     double lo, hi;
     solve_gpu_params solve;              /* the current window's */
 
@@ -341,8 +343,16 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
             d->tail_last = solve_gpu_item_count(d->mid);
             d->final_hi = d->cur_k + 2;
             d->cur_k = k;
-            d->tiles_first = k + d->future;
-            d->tiles = 1;
+            if (d->causal) {
+                /* Causal: keyframe k is observed now (the scene up to this
+                 * frame), and every later one is predicted again from it. */
+                d->tiles_first = k;
+                d->tiles = d->future + 1;
+                operator_gpu_tiles_chain(d->op, ring_slot(d, k - 1));
+            } else {
+                d->tiles_first = k + d->future;
+                d->tiles = 1;
+            }
             window_begin(d, k, false);
             slices_plan(d);
             d->build = true;
@@ -400,10 +410,8 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
     d->ny = (fd->height + s - 1) / s;
     d->ns = d->nx * d->ny;
     d->interval = fd->keyframe_stride;
-    int keys = (int)lround(fd->window_seconds * fd->fps / fd->keyframe_stride);
-    d->future = (int)lround(keys * fd->window_future);
-    d->future = d->future < 2 ? 2 : d->future; /* the solve runs one interval ahead (docs/method.md) */
-    d->past = keys - d->future > 0 ? keys - d->future : 0;
+    d->causal = fd->look_ahead == FRAME_LOOK_AHEAD_CAUSAL;
+    mid_window_split(fd->window_seconds, fd->keyframe_stride / fd->fps, fd->window_future, &d->past, &d->future);
     if (d->past + d->future + 1 > (int)MID_MAX_KEYFRAMES) {
         vg_error("a %.1f s window is %d keyframes (at most %u)", fd->window_seconds, d->past + d->future + 1,
                  MID_MAX_KEYFRAMES);
@@ -492,8 +500,9 @@ vg_status disparity_gpu_keyframe_read(const disparity_gpu *d, long keyframe, dis
         vg_error("the solve's keyframes are read back only from a frame with readback");
         return VG_ERR_ARG;
     }
+    /* Causal: keyframe K's samples are predictions until interval K. */
     if (!d->started || keyframe < d->first_kf || keyframe > d->store_hi || keyframe <= d->store_hi - d->ring ||
-        keyframe > d->final_hi) {
+        keyframe > d->final_hi || (d->causal && keyframe > d->cur_k)) {
         vg_error("keyframe %ld is not in the store with a final ratio (store %ld..%ld, final up to %ld)", keyframe,
                  d->store_hi - d->ring + 1 > d->first_kf ? d->store_hi - d->ring + 1 : d->first_kf, d->store_hi,
                  d->final_hi);

@@ -60,7 +60,8 @@ void disparity_gpu_get_info(const disparity_gpu *d, disparity_gpu_info *info);
  * f = h x the ratio the solve published for it (what the upsampling shows at
  * that keyframe). VG_ERR_ARG when the keyframe has left the store or its
  * ratio is not final yet: keyframe K is final from the first frame rendered
- * in interval K - 1 until keyframe K + ring enters the store. */
+ * in interval K - 1 (causal look-ahead: interval K, when its samples stop
+ * being a prediction) until keyframe K + ring enters the store. */
 typedef struct disparity_gpu_keyframe {
     int ns;                                  /* samples (nx x ny of the info) */
     float *g, *h, *f, *depth, *id;           /* ns floats each */

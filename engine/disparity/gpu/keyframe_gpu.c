@@ -133,9 +133,10 @@ void keyframe_gpu_prepare(keyframe_gpu *k, long first, int count)
     for (int m = 0; m < k->tiles; m++) {
         /* The times the frame at that keyframe would be evaluated at. */
         double t = (double)((first + m) * fc->desc.keyframe_stride) / fc->desc.fps;
-        scene_evaluate(s, (float)t, &k->now);
-        scene_evaluate(s, (float)(t - step), &k->prev);
-        scene_evaluate(s, (float)(t + step), &k->next);
+        const scene_past *known = scene_gpu_known(&fc->sg);
+        scene_evaluate_known(s, known, (float)t, &k->now);
+        scene_evaluate_known(s, known, (float)(t - step), &k->prev);
+        scene_evaluate_known(s, known, (float)(t + step), &k->next);
         vg_camera cam, cp, cn;
         scene_camera_resolve(s, &k->now, fc->desc.camera, aspect, &cam);
         scene_camera_resolve(s, &k->prev, fc->desc.camera, aspect, &cp);

@@ -1,7 +1,8 @@
 /* vergence — mid.keyframes: the keyframes of the MID window rendered at the
  * solver's coarse resolution (paper 4.5: "a prediction of future frames").
  * Every animation is a function of time, so the keyframe the window needs
- * next (several seconds ahead) is the scene evaluated at that time; its
+ * next (several seconds ahead) is the scene evaluated at that time (causal
+ * look-ahead: predicted from the past, scene_gpu_known); its
  * depth, saliency and motion to the neighbouring keyframes come from the
  * G-buffer shaders (exact for rigid, skinned and morphed meshes), rendered
  * into a tile of an atlas with a projection that puts each coarse pixel's

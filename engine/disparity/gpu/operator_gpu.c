@@ -24,6 +24,7 @@ struct operator_gpu {
     double lo, hi;
     double frame_s, tau;   /* lang-smoothed: a frame's seconds, the time constant */
     bool reset_frame, reset_tiles;
+    int chain_from;                /* state entry the next tiles fit chains from, -1: its own chain */
     gpu_buffer state;
     gpu_compute_kit kit[P_COUNT];
 };
@@ -83,6 +84,7 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
     o->frame_s = frame_s;
     o->tau = tau;
     o->reset_frame = o->reset_tiles = true;
+    o->chain_from = -1;
     size_t entries = DISP_OP_ENTRY_TILE0 + desc->max_tiles + desc->ring;
     st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "disparity.operator state",
                                                  .size = entries * DISP_OP_STATE_FLOATS * sizeof(float),
@@ -126,6 +128,11 @@ void operator_gpu_destroy(operator_gpu *o)
 }
 
 void operator_gpu_reset(operator_gpu *o) { o->reset_frame = o->reset_tiles = true; }
+
+void operator_gpu_tiles_chain(operator_gpu *o, uint32_t key_slot)
+{
+    o->chain_from = o->d.ring ? (int)(o->push.keys + key_slot % o->d.ring) : -1;
+}
 
 void operator_gpu_frame_anchor(operator_gpu *o, uint32_t key_slot, long frames)
 {
@@ -202,7 +209,12 @@ void operator_gpu_record_tiles_fit(operator_gpu *o, VkCommandBuffer cmd, const o
     disp_op_push pc = tiles_push(o, t);
     if (o->reset_tiles)
         pc.flags |= DISP_OP_FLAG_RESET;
+    else if (o->chain_from >= 0) {
+        pc.prev = (uint32_t)o->chain_from;
+        pc.flags |= DISP_OP_FLAG_CHAIN_FROM;
+    }
     o->reset_tiles = false;
+    o->chain_from = -1;
     gpu_binding b[4] = {UBO(t->ubo), IMG(t->depth), IMG(t->color), BUF(o->state.buffer)};
     gpu_compute_kit_bind_list(o->gpu, cmd, &o->kit[P_TILES_FIT], 0, b, 4, &pc);
     vkCmdDispatch(cmd, 1, 1, 1);

@@ -31,6 +31,10 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
 void operator_gpu_destroy(operator_gpu *o);
 /* The next fit starts without temporal state (lang-smoothed). */
 void operator_gpu_reset(operator_gpu *o);
+/* lang-smoothed, keyframes fitted again: the next tiles fit chains from
+ * the mapping of the keyframe in ring slot key_slot (the one before its
+ * first tile), not from the last tile fitted. */
+void operator_gpu_tiles_chain(operator_gpu *o, uint32_t key_slot);
 /* lang-smoothed in the frame: the next frame fit blends with the mapping of
  * the keyframe in ring slot key_slot (that keyframe's running mapping),
  * decayed over the `frames` frames since it, instead of with the last
