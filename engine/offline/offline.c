@@ -16,6 +16,7 @@
 #include "core/parallel.h"
 #include "core/stats.h"
 #include "disparity/disp_metrics.h"
+#include "disparity/mid_causal.h"
 #include "disparity/disp_pattern.h"
 #include "disparity/disp_upsample.h"
 #include "figure/figure.h"
@@ -46,6 +47,7 @@ typedef struct seq {
     const char *g_png;    /* g from dataset PNGs: "KITTI" or "Sintel" (pixels), else NULL */
     double raw_min, raw_max; /* known g as read, before any unit conversion */
     double raw_median;    /* of the first frame's known g, as read */
+    int past, future, windows; /* the causal window (desc.causal) */
 } seq;
 
 /* g in pixels: --g-units px, or a dataset's PNGs. */
@@ -769,6 +771,12 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_num(&j, "mid_ratio", mh.mid_distortion_jnd > 0 ? mf.mid_distortion_jnd / mh.mid_distortion_jnd : NAN);
     vg_json_object_begin(&j, "solve");
     vg_json_str(&j, "solver", s->d->solver == MID_SOLVER_DESCENT ? "descent" : "gauss-newton");
+    vg_json_str(&j, "look_ahead", s->d->causal ? "causal" : "foresight");
+    if (s->d->causal) { /* cost_h / cost_f: the last window's */
+        vg_json_int(&j, "windows", s->windows);
+        vg_json_int(&j, "keyframes_behind", s->past);
+        vg_json_int(&j, "keyframes_ahead", s->future);
+    }
     vg_json_int(&j, "iterations", ss->iterations);
     vg_json_int(&j, "cg_steps", ss->cg_steps);
     vg_json_num(&j, "cost_h", ss->cost_initial);
@@ -994,13 +1002,25 @@ vg_status offline_run(const offline_desc *d)
     }
     vg_info("optimize: %d frames of %dx%d, %d keyframes of %dx%d, target range [%.2f, %.2f] arcmin, %d threads",
             s.frames, s.w, s.h, s.nt, s.grid.nx, s.grid.ny, s.lo, s.hi, vg_pool_threads(s.pool));
-    if ((st = mid_solve(w, &(mid_solve_desc){.solver = d->solver, .iterations = d->iterations,
-                                             .cg_iterations = d->cg_iterations, .weights = d->weights,
-                                             .pool = s.pool},
-                        f_sol, &ss)) != VG_OK)
-        goto done;
-    vg_info("optimize: solved in %.1f ms: cost %.5g -> %.5g (%d iterations, %d CG steps)", ss.ms,
-            ss.cost_initial, ss.cost_final, ss.iterations, ss.cg_steps);
+    mid_solve_desc sd = {.solver = d->solver, .iterations = d->iterations, .cg_iterations = d->cg_iterations,
+                         .weights = d->weights, .pool = s.pool};
+    if (d->causal) {
+        mid_causal_stats cs = {0};
+        mid_window_split(MID_WINDOW_SECONDS, s.stride / s.fps, MID_WINDOW_FUTURE, &s.past, &s.future);
+        if ((st = mid_causal_solve(w, &(mid_causal_desc){.past = s.past, .future = s.future, .solve = sd,
+                                                         .keyframe_seconds = (float)(s.stride / s.fps)},
+                                   f_sol, &cs)) != VG_OK)
+            goto done;
+        s.windows = cs.windows;
+        ss = (mid_solve_stats){.ms = cs.ms, .cost_initial = cs.cost_initial, .cost_final = cs.cost_final};
+        vg_info("optimize: causal: %d windows of %d keyframes behind and %d predicted ahead solved in %.1f ms",
+                cs.windows, s.past, s.future, cs.ms);
+    } else {
+        if ((st = mid_solve(w, &sd, f_sol, &ss)) != VG_OK)
+            goto done;
+        vg_info("optimize: solved in %.1f ms: cost %.5g -> %.5g (%d iterations, %d CG steps)", ss.ms,
+                ss.cost_initial, ss.cost_final, ss.iterations, ss.cg_steps);
+    }
     if ((st = pass_output(&s, w, f_sol, &o)) == VG_OK)
         st = write_results(&s, w, f_sol, &o, &ss);
 done:

@@ -10,6 +10,7 @@
 #include "core/json_read.h"
 #include "core/log.h"
 #include "offline/offline.h"
+#include "render/frame_types.h"
 #include "options/display_cli.h"
 
 static const char *const g_solvers[] = {"gauss-newton", "descent", NULL};
@@ -20,7 +21,7 @@ static const char *const g_views[] = {"auto", "centre", "left", NULL};
 
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
-    int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view;
+    int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead;
     bool no_video;
     double fps, range, px_zero, occlusion;
     display_cli display;
@@ -51,6 +52,7 @@ static const vg_opt g_opts[] = {
     {.name = "--target-range", .kind = VG_OPT_FLOAT, .dest = &o.range, .metavar = "ARCMIN", .help = "half-width of the target range around the screen (default 60)", .min = 1, .max = 1000},
     {.name = "--weights", .kind = VG_OPT_STRING, .dest = &o.weights, .metavar = "M,S,T,A", .help = "cost weights (default 0.05,1,0.1,0.1)"},
     {.name = "--solver", .kind = VG_OPT_CHOICE, .dest = &o.solver, .metavar = "NAME", .help = "minimiser", .choices = g_solvers},
+    {.name = "--look-ahead", .kind = VG_OPT_CHOICE, .dest = &o.look_ahead, .metavar = "HOW", .help = "foresight (default): one window over the whole sequence; causal: the engine's sliding window, its future keyframes predicted from the past (docs/method.md)", .choices = frame_look_ahead_names},
     {.name = "--iterations", .kind = VG_OPT_INT, .dest = &o.iterations, .metavar = "N", .help = "outer iterations (default 4 gauss-newton, 8 descent)", .min = 1, .max = 100000},
     {.name = "--cg-iterations", .kind = VG_OPT_INT, .dest = &o.cg, .metavar = "N", .help = "CG steps per Gauss-Newton iteration (default 8)", .min = 1, .max = 100000},
     {.name = "--threads", .kind = VG_OPT_INT, .dest = &o.threads, .metavar = "N", .help = "worker threads (default: all cores)", .min = 0, .max = 1024},
@@ -201,6 +203,7 @@ static int run(int argc, char **argv)
         .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
         .occlusion_tolerance = (float)o.occlusion, .video = !o.no_video,
+        .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL,
     };
     static char frames_buf[32], patterns[8][4096], display[4096];
     if (o.capture && o.g) {

@@ -609,10 +609,22 @@ def case_optimize_roundtrip():
     if not 0 < m["stereo_pair"]["hole_fraction"] < 0.1:
         sys.exit("FAIL: the new pair's holes")
     # The arena's ball thrown as the game does, the old occlusion test in time kept to measure against.
+    # Causal look-ahead too: the window's future predicted from the past (every keyframe of it rendered).
     tj = capture(os.path.join("content", "arena.gltf"), os.path.join(tmp, "throw"), 3, "96x54",
-                 ["--time", "1", "--throw", "2", "--temporal-occlusion", "depth", "--no-reference"])
-    if tj.get("throw") != 2 or tj["metrics"]["temporal_occlusion"] != "depth" or tj["validation_messages"]:
-        sys.exit(f"FAIL: capture --throw / --temporal-occlusion not recorded: {tj.get('throw')}")
+                 ["--time", "1", "--throw", "2", "--temporal-occlusion", "depth", "--no-reference",
+                  "--look-ahead", "causal"])
+    if tj.get("throw") != 2 or tj["metrics"]["temporal_occlusion"] != "depth" or tj["validation_messages"] or \
+            tj["metrics"]["look_ahead"] != "causal" or tj["metrics"]["f"]["range_violation"] != 0:
+        sys.exit(f"FAIL: capture --throw / --temporal-occlusion / --look-ahead causal: {tj['metrics']}")
+    # optimize's causal window over the same capture: it runs, f stays in the range, the figures are reported.
+    optc = os.path.join(tmp, "opt_causal")
+    run(["optimize", "--capture", cap, "--out", optc, "--look-ahead", "causal", "--no-video"])
+    mc = json.load(open(os.path.join(optc, "metrics.json")))
+    print(f"optimize --look-ahead causal: f/h {mc['mid_ratio']:.3f} (foresight {ro:.3f}) over "
+          f"{mc['solve']['windows']} windows, range violation {mc['f']['range_violation']}")
+    if mc["solve"]["look_ahead"] != "causal" or mc["solve"]["windows"] != 3 or mc["f"]["range_violation"] != 0 or \
+            not 0 < mc["mid_ratio"] < 100 or abs(mc["h"]["mid_distortion_jnd"] - ho) > 1e-6 * ho:
+        sys.exit(f"FAIL: optimize --look-ahead causal: {mc['solve']}, f/h {mc['mid_ratio']}")
     expect_error(["capture", "--scene", os.path.join("content", "cubes.gltf"), "--throw", "0", "--out",
                   os.path.join(tmp, "x")], "ball")
     expect_error(["optimize", "--capture", tmp, "--out", os.path.join(tmp, "x")], "capture.json")

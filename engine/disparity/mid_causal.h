@@ -1,0 +1,43 @@
+/* vergence — the causal window on the CPU (`optimize --look-ahead causal`,
+ * docs/method.md "Look-ahead").
+ *
+ * The engine's window (paper 4.5) slides one keyframe at a time over
+ * keyframes [k - past, k + future]; with perfect foresight its future is
+ * the sequence itself. A host without the future has keyframes up to k
+ * only: here every later keyframe of the window is predicted from k and
+ * k - 1 alone by extrapolating the disparity field along its flow (a
+ * sample goes on at the image velocity and the rates of change of g, h
+ * and depth it had from k - 1 to k; the predicted keyframe k + j looks
+ * each grid sample up j velocities back, semi-Lagrangian). Each move
+ * solves the window warm-started from the last one and publishes the
+ * ratio f / h of keyframe k + 2 (the first window: k .. k + 2), as the
+ * GPU's mid.solve does; f at a keyframe is its observed h times the
+ * published ratio. So f at keyframe j uses data up to keyframe j - 2:
+ * the frames from j - 1 on depend on nothing after them. */
+#pragma once
+#include "core/status.h"
+#include "mid_solver.h"
+#include "mid_window.h"
+
+typedef struct mid_causal_desc {
+    int past, future;         /* keyframes of the window behind and ahead of k (future >= 2) */
+    mid_solve_desc solve;     /* the first window's solve; later ones take MID_GN_WARM_ITERATIONS
+                                 (Gauss-Newton) unless solve.iterations is set; f_init is ignored */
+    float keyframe_seconds;   /* dt of intervals after the sequence's last keyframe, 0 = its last interval's */
+} mid_causal_desc;
+
+typedef struct mid_causal_stats {
+    int windows;              /* solves (window moves) */
+    double ms;                /* wall time of every solve */
+    double cost_initial, cost_final; /* the last window's */
+} mid_causal_stats;
+
+/* `all` holds every keyframe as observed (inputs only: no build needed). f
+ * gets all->n values: each keyframe's h times the ratio published for it,
+ * clamped to the range. */
+vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *desc, float *f, mid_causal_stats *stats);
+
+/* Keyframe `dst` of w predicted `steps` intervals after keyframe k of `obs`
+ * from k and k - 1 (k = 0: held still). Fills g, h, depth, id, unknown and
+ * both flows of w's keyframe dst. */
+void mid_causal_predict(const mid_window *obs, int k, int steps, mid_window *w, int dst);
