@@ -1,5 +1,6 @@
 #include "common.glsl"
 #include "lighting.glsl"
+#include "disparity/mid_shared.h"
 
 layout(push_constant, scalar) uniform DrawBlock { vg_draw_push d; };
 layout(set = 0, binding = VG_BINDING_SHADOW) uniform sampler2DShadow shadow_map;
@@ -27,17 +28,28 @@ vec2 to_pixels(vec4 clip)
 
 void main()
 {
+    vec2 here = gl_FragCoord.xy;
+    o_motion = vec4(to_pixels(v_clip_prev) - here, to_pixels(v_clip_next) - here);
+    o_depth = v_view_depth;
+    o_id = d.instance_id;
+    float saliency = d.saliency;
+    if ((d.flags & VG_DRAW_SALIENCY) != 0u) {
+        // No authored saliency: computed from the surface's colour, motion
+        // and depth (mid_shared.h, the CPU's formula). Speed: the larger of
+        // the motions to the neighbouring keyframes, over the image width
+        // (a keyframe tile's width is its own: the same fraction).
+        vec3 c = surface_base_color(v_color, v_uv).rgb;
+        float de = disp_delta_e(c.r, c.g, c.b, u.saliency.r, u.saliency.g, u.saliency.b);
+        float speed = max(length(o_motion.xy), length(o_motion.zw)) * u.viewport.z;
+        saliency = disp_saliency_computed(de, speed, v_view_depth, u.saliency.w);
+    }
 #ifdef GBUFFER_UNLIT
     // The stereo frame's centre pass: the eyes shade themselves, so only
     // depth, ids, saliency and motion matter here (paper 4.6: the first pass
     // "creates only a linear depth map").
-    o_color = vec4(0.0, 0.0, 0.0, d.saliency);
+    o_color = vec4(0.0, 0.0, 0.0, saliency);
 #else
     vec4 base = surface_base_color(v_color, v_uv);
-    o_color = vec4(shade_surface(v_world, v_normal, gl_FrontFacing, base), d.saliency);
+    o_color = vec4(shade_surface(v_world, v_normal, gl_FrontFacing, base), saliency);
 #endif
-    o_depth = v_view_depth;
-    o_id = d.instance_id;
-    vec2 here = gl_FragCoord.xy;
-    o_motion = vec4(to_pixels(v_clip_prev) - here, to_pixels(v_clip_next) - here);
 }

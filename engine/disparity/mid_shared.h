@@ -25,6 +25,8 @@ typedef unsigned int uint;
 #define mid_exp expf
 #define mid_abs fabsf
 #define mid_floor floorf
+#define mid_pow powf
+#define mid_sqrt sqrtf
 #else /* GLSL */
 #define MID_FN
 #define MID_UINT(x) uint(x)
@@ -33,6 +35,8 @@ typedef unsigned int uint;
 #define mid_exp exp
 #define mid_abs abs
 #define mid_floor floor
+#define mid_pow pow
+#define mid_sqrt sqrt
 #endif
 
 /* ------------------------------------------------------------------------- */
@@ -280,6 +284,57 @@ MID_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, floa
     float t2 = tau * tau, t3 = t2 * tau;
     return (2.0f * t3 - 3.0f * t2 + 1.0f) * r0 + (t3 - 2.0f * t2 + tau) * span * s0 +
            (3.0f * t2 - 2.0f * t3) * r1 + (t3 - t2) * span * s1;
+}
+
+/* Computed saliency, for scenes and videos without authored saliency
+ * (docs/method.md section 3): a weighted sum of three cues in [0, 1],
+ *   colour contrast  the CIELAB distance of the pixel's colour to the mean
+ *                    colour (Achanta et al. 2009, frequency-tuned saliency:
+ *                    S = |I_mean - I(x)|), full at DISP_SAL_DE_FULL;
+ *   motion           1 - exp(-speed / DISP_SAL_SPEED), speed the pixel's
+ *                    screen motion per keyframe interval over the image
+ *                    width (moving things draw the eye: the motion channel
+ *                    of Itti, Dhavale and Pighin 2003);
+ *   nearness         exp(-depth / scale), scale the distance to the scene's
+ *                    centre (the depth bias of stereoscopic viewing: Wang,
+ *                    Da Silva, Le Callet, Ricordel 2013, "Computational
+ *                    model of stereoscopic 3D visual saliency").
+ * The weights are this project's choice (stated, not fitted). */
+#define DISP_SAL_W_CONTRAST 0.5f
+#define DISP_SAL_W_MOTION 0.3f
+#define DISP_SAL_W_NEAR 0.2f
+#define DISP_SAL_DE_FULL 50.0f
+#define DISP_SAL_SPEED 0.02f
+
+/* CIE 1976 L*a*b* of linear sRGB (D65): f(t) of one XYZ component. */
+MID_FN float disp_lab_f(float t)
+{
+    return t > 0.008856f ? mid_pow(t, 1.0f / 3.0f) : 7.787f * t + 16.0f / 116.0f;
+}
+
+/* Delta E (CIE 1976) between two linear sRGB colours. */
+MID_FN float disp_delta_e(float r0, float g0, float b0, float r1, float g1, float b1)
+{
+    float x0 = disp_lab_f((0.4124f * r0 + 0.3576f * g0 + 0.1805f * b0) / 0.9505f);
+    float y0 = disp_lab_f(0.2126f * r0 + 0.7152f * g0 + 0.0722f * b0);
+    float z0 = disp_lab_f((0.0193f * r0 + 0.1192f * g0 + 0.9505f * b0) / 1.089f);
+    float x1 = disp_lab_f((0.4124f * r1 + 0.3576f * g1 + 0.1805f * b1) / 0.9505f);
+    float y1 = disp_lab_f(0.2126f * r1 + 0.7152f * g1 + 0.0722f * b1);
+    float z1 = disp_lab_f((0.0193f * r1 + 0.1192f * g1 + 0.9505f * b1) / 1.089f);
+    float dl = 116.0f * (y0 - y1), da = 500.0f * ((x0 - y0) - (x1 - y1)), db = 200.0f * ((y0 - z0) - (y1 - z1));
+    return mid_sqrt(dl * dl + da * da + db * db);
+}
+
+/* The saliency of a pixel from its colour contrast (Delta E to the mean),
+ * its speed (fraction of the image width per keyframe interval) and its
+ * depth (metres, scale the scene's). */
+MID_FN float disp_saliency_computed(float delta_e, float speed, float depth, float depth_scale)
+{
+    float c = delta_e < DISP_SAL_DE_FULL ? delta_e / DISP_SAL_DE_FULL : 1.0f;
+    float m = 1.0f - mid_exp(-speed / DISP_SAL_SPEED);
+    float n = depth_scale > 0.0f ? mid_exp(-depth / depth_scale) : 0.0f;
+    float s = DISP_SAL_W_CONTRAST * c + DISP_SAL_W_MOTION * m + DISP_SAL_W_NEAR * n;
+    return s < 0.0f ? 0.0f : (s > 1.0f ? 1.0f : s);
 }
 
 /* ------------------------------------------------------------------------- */

@@ -386,6 +386,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     vg_status st = scene_gpu_create(g, s, &fc->sg);
     if (fc->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
         fc->sg.causal_step = (float)(1.0 / fc->desc.fps); /* the last frame and one time step before it */
+    fc->sg.computed_saliency = fc->desc.saliency == FRAME_SALIENCY_COMPUTED ||
+                               (fc->desc.saliency == FRAME_SALIENCY_AUTO && !scene_has_saliency(s));
     if (st == VG_OK)
         st = create_layouts(fc);
     if (st == VG_OK)
@@ -529,6 +531,13 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
                                      1.0f / (float)fc->desc.height}, 16);
     light_setup(fc, u);
     stereo_setup(fc, u);
+    /* Computed saliency: the contrast's reference colour and the depth
+     * scale, the camera's distance to the scene's centre. */
+    const float *lo = fc->sg.now.bounds_min, *hi = fc->sg.now.bounds_max;
+    float dc[3] = {0.5f * (lo[0] + hi[0]) - fc->cam.position[0], 0.5f * (lo[1] + hi[1]) - fc->cam.position[1],
+                   0.5f * (lo[2] + hi[2]) - fc->cam.position[2]};
+    memcpy(u->saliency.v, (float[4]){fc->sg.mean_base[0], fc->sg.mean_base[1], fc->sg.mean_base[2],
+                                     sqrtf(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]) + 1e-3f}, 16);
 }
 
 /* The timestamps of a completed slot; a CPU device writes none (the pass
@@ -741,7 +750,7 @@ void frame_restart(frame *f)
 
 void frame_get_info(const frame *f, frame_info *out)
 {
-    *out = (frame_info){.disparity = f->disparity != NULL};
+    *out = (frame_info){.disparity = f->disparity != NULL, .saliency_computed = f->fc.sg.computed_saliency};
     if (!f->disparity)
         return;
     disparity_gpu_info i;

@@ -68,6 +68,7 @@ typedef struct frame_info {
     uint32_t grid_stride, grid_nx, grid_ny;  /* the solver's coarse grid */
     int window_past, window_future;          /* keyframes of the window behind and ahead */
     double range_lo, range_hi;               /* target range, arcmin (f stays inside) */
+    bool saliency_computed;                  /* the G-buffer computes saliency (none authored, or asked) */
 } frame_info;
 void frame_get_info(const frame *f, frame_info *out);
 /* A keyframe as the solve sees it (readback frames; disparity_gpu_keyframe_read). */

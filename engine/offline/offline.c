@@ -17,6 +17,7 @@
 #include "core/stats.h"
 #include "disparity/disp_metrics.h"
 #include "disparity/mid_causal.h"
+#include "disparity/mid_shared.h"
 #include "disparity/disp_pattern.h"
 #include "disparity/disp_upsample.h"
 #include "figure/figure.h"
@@ -48,6 +49,8 @@ typedef struct seq {
     double raw_min, raw_max; /* known g as read, before any unit conversion */
     double raw_median;    /* of the first frame's known g, as read */
     int past, future, windows; /* the causal window (desc.causal) */
+    bool computed_sal;    /* no --saliency, --h or --uniform-saliency: computed_saliency() */
+    float *sal_scratch;   /* 3 planes: depth and flow of one frame (computed saliency) */
 } seq;
 
 /* g in pixels: --g-units px, or a dataset's PNGs. */
@@ -316,14 +319,70 @@ static vg_status read_flow(seq *s, int t, bool next, float *out)
     return VG_OK;
 }
 
+static vg_status frame_depth(seq *s, int t, const float *g, float *z);
+
+static float srgb_linear(uint8_t v)
+{
+    float c = v / 255.0f;
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* Saliency of frame t when none is given: the engine's formula
+ * (disp_saliency_computed, docs/method.md section 3) from what the sequence
+ * has: the colour contrast of --image to the frame's mean colour (0 without
+ * it), the speed of the flow to the next frame (or keyframe) per keyframe
+ * interval, and the nearness of the depth against its mean. */
+static vg_status computed_saliency(seq *s, int t, const float *g, float *out)
+{
+    size_t np = (size_t)s->w * s->h;
+    float *z = s->sal_scratch, *flow = s->sal_scratch + np;
+    uint8_t *rgb = NULL;
+    vg_status st = frame_depth(s, t, g, z);
+    if (st == VG_OK) /* the last frame has no next one: its flow to the previous */
+        st = read_flow(s, t, t < s->d->last, flow);
+    if (st == VG_OK && s->has_im)
+        st = read_image(s, t, &rgb);
+    if (st != VG_OK)
+        return st;
+    double zs = 0, mean[3] = {0, 0, 0};
+    long known = 0;
+    for (size_t i = 0; i < np; i++) {
+        if (!isfinite(g[i]) || !(z[i] > 0))
+            continue;
+        zs += z[i];
+        for (int k = 0; rgb && k < 3; k++)
+            mean[k] += srgb_linear(rgb[3 * i + (size_t)k]);
+        known++;
+    }
+    float zc = known ? (float)(zs / known) : 1.0f, m[3];
+    for (int k = 0; k < 3; k++)
+        m[k] = known ? (float)(mean[k] / known) : 0.0f;
+    /* Flows to the keyframe span the frames to it; frame flows one. */
+    int phase = (t - s->d->first) % s->stride, to_key = t < s->d->last ? s->stride - phase : (phase ? phase : s->stride);
+    float per_interval = (float)s->stride / (float)(s->d->flow_to_keyframe ? to_key : 1) / (float)s->w;
+    for (size_t i = 0; i < np; i++) {
+        if (!isfinite(g[i]) || !(z[i] > 0)) {
+            out[i] = 0.0f;
+            continue;
+        }
+        float de = rgb ? disp_delta_e(srgb_linear(rgb[3 * i]), srgb_linear(rgb[3 * i + 1]), srgb_linear(rgb[3 * i + 2]),
+                                      m[0], m[1], m[2])
+                       : 0.0f;
+        float speed = sqrtf(flow[2 * i] * flow[2 * i] + flow[2 * i + 1] * flow[2 * i + 1]) * per_interval;
+        out[i] = disp_saliency_computed(de, speed, z[i], zc);
+    }
+    free(rgb);
+    return VG_OK;
+}
+
 /* h of frame t: from --h, or the operator (called in frame order). */
 static vg_status frame_h(seq *s, int t, const float *g, float *h)
 {
     if (s->has_h)
         return read_plane(s, &s->ph, t, "h", h);
     const float *sal = NULL;
-    if (s->has_s) {
-        vg_status st = read_saliency(s, t, s->sal);
+    if (s->has_s || s->computed_sal) {
+        vg_status st = s->has_s ? read_saliency(s, t, s->sal) : computed_saliency(s, t, g, s->sal);
         if (st != VG_OK)
             return st;
         sal = s->sal;
@@ -512,6 +571,14 @@ static vg_status write_previews(const seq *s, int t, const float *const maps[3])
         st = vg_path_join(path, sizeof path, s->d->out_dir, name);
         if (st == VG_OK)
             st = figure_map_png(path, maps[m], s->w, s->h, 1, lo, hi, &(figure_legend){.title = title, .unit = "arcmin"});
+    }
+    /* The operator's saliency of that frame (frame_h just filled it). */
+    if (st == VG_OK && (s->has_s || s->computed_sal)) {
+        char path[PATH_CAP], title[96];
+        snprintf(title, sizeof title, "saliency (%s), frame %d", s->has_s ? "--saliency" : "computed", t);
+        st = vg_path_join(path, sizeof path, s->d->out_dir, "preview_saliency.png");
+        if (st == VG_OK)
+            st = figure_map_png(path, s->sal, s->w, s->h, 1, 0.0f, 1.0f, &(figure_legend){.title = title, .unit = ""});
     }
     return st;
 }
@@ -792,6 +859,7 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_int(&j, "coarse_width", s->grid.nx);
     vg_json_int(&j, "coarse_height", s->grid.ny);
     vg_json_str(&j, "operator", s->has_h ? "given" : disp_operator_kind_name(s->d->op));
+    vg_json_str(&j, "saliency", s->has_s ? "file" : s->computed_sal ? "computed" : "uniform");
     vg_json_str(&j, "g_units", g_in_px(s) ? "px" : "arcmin");
     vg_json_str(&j, "g_file", s->g_png ? s->g_png : "PFM");
     vg_json_num(&j, "g_min", s->g_min);
@@ -844,6 +912,7 @@ static bool writes(const char *name)
     }
     bool png = n > 4 && !strcmp(name + n - 4, ".png");
     return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "metrics.json") ||
+           !strcmp(name, "preview_saliency.png") ||
            (png && (!strncmp(name, "left_", 5) || !strncmp(name, "right_", 6))) || !strcmp(name, "stereo.mp4");
 }
 
@@ -978,9 +1047,12 @@ vg_status offline_run(const offline_desc *d)
     h = malloc(np * sizeof(float));
     z = malloc(np * sizeof(float));
     s.sal = malloc(np * sizeof(float));
+    s.computed_sal = !s.has_s && !s.has_h && !d->uniform_saliency &&
+                     (d->op == DISP_OPERATOR_LANG || d->op == DISP_OPERATOR_LANG_SMOOTHED);
+    s.sal_scratch = s.computed_sal ? malloc(3 * np * sizeof(float)) : NULL;
     scratch = malloc(2 * np * sizeof(float));
     pos = malloc(2 * (size_t)s.grid.nx * s.grid.ny * sizeof(float));
-    if (!g || !h || !z || !s.sal || !scratch || !pos) {
+    if (!g || !h || !z || !s.sal || !scratch || !pos || (s.computed_sal && !s.sal_scratch)) {
         st = VG_ERR_NOMEM;
         goto done;
     }
@@ -1027,6 +1099,7 @@ done:
     free(g); free(h); free(z); free(scratch); free(pos); free(f_sol);
     free(o.f_key); free(o.slice_g); free(o.slice_h); free(o.slice_f);
     free(s.sal);
+    free(s.sal_scratch);
     free(s.unknown);
     free(s.key);
     mid_window_destroy(w);

@@ -60,6 +60,7 @@ typedef struct offline_desc {
     double px_zero;           /* pixel disparity shown on the screen plane (px units) */
     float occlusion_tolerance; /* 0 = MID_OCCLUSION_TOLERANCE */
     bool video;               /* g.mp4, h.mp4, f.mp4 when ffmpeg is installed */
+    bool uniform_saliency;    /* without --saliency: every pixel weighs alike, not the computed saliency */
     bool causal;              /* the engine's sliding window with its future predicted from the past
                                  (mid_causal.h), not one window over the whole sequence */
 } offline_desc;

@@ -36,6 +36,13 @@ typedef enum frame_look_ahead {
                                        every future keyframe predicted again at each window move */
 } frame_look_ahead;
 
+/* Where the operator's saliency comes from (docs/method.md section 3). */
+typedef enum frame_saliency {
+    FRAME_SALIENCY_AUTO = 0,     /* authored when the scene authors any, else computed */
+    FRAME_SALIENCY_AUTHORED,     /* the glTF's extras.saliency (none: uniform) */
+    FRAME_SALIENCY_COMPUTED,     /* from colour contrast, motion and depth (disp_saliency_computed) */
+} frame_saliency;
+
 /* How the two eyes are packed into one output image. */
 typedef enum frame_compose {
     FRAME_COMPOSE_DEFAULT = 0,   /* = sbs */
@@ -62,6 +69,7 @@ extern const char *const frame_compose_names[];
 extern const char *const frame_stereo_names[];
 extern const char *const frame_mode_names[];
 extern const char *const frame_look_ahead_names[]; /* "foresight", "causal" */
+extern const char *const frame_saliency_names[];   /* "auto", "authored", "computed" */
 
 typedef struct frame_desc {
     uint32_t width, height;      /* 0 = 960x540 */
@@ -102,6 +110,7 @@ typedef struct frame_desc {
     mid_solver_kind solver;      /* 0 = Gauss-Newton (the CPU reference's default) */
     int solver_iterations;       /* outer iterations per window, 0 = the solver's default for the first
                                     window and MID_GN_WARM_ITERATIONS for each warm-started move */
+    frame_saliency saliency;     /* the operator's saliency: authored, computed, or auto (0) */
     frame_look_ahead look_ahead; /* the window's future keyframes: the scene's own (perfect foresight,
                                     0) or predicted from the past (causal; docs/method.md "Look-ahead") */
     bool temporal_depth_only;    /* the temporal upsampling's occlusion test by depth alone (paper 4.4),

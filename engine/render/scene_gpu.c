@@ -134,6 +134,7 @@ vg_status scene_gpu_create(gpu *g, const scene *s, scene_gpu *sg)
         st = scene_state_init(s, &sg->next);
     if (st == VG_OK)
         st = scene_state_init(s, &sg->before);
+    scene_mean_base_color(s, sg->mean_base);
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){
             .name = "scene statics", .size = (VkDeviceSize)nv * 6 * sizeof(float),
@@ -276,7 +277,7 @@ void scene_gpu_push_instance(const scene_gpu *sg, VkCommandBuffer cmd, VkPipelin
         .instance_id = in->id,
         .saliency = in->saliency,
         .texture_index = m ? m->base_color_texture : -1,
-        .flags = flags,
+        .flags = flags | (sg->computed_saliency ? VG_DRAW_SALIENCY : 0u),
     };
     if (m)
         memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);

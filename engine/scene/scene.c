@@ -321,6 +321,54 @@ static void state_bounds(const scene *s, scene_state *st)
         }
 }
 
+bool scene_has_saliency(const scene *s)
+{
+    for (int i = 0; i < s->node_count; i++)
+        if (s->nodes[i].has_saliency)
+            return true;
+    return false;
+}
+
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+void scene_mean_base_color(const scene *s, float rgb[3])
+{
+    double sum[3] = {0, 0, 0}, weight = 0;
+    for (int i = 0; i < s->instance_count; i++) {
+        const scene_instance *in = &s->instances[i];
+        const scene_primitive *p = &s->primitives[in->primitive];
+        const scene_material *m = p->material >= 0 ? &s->materials[p->material] : NULL;
+        double c[3] = {1, 1, 1};
+        if (m) {
+            for (int k = 0; k < 3; k++)
+                c[k] = m->base_color[k];
+            if (m->base_color_texture >= 0 && m->base_color_texture < s->texture_count) {
+                const scene_texture *t = &s->textures[m->base_color_texture];
+                size_t n = (size_t)t->width * t->height, step = n / 4096 + 1, count = 0;
+                double tm[3] = {0, 0, 0};
+                for (size_t q = 0; q < n; q += step, count++)
+                    for (int k = 0; k < 3; k++)
+                        tm[k] += srgb_to_linear(t->rgba[4 * q + (size_t)k] / 255.0f);
+                for (int k = 0; k < 3 && count; k++)
+                    c[k] *= tm[k] / (double)count;
+            }
+        }
+        double vm[3] = {0, 0, 0};
+        for (uint32_t v = 0; v < p->vertex_count; v++)
+            for (int k = 0; k < 3; k++)
+                vm[k] += p->colors[4 * (size_t)v + (size_t)k];
+        double w = (double)p->index_count / 3.0;
+        for (int k = 0; k < 3; k++)
+            sum[k] += w * c[k] * (p->vertex_count ? vm[k] / p->vertex_count : 1.0);
+        weight += w;
+    }
+    for (int k = 0; k < 3; k++)
+        rgb[k] = weight > 0 ? (float)(sum[k] / weight) : 0.5f;
+}
+
 void scene_set_pose_hook(scene *s, scene_pose_fn fn, void *user)
 {
     s->pose_hook = fn;

@@ -224,6 +224,13 @@ void scene_evaluate_known(const scene *s, const scene_past *past, float t, scene
  * keyframes) see it too; fn must therefore depend on t only. NULL removes
  * the hook. Bounds in the scene (at t = 0, from loading) do not change. */
 void scene_set_pose_hook(scene *s, scene_pose_fn fn, void *user);
+/* Whether any node authors extras.saliency (else every instance has 0 and
+ * the frame may compute saliency: docs/method.md section 3). */
+bool scene_has_saliency(const scene *s);
+/* The scene's mean base colour (linear RGB): each instance's material
+ * factor x its texture's mean x its vertex colours' mean, weighted by its
+ * triangles (the reference of computed saliency's colour contrast). */
+void scene_mean_base_color(const scene *s, float rgb[3]);
 /* Index of the first node named `name`, or -1. */
 int scene_find_node(const scene *s, const char *name);
 

@@ -173,6 +173,7 @@ void capture_json_metrics(vg_json *j, const frame_desc *fd, const frame_info *in
     vg_json_str(j, "operator", disp_operator_kind_name(fd->op));
     vg_json_str(j, "temporal_occlusion", fd->temporal_depth_only ? "depth" : "links");
     vg_json_str(j, "look_ahead", frame_look_ahead_names[fd->look_ahead]);
+    vg_json_str(j, "saliency", info->saliency_computed ? "computed" : "authored");
     vg_json_num(j, "range_lo", r->range_lo);
     vg_json_num(j, "range_hi", r->range_hi);
     vg_json_int(j, "keyframes", r->keyframes);

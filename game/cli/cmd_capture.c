@@ -33,7 +33,7 @@
 
 typedef struct capture_opts {
     const char *scene, *out, *dump_graph;
-    int frames, camera, stride, solver_iterations, throw_no, occlusion, look_ahead;
+    int frames, camera, stride, solver_iterations, throw_no, occlusion, look_ahead, saliency;
     double time, fps;
     int size[2];
     int stereo, mode, compose, op;
@@ -68,6 +68,9 @@ static const vg_opt k_opts[] = {
      "launched at --time (the arena)", NULL, 0, 100000},
     {"--temporal-occlusion", VG_OPT_CHOICE, &o.occlusion, "TEST", "the upsampling's occlusion test in time: links "
      "(instance, and depth or trajectory; default) or depth (alone, paper 4.4)", k_occlusion, 0, 0},
+    {"--saliency", VG_OPT_CHOICE, &o.saliency, "FROM", "the operator's saliency: authored (the glTF's "
+     "extras; none: uniform), computed (colour contrast, motion, depth) or auto (authored when the scene has "
+     "any; default)", frame_saliency_names, 0, 0},
     {"--look-ahead", VG_OPT_CHOICE, &o.look_ahead, "HOW", "the keyframe window's future: foresight (the scene "
      "evaluated ahead; default) or causal (predicted from the past frames only)", frame_look_ahead_names, 0, 0},
     {"--solver-iterations", VG_OPT_INT, &o.solver_iterations, "N", "outer solver iterations each time the keyframe window moves (default: the frame's)", NULL, 1, 64},
@@ -319,7 +322,7 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         .curve = curve,
         .op = (disp_operator_kind)o.op, .target_range = o.target_range,
         .solver_iterations = o.solver_iterations, .temporal_depth_only = o.occlusion == 1,
-        .look_ahead = (frame_look_ahead)o.look_ahead,
+        .look_ahead = (frame_look_ahead)o.look_ahead, .saliency = (frame_saliency)o.saliency,
         .overlay = o.caption != NULL,
         .display = display_cli_desc(&o.display),
     };

@@ -22,7 +22,7 @@ static const char *const g_views[] = {"auto", "centre", "left", NULL};
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead;
-    bool no_video;
+    bool no_video, uniform_saliency;
     double fps, range, px_zero, occlusion;
     display_cli display;
 } o;
@@ -42,7 +42,8 @@ static const vg_opt g_opts[] = {
     {.name = "--image-view", .kind = VG_OPT_CHOICE, .dest = &o.view, .metavar = "V", .help = "where --image was taken: centre (the engine's) or left (datasets); auto: left for pixel disparities", .choices = g_views},
     {.name = "--flow-to", .kind = VG_OPT_CHOICE, .dest = &o.flow_to, .metavar = "TO", .help = "the flows go to the next/previous frame (default) or keyframe (as capture writes them)", .choices = g_flow_to},
     {.name = "--ids", .kind = VG_OPT_STRING, .dest = &o.ids, .metavar = "PATTERN", .help = "instance ids, 24-bit RGB PNG as capture writes them (links stay on one object)"},
-    {.name = "--saliency", .kind = VG_OPT_STRING, .dest = &o.saliency, .metavar = "PATTERN", .help = "8-bit grey PNG saliency for the operator"},
+    {.name = "--saliency", .kind = VG_OPT_STRING, .dest = &o.saliency, .metavar = "PATTERN", .help = "8-bit grey PNG saliency for the operator (default: computed from --image, the flows and depth)"},
+    {.name = "--uniform-saliency", .kind = VG_OPT_FLAG, .dest = &o.uniform_saliency, .help = "without --saliency: every pixel weighs alike (no computed saliency)"},
     {.name = "--g-units", .kind = VG_OPT_CHOICE, .dest = &o.units, .metavar = "U", .help = "units of g: arcmin (vergence) or px (dataset disparity x_l - x_r)", .choices = g_units},
     {.name = "--px-zero", .kind = VG_OPT_FLOAT, .dest = &o.px_zero, .metavar = "D", .help = "with --g-units px: the disparity that lands on the screen (default 0)"},
     {.name = "--keyframe-stride", .kind = VG_OPT_INT, .dest = &o.stride, .metavar = "N", .help = "frames between keyframes (default 10)", .min = 1, .max = 1000},
@@ -203,7 +204,7 @@ static int run(int argc, char **argv)
         .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
         .occlusion_tolerance = (float)o.occlusion, .video = !o.no_video,
-        .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL,
+        .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL, .uniform_saliency = o.uniform_saliency,
     };
     static char frames_buf[32], patterns[8][4096], display[4096];
     if (o.capture && o.g) {

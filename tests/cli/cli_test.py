@@ -152,6 +152,7 @@ def case_assets():
     if len(models) < 20:
         sys.exit(f"FAIL: found only {len(models)} models under {ASSETS}")
     tmp = tempfile.mkdtemp(prefix="vergence_assets_")
+    computed = 0
     for i, m in enumerate(sorted(models)):
         out = os.path.join(tmp, str(i))
         info = capture(m, out)["scene_info"]
@@ -162,9 +163,29 @@ def case_assets():
                 sys.exit(f"FAIL: {m}: {key} = {info[key]}, the file has {want}")
         if not os.path.getsize(os.path.join(out, "frame_0000_color.png")):
             sys.exit(f"FAIL: {m}: empty colour image")
+        # No sample authors saliency: the frame computes it (docs/method.md section 3).
+        j = json.load(open(os.path.join(out, "capture.json")))
+        if j["metrics"].get("saliency") != "computed":
+            sys.exit(f"FAIL: {m}: saliency {j['metrics'].get('saliency')}, not computed")
+        _, _, sal = read_png(os.path.join(out, "frame_0000_saliency.png"), 1)
+        _, _, ids = read_png_rgb(os.path.join(out, "frame_0000_ids.png"))
+        shown = [sal[i] for i in range(len(sal)) if ids[3 * i:3 * i + 3] != b"\0\0\0"]
+        computed += bool(shown) and max(shown) > min(shown)
         print(f"ok {m}: {info['nodes']} nodes, {info['meshes']} meshes, {info['animations']} animations, "
               f"{info['triangles']} triangles")
-    print(f"{len(models)} models loaded and captured")
+    print(f"{len(models)} models loaded and captured; computed saliency varies over {computed} of them")
+    if computed < len(models) // 2:
+        sys.exit("FAIL: computed saliency is flat on most samples")
+    # The operator uses it: h with the computed saliency is not h with none (uniform).
+    truck = os.path.join(ASSETS, "CesiumMilkTruck", "glTF", "CesiumMilkTruck.gltf")
+    a, b = os.path.join(tmp, "sal_computed"), os.path.join(tmp, "sal_authored")
+    capture(truck, a, 1, "160x90", ["--time", "1"])
+    jb = capture(truck, b, 1, "160x90", ["--time", "1", "--saliency", "authored"])
+    ha, hb = read_pfm(os.path.join(a, "frame_0000_h.pfm")), read_pfm(os.path.join(b, "frame_0000_h.pfm"))
+    moved = max(abs(x - y) for ra, rb in zip(ha, hb) for x, y in zip(ra, rb))
+    print(f"CesiumMilkTruck: max |h(computed saliency) - h(uniform)| {moved:.3f} arcmin")
+    if jb["metrics"]["saliency"] != "authored" or not moved > 0.05:
+        sys.exit("FAIL: the operator does not use the computed saliency")
 
 
 def case_device_limits():
@@ -289,7 +310,8 @@ def case_validation_sweep():
     scenes = ("content/cubes.gltf", "content/balloon.gltf", "content/bird.gltf", "content/arena.gltf")
     extras = {0: ["--tess-px", "4"],                          # uniform tessellation (warp, original)
               1: ["--tess-error", "0.1", "--write-aux"],      # error-driven, explicit tolerance
-              2: ["--write-aux", "--swap-eyes", "--diffuse"], # the default: error-driven
+              2: ["--write-aux", "--swap-eyes", "--diffuse",  # the default: error-driven; causal look-ahead
+                  "--look-ahead", "causal", "--saliency", "computed"],  # and computed saliency
               3: ["--write-aux"]}
     optimized = None
     for i, ((render, mode), output) in enumerate(zip(stereo, outputs)):
@@ -564,14 +586,19 @@ def read_pfm(path):
     return [v[(h - 1 - y) * w:(h - y) * w] for y in range(h)]
 
 
-def read_png_rgb(path):
-    """An 8-bit RGB PNG as (w, h, bytes): the decoder of tests/warp (one PNG reader for the Python tests)."""
+def read_png(path, want_channels):
+    """An 8-bit PNG of want_channels as (w, h, bytes): the decoder of tests/warp (one PNG reader for the
+    Python tests)."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "warp"))
     from warp_test import png
     w, h, channels, rows = png(path)
-    if channels != 3:
-        sys.exit(f"FAIL: {path} is not RGB")
+    if channels != want_channels:
+        sys.exit(f"FAIL: {path} has {channels} channels, not {want_channels}")
     return w, h, b"".join(rows)
+
+
+def read_png_rgb(path):
+    return read_png(path, 3)
 
 
 def case_optimize_roundtrip():

@@ -293,32 +293,47 @@ static int given_h_identity(void)
 static int saliency_input(void)
 {
     CHECK(prepare() == 0, "prepare");
-    char args[16384], out[2][600], path[1400];
-    uint8_t *px[2];
+    /* Runs: every pixel alike (--uniform-saliency), a saliency file, and the
+     * default without one: computed from the flows and depth. */
+    static const char *const names[3] = {"out_plain", "out_saliency", "out_computed"};
+    static const char *const said[3] = {"\"saliency\": \"uniform\"", "\"saliency\": \"file\"",
+                                        "\"saliency\": \"computed\""};
+    char args[16384], out[3][600], path[2048], extra[1024];
+    uint8_t *px[3];
     double rv = 1;
-    for (int run = 0; run < 2; run++) {
-        path_in(out[run], sizeof out[run], run ? "out_saliency" : "out_plain");
-        snprintf(args, sizeof args, "--g '%s/g_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' %s%s%s --frames 0:%d --out '%s'",
-                 g_work, g_work, run ? "--saliency '" : "", run ? g_work : "", run ? "/s_%04d.png'" : "", LAST, out[run]);
+    for (int run = 0; run < 3; run++) {
+        path_in(out[run], sizeof out[run], names[run]);
+        if (run == 1)
+            snprintf(extra, sizeof extra, "--saliency '%s/s_%%04d.png'", g_work);
+        else
+            snprintf(extra, sizeof extra, "%s", run ? "" : "--uniform-saliency");
+        snprintf(args, sizeof args, "--g '%s/g_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' %s --frames 0:%d --out '%s'",
+                 g_work, g_work, extra, LAST, out[run]);
         CHECK(run_vergence(args) == 0, "optimize failed:\n%s", g_stderr);
         int w, h;
         snprintf(path, sizeof path, "%s/xt_h.png", out[run]);
         CHECK(vg_png_read(path, &w, &h, 1, &px[run]) == VG_OK, "%s", path);
+        snprintf(path, sizeof path, "%s/preview_saliency.png", out[run]);
+        CHECK(exists(path) == (run > 0), "%s: preview_saliency.png %s", names[run], run ? "missing" : "written");
         snprintf(path, sizeof path, "%s/metrics.json", out[run]);
         uint8_t *json;
         size_t size;
         CHECK(vg_file_read(path, &json, &size) == VG_OK, "%s", path);
-        rv = json_number((char *)json, "f", "range_violation");
+        rv = fmax(json_number((char *)json, "f", "range_violation"), run ? rv : 0);
+        CHECK(strstr((char *)json, said[run]) != NULL, "%s: metrics.json does not say %s", names[run], said[run]);
         free(json);
     }
-    int differ = 0;
+    int differ[2] = {0, 0};
     for (int i = 0; i < W * (LAST + 1); i++)
-        differ += px[0][i] != px[1][i];
-    printf("x-t slice of h: %d of %d pixels change with saliency; f range violation %g\n", differ, W * (LAST + 1), rv);
-    CHECK(differ > 100, "saliency must change h");
+        for (int k = 0; k < 2; k++)
+            differ[k] += px[0][i] != px[k + 1][i];
+    printf("x-t slice of h: %d (file) and %d (computed) of %d pixels change against uniform saliency; "
+           "f range violation %g\n", differ[0], differ[1], W * (LAST + 1), rv);
+    CHECK(differ[0] > 100, "the saliency file must change h");
+    CHECK(differ[1] > 100, "the computed saliency must change h");
     CHECK(rv == 0.0, "f outside the range");
-    free(px[0]);
-    free(px[1]);
+    for (int k = 0; k < 3; k++)
+        free(px[k]);
     return 0;
 }
 

@@ -39,10 +39,10 @@ def capture(scene, extra=(), frames=1, size="320x180", time=1.5):
 
 
 def png(path):
-    """Decodes an 8-bit RGB/RGBA PNG (stdlib only): width, height, channels, rows of bytes."""
+    """Decodes an 8-bit grey/RGB/RGBA PNG (stdlib only): width, height, channels, rows of bytes."""
     d = open(path, "rb").read()
     w, h, depth, ctype = struct.unpack(">IIBB", d[16:26])
-    if depth != 8 or ctype not in (2, 6):
+    if depth != 8 or ctype not in (0, 2, 6):
         sys.exit(f"FAIL: {path}: unsupported PNG (depth {depth}, type {ctype})")
     i, idat = 8, b""
     while i < len(d):
@@ -50,7 +50,7 @@ def png(path):
         if d[i + 4:i + 8] == b"IDAT":
             idat += d[i + 8:i + 8 + n]
         i += 12 + n
-    raw, bpp = zlib.decompress(idat), 3 if ctype == 2 else 4
+    raw, bpp = zlib.decompress(idat), {0: 1, 2: 3, 6: 4}[ctype]
     stride, rows, prev, p = w * bpp, [], bytearray(w * bpp), 0
     for _ in range(h):
         f, line = raw[p], bytearray(raw[p + 1:p + 1 + stride])
