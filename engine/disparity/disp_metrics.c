@@ -4,14 +4,15 @@
 
 /* A pixel moves in depth when g changes along a valid link by at least the
  * threshold velocity (the image-space motion alone is not motion in depth). */
-static bool is_moving(const mid_window *w, int i, float thr)
+/* Velocities per second whatever unit the window's solve uses (time_unit:
+ * the sensitivity study), so every variant is measured alike. */
+static bool is_moving(const mid_window *w, int i, float thr, float idf, float idb)
 {
-    int k = i / w->ns;
     float speed = 0.0f;
     if (w->fwd[i].mask)
-        speed = fmaxf(speed, fabsf(mid_link_gather(w->fwd, w->nx, i, w->g) - w->g[i]) * w->inv_dt_f[k]);
+        speed = fmaxf(speed, fabsf(mid_link_gather(w->fwd, w->nx, i, w->g) - w->g[i]) * idf);
     if (w->bwd[i].mask)
-        speed = fmaxf(speed, fabsf(w->g[i] - mid_link_gather(w->bwd, w->nx, i, w->g)) * w->inv_dt_b[k]);
+        speed = fmaxf(speed, fabsf(w->g[i] - mid_link_gather(w->bwd, w->nx, i, w->g)) * idb);
     return speed >= thr;
 }
 
@@ -28,14 +29,17 @@ void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics
             continue; /* g unknown: nothing to measure against */
         m.samples++;
         out_of_range += !disp_metrics_in_range(x[i], w->range_lo, w->range_hi);
-        if (is_moving(w, i, thr)) {
+        float idf = w->inv_dt_f[k] / w->time_unit, idb = w->inv_dt_b[k] / w->time_unit;
+        if (is_moving(w, i, thr, idf, idb)) {
             m.moving++;
             if (w->fwd[i].mask && w->bwd[i].mask) {
-                /* The c_a residual of Sec. 4.3 with x in place of f. */
+                /* The c_a residual of Sec. 4.3 with x in place of f (g's term
+                 * as the solve's pg_acc, in arcmin/s). */
                 float xa = mid_link_gather(w->fwd, w->nx, i, x);
                 float xb = mid_link_gather(w->bwd, w->nx, i, x);
-                double e = (double)mid_p((xa - x[i]) * w->inv_dt_f[k]) -
-                           (double)mid_p((x[i] - xb) * w->inv_dt_b[k]) - (double)w->pg_acc[i];
+                float ga = mid_link_gather(w->fwd, w->nx, i, w->g), gb = mid_link_gather(w->bwd, w->nx, i, w->g);
+                double e = (double)mid_p((xa - x[i]) * idf) - (double)mid_p((x[i] - xb) * idb) -
+                           ((double)mid_p((ga - w->g[i]) * idf) - (double)mid_p((w->g[i] - gb) * idb));
                 mid2 += e * e;
                 m.moving_measured++;
             }

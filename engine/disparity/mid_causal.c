@@ -164,7 +164,8 @@ vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, floa
         st = mid_window_create(&(mid_window_desc){.width = all->nx, .height = all->ny, .keyframes = wnt,
                                                   .range_lo = all->range_lo, .range_hi = all->range_hi,
                                                   .occlusion_tolerance = all->occlusion_tolerance,
-                                                  .flow_tolerance = all->flow_tolerance},
+                                                  .flow_tolerance = all->flow_tolerance,
+                                                  .edge_scale = all->edge_scale, .time_unit = all->time_unit},
                                &w);
         if (st != VG_OK)
             break;

@@ -7,13 +7,16 @@
  * only: here every later keyframe of the window is predicted from k and
  * k - 1 alone by extrapolating the disparity field along its flow (a
  * sample goes on at the image velocity and the rates of change of g, h
- * and depth it had from k - 1 to k; the predicted keyframe k + j looks
- * each grid sample up j velocities back, semi-Lagrangian). Each move
+ * and depth it had from k - 1 to k, splatted forward to the nearest grid
+ * sample, the nearest surface winning; what nothing lands on takes the
+ * farther of its row neighbours, as image warping fills holes). Each move
  * solves the window warm-started from the last one and publishes the
  * ratio f / h of keyframe k + 2 (the first window: k .. k + 2), as the
  * GPU's mid.solve does; f at a keyframe is its observed h times the
  * published ratio. So f at keyframe j uses data up to keyframe j - 2:
- * the frames from j - 1 on depend on nothing after them. */
+ * the frames from j - 1 on depend on nothing after them. Measured in
+ * docs/method.md section 15: without a true future it does worse than h
+ * wherever motion changes within the window. */
 #pragma once
 #include "core/status.h"
 #include "mid_solver.h"

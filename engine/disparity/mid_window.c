@@ -41,6 +41,8 @@ vg_status mid_window_create(const mid_window_desc *desc, mid_window **out)
     w->occlusion_tolerance =
         desc->occlusion_tolerance > 0 ? desc->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
     w->flow_tolerance = desc->flow_tolerance > 0 ? desc->flow_tolerance : MID_FLOW_TOLERANCE;
+    w->edge_scale = desc->edge_scale > 0 ? desc->edge_scale : 1.0f / (desc->range_hi - desc->range_lo);
+    w->time_unit = desc->time_unit > 0 ? desc->time_unit : 1.0f;
     size_t nf = (size_t)n * sizeof(float);
     w->g = calloc(1, nf);
     w->h = calloc(1, nf);
@@ -331,12 +333,10 @@ vg_status mid_window_build(mid_window *w, vg_pool *pool)
             vg_error("MID window: keyframe interval %d has dt %g s (must be > 0)", k, w->dt[k]);
             return VG_ERR_ARG;
         }
-        w->inv_dt_f[k] = k + 1 < w->nt ? 1.0f / w->dt[k] : 0.0f;
-        w->inv_dt_b[k] = k > 0 ? 1.0f / w->dt[k - 1] : 0.0f;
+        w->inv_dt_f[k] = k + 1 < w->nt ? w->time_unit / w->dt[k] : 0.0f;
+        w->inv_dt_b[k] = k > 0 ? w->time_unit / w->dt[k - 1] : 0.0f;
     }
-    build_ctx b = {.w = w,
-                   .log_tol = logf(1.0f + w->occlusion_tolerance),
-                   .inv_range = 1.0f / (w->range_hi - w->range_lo)};
+    build_ctx b = {.w = w, .log_tol = logf(1.0f + w->occlusion_tolerance), .inv_range = w->edge_scale};
     vg_parallel_for(pool, w->n, MID_BLOCK, links_block, &b);
     vg_status st = adjoint_build(w, w->fwd, &w->fwd_adj);
     if (st == VG_OK)

@@ -19,6 +19,11 @@ typedef struct mid_window_desc {
     float occlusion_tolerance;      /* relative depth difference, 0 = MID_OCCLUSION_TOLERANCE */
     float flow_tolerance;           /* round-trip flow error, coarse px, 0 = MID_FLOW_TOLERANCE */
     float keyframe_seconds;         /* initial dt of every interval, 0 = 10 / 60 */
+    /* Choices the paper leaves open, kept selectable for the sensitivity
+     * study (docs/method.md section 16); zero = the defaults. */
+    float edge_scale;               /* a = exp(-10 |dh| edge_scale): 0 = 1 / the target range's width (h
+                                       normalised, Sec. 4.1); 1: dh in arcmin per coarse sample */
+    float time_unit;                /* seconds per unit of the velocities p() sees: 0 = 1 s */
 } mid_window_desc;
 
 /* Transposed links: entries [offset[j], offset[j + 1]) are the sources reading j. */
@@ -31,6 +36,7 @@ typedef struct mid_adjoint {
 typedef struct mid_window {
     int nx, ny, nt, ns, n;
     float range_lo, range_hi, occlusion_tolerance, flow_tolerance;
+    float edge_scale, time_unit;    /* as the desc's, resolved */
 
     /* Inputs: n floats each, index k * ns + y * nx + x. */
     float *g, *h;       /* vergence, arcmin: original and manipulated */

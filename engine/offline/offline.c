@@ -839,6 +839,8 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     vg_json_object_begin(&j, "solve");
     vg_json_str(&j, "solver", s->d->solver == MID_SOLVER_DESCENT ? "descent" : "gauss-newton");
     vg_json_str(&j, "look_ahead", s->d->causal ? "causal" : "foresight");
+    vg_json_str(&j, "edge_norm", (const char *[]){"range", "arcmin", "pixel"}[s->d->edge_norm]);
+    vg_json_str(&j, "velocity_unit", s->d->velocity_per_keyframe ? "keyframe" : "second");
     if (s->d->causal) { /* cost_h / cost_f: the last window's */
         vg_json_int(&j, "windows", s->windows);
         vg_json_int(&j, "keyframes_behind", s->past);
@@ -1056,9 +1058,15 @@ vg_status offline_run(const offline_desc *d)
         st = VG_ERR_NOMEM;
         goto done;
     }
+    float edge_scale = d->edge_norm == OFFLINE_EDGE_ARCMIN  ? 1.0f
+                       : d->edge_norm == OFFLINE_EDGE_PIXEL ? 1.0f / (float)s.grid.stride
+                                                            : 0.0f;
     if ((st = mid_window_create(&(mid_window_desc){.width = s.grid.nx, .height = s.grid.ny, .keyframes = s.nt,
                                                    .range_lo = (float)s.lo, .range_hi = (float)s.hi,
-                                                   .occlusion_tolerance = d->occlusion_tolerance},
+                                                   .occlusion_tolerance = d->occlusion_tolerance,
+                                                   .edge_scale = edge_scale,
+                                                   .time_unit = d->velocity_per_keyframe ? (float)(s.stride / s.fps)
+                                                                                         : 0.0f},
                                 &w)) != VG_OK ||
         (st = pass_keyframes(&s, w, g, h, z, scratch, pos)) != VG_OK ||
         (st = mid_window_build(w, s.pool)) != VG_OK)

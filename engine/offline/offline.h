@@ -33,6 +33,12 @@ typedef enum offline_view {
     OFFLINE_VIEW_LEFT,     /* stereo datasets: g of the left camera */
 } offline_view;
 
+typedef enum offline_edge_norm {
+    OFFLINE_EDGE_RANGE = 0, /* h normalised over the target range (paper 4.1 as DESIGN.md reads it) */
+    OFFLINE_EDGE_ARCMIN,    /* arcmin per coarse sample */
+    OFFLINE_EDGE_PIXEL,     /* arcmin per full-resolution pixel */
+} offline_edge_norm;
+
 typedef struct offline_desc {
     /* printf-style patterns (disp_pattern.h); all but g and out optional.
      * ids: instance ids as capture writes them (24-bit RGB PNG, R the low
@@ -60,6 +66,12 @@ typedef struct offline_desc {
     double px_zero;           /* pixel disparity shown on the screen plane (px units) */
     float occlusion_tolerance; /* 0 = MID_OCCLUSION_TOLERANCE */
     bool video;               /* g.mp4, h.mp4, f.mp4 when ffmpeg is installed */
+    /* The sensitivity study's choices (docs/method.md section 16): the
+     * spatial weights' |dh| in the target range (default), in arcmin per
+     * coarse sample or per pixel; velocities per second (default) or per
+     * keyframe interval. */
+    offline_edge_norm edge_norm;
+    bool velocity_per_keyframe;
     bool uniform_saliency;    /* without --saliency: every pixel weighs alike, not the computed saliency */
     bool causal;              /* the engine's sliding window with its future predicted from the past
                                  (mid_causal.h), not one window over the whole sequence */

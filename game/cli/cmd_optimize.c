@@ -18,10 +18,13 @@ static const char *const g_presets[] = {"comfort", "study", NULL};
 static const char *const g_units[] = {"arcmin", "px", NULL};
 static const char *const g_flow_to[] = {"frame", "keyframe", NULL};
 static const char *const g_views[] = {"auto", "centre", "left", NULL};
+static const char *const g_edge_norms[] = {"range", "arcmin", "pixel", NULL};
+static const char *const g_velocity_units[] = {"second", "keyframe", NULL};
 
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
-    int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead;
+    int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead, edge_norm,
+        velocity_unit;
     bool no_video, uniform_saliency;
     double fps, range, px_zero, occlusion;
     display_cli display;
@@ -54,6 +57,8 @@ static const vg_opt g_opts[] = {
     {.name = "--weights", .kind = VG_OPT_STRING, .dest = &o.weights, .metavar = "M,S,T,A", .help = "cost weights (default 0.05,1,0.1,0.1)"},
     {.name = "--solver", .kind = VG_OPT_CHOICE, .dest = &o.solver, .metavar = "NAME", .help = "minimiser", .choices = g_solvers},
     {.name = "--look-ahead", .kind = VG_OPT_CHOICE, .dest = &o.look_ahead, .metavar = "HOW", .help = "foresight (default): one window over the whole sequence; causal: the engine's sliding window, its future keyframes predicted from the past (docs/method.md)", .choices = frame_look_ahead_names},
+    {.name = "--edge-norm", .kind = VG_OPT_CHOICE, .dest = &o.edge_norm, .metavar = "N", .help = "sensitivity study: the spatial weights exp(-10 |dh|) with dh over the target range (default), in arcmin per coarse sample, or per pixel", .choices = g_edge_norms},
+    {.name = "--velocity-unit", .kind = VG_OPT_CHOICE, .dest = &o.velocity_unit, .metavar = "U", .help = "sensitivity study: the velocities the perceptual model sees, per second (default) or per keyframe interval", .choices = g_velocity_units},
     {.name = "--iterations", .kind = VG_OPT_INT, .dest = &o.iterations, .metavar = "N", .help = "outer iterations (default 4 gauss-newton, 8 descent)", .min = 1, .max = 100000},
     {.name = "--cg-iterations", .kind = VG_OPT_INT, .dest = &o.cg, .metavar = "N", .help = "CG steps per Gauss-Newton iteration (default 8)", .min = 1, .max = 100000},
     {.name = "--threads", .kind = VG_OPT_INT, .dest = &o.threads, .metavar = "N", .help = "worker threads (default: all cores)", .min = 0, .max = 1024},
@@ -205,6 +210,7 @@ static int run(int argc, char **argv)
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
         .occlusion_tolerance = (float)o.occlusion, .video = !o.no_video,
         .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL, .uniform_saliency = o.uniform_saliency,
+        .edge_norm = (offline_edge_norm)o.edge_norm, .velocity_per_keyframe = o.velocity_unit == 1,
     };
     static char frames_buf[32], patterns[8][4096], display[4096];
     if (o.capture && o.g) {
