@@ -1,6 +1,7 @@
 // vergence — warp.classify / warp.compact (shared declarations). Triangles
-// go in chunks of 256 of one instance: classify decides each triangle's
-// kind (0 culled, 1 flat, 2 tessellated) in parallel over all chunks;
+// go in chunks of 256 of one instance: classify culls them (warp_cull),
+// levels each edge they use once (warp_edges), then decides each
+// triangle's kind (0 culled, 1 flat, 2 tessellated) in parallel over all chunks;
 // compact writes each instance's flat and tessellated index lists in the
 // original triangle order (prefix sums, no atomics) and its draw commands.
 layout(set = 0, binding = VG_BINDING_VERTICES, scalar) readonly buffer VertexBlock { float vertices[]; };
@@ -13,6 +14,9 @@ layout(set = 0, binding = VG_BINDING_CHUNKS, scalar) readonly buffer ChunkBlock 
 layout(set = 0, binding = VG_BINDING_KINDS, scalar) buffer KindBlock { uint kinds[]; };
 layout(set = 0, binding = VG_BINDING_COUNTS, scalar) buffer CountBlock { uvec2 counts[]; };
 layout(set = 0, binding = VG_BINDING_TESS_LEVELS, scalar) writeonly buffer TessLevelBlock { uint tess_levels[]; };
+layout(set = 0, binding = VG_BINDING_TRI_EDGES, scalar) readonly buffer TriEdgeBlock { uint tri_edges[]; };
+layout(set = 0, binding = VG_BINDING_EDGES, scalar) readonly buffer EdgeBlock { vg_warp_edge edges[]; };
+layout(set = 0, binding = VG_BINDING_EDGE_LEVELS, scalar) buffer EdgeLevelBlock { uint edge_levels[]; };
 layout(push_constant, scalar) uniform ClassifyBlock { vg_classify_push pc; };
 
 const uint KIND_CULLED = 0u, KIND_FLAT = 1u, KIND_TESSELLATED = 2u;

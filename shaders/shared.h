@@ -117,7 +117,19 @@ VG_STRUCT(vg_classify_push) {
     VG_UINT chunk_triangles;   /* patches per tessellated draw (lavapipe's vertex limit) */
     VG_UINT chunk_count;
     VG_UINT tess_slots;        /* draw commands of all tessellated chunks; per-instance counts follow them */
+    VG_UINT edge_count;        /* the scene's distinct triangle edges (warp.edges) */
+    VG_UINT pad0, pad1, pad2;
 };
+/* warp.edges: an edge of the scene's triangles, once however many triangles
+ * share it. Vertices global (instance first_vertex + index); the (at most
+ * two) triangles that use it as global triangle numbers, VG_EDGE_NONE for a
+ * border edge's second, VG_EDGE_ALWAYS when more than two share it (its
+ * level is always computed). */
+VG_STRUCT(vg_warp_edge) {
+    VG_UINT v0, v1, t0, t1;
+};
+#define VG_EDGE_NONE 0xffffffffu
+#define VG_EDGE_ALWAYS 0xfffffffeu
 #define VG_BINDING_VERTICES 7     /* warp.classify: scene positions (6 floats per vertex) */
 #define VG_BINDING_INDICES 8
 #define VG_BINDING_INSTANCES 9
@@ -134,6 +146,10 @@ VG_STRUCT(vg_classify_push) {
  * patch finds its levels at gl_InstanceIndex + gl_PrimitiveID. Binding 16 of
  * the scene pipelines' set 0 too. */
 #define VG_BINDING_TESS_LEVELS 16
+#define VG_BINDING_TRI_EDGES 17   /* warp.classify: per triangle, its edges 1-2, 2-0, 0-1 (vg_warp_edge ids) */
+#define VG_BINDING_EDGES 18       /* vg_warp_edge */
+#define VG_BINDING_EDGE_LEVELS 19 /* per edge: its tessellation level this frame (1 when no visible
+                                     triangle uses it) */
 
 /* compose modes (frame_compose minus one) and push constants. The packed
  * layouts (side by side, top-bottom, their halves, frame packing,

@@ -25,6 +25,8 @@
 #include "warp_tese.h"
 #include "warp_classify_comp.h"
 #include "warp_compact_comp.h"
+#include "warp_cull_comp.h"
+#include "warp_edges_comp.h"
 #include "warp_fill_comp.h"
 #include "warp_flat_vert.h"
 #include "warp_vert.h"
@@ -48,10 +50,12 @@ typedef struct eye_pass {
 struct warp_gpu {
     frame_ctx *fc;
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
-    gpu_compute_kit classify;    /* K_CLASSIFY, K_COMPACT */
+    gpu_compute_kit classify;    /* K_CULL, K_EDGES, K_CLASSIFY, K_COMPACT */
     gpu_compute_kit fill;
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
     gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
+    gpu_buffer tri_edges, edges; /* each triangle's 3 edge ids; vg_warp_edge: every edge once */
+    uint32_t edge_count;
     gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
     uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
@@ -66,13 +70,13 @@ struct warp_gpu {
     /* this frame's graph resources */
     frame_resources *res;
     rg_res target, tiles_count, tiles_sum, tiles_offset;
-    rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts;
+    rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts, edge_levels;
 };
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
 enum { K_RANGE, K_BINS, K_RESOLVE };  /* kernels of the curve kit */
-enum { K_CLASSIFY, K_COMPACT };       /* of the classify kit */
+enum { K_CULL, K_EDGES, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
 
 /* ------------------------------------------------------------------------- */
 /* Curve                                                                     */
@@ -146,7 +150,7 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
     VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
     VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
     VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
-    enum { NB = 11 };
+    enum { NB = 14 };
     VkDescriptorBufferInfo bufs[NB] = {
         {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, r->vertices), 0, VK_WHOLE_SIZE},
@@ -159,11 +163,14 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
         {rg_ctx_buffer(ctx, w->kinds), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->counts), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->tess_levels), 0, VK_WHOLE_SIZE},
+        {w->tri_edges.buffer, 0, VK_WHOLE_SIZE},
+        {w->edges.buffer, 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->edge_levels), 0, VK_WHOLE_SIZE},
     };
     static const uint32_t buffer_bindings[NB] = {
         VG_BINDING_CURVE, VG_BINDING_VERTICES, VG_BINDING_INDICES, VG_BINDING_INSTANCES, VG_BINDING_FLAT,
         VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS,
-        VG_BINDING_TESS_LEVELS};
+        VG_BINDING_TESS_LEVELS, VG_BINDING_TRI_EDGES, VG_BINDING_EDGES, VG_BINDING_EDGE_LEVELS};
     VkWriteDescriptorSet wr[3 + NB] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &ubo},
@@ -177,16 +184,30 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
                                            .dstBinding = buffer_bindings[i], .descriptorCount = 1,
                                            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                            .pBufferInfo = &bufs[i]};
-    vg_classify_push push = {(uint32_t)fc->scene->instance_count, w->patches_per_draw, w->chunk_count,
-                             w->tess_slots};
+    vg_classify_push push = {.instance_count = (uint32_t)fc->scene->instance_count,
+                             .chunk_triangles = w->patches_per_draw, .chunk_count = w->chunk_count,
+                             .tess_slots = w->tess_slots, .edge_count = w->edge_count};
     gpu_compute_kit_bind(fc->gpu, rg_ctx_cmd(ctx), &w->classify, kernel, wr, 3 + NB, &push);
 }
 
+/* Cull the triangles, level each edge a visible one uses (once, however
+ * many triangles share it), then gather each triangle's kind and count the
+ * chunks' (the barrier reduction only there: lavapipe runs a kernel with a
+ * barrier as coroutines, and the edge levels are the pass's whole cost). */
 static void classify_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    bind_classify(w, ctx, K_CULL);
+    vkCmdDispatch(cmd, w->chunk_count, 1, 1);
+    gpu_compute_barrier(cmd);
+    if (w->edge_count) {
+        bind_classify(w, ctx, K_EDGES);
+        vkCmdDispatch(cmd, (w->edge_count + 63) / 64, 1, 1);
+        gpu_compute_barrier(cmd);
+    }
     bind_classify(w, ctx, K_CLASSIFY);
-    vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count, 1, 1);
+    vkCmdDispatch(cmd, w->chunk_count, 1, 1);
 }
 
 static void compact_execute(const rg_context *ctx, void *user)
@@ -436,6 +457,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         w->kinds = rg_buffer(g, &(rg_buffer_desc){"warp.kinds", index_bytes / 3 + 4});
         w->tess_levels = rg_buffer(g, &(rg_buffer_desc){"warp.tess_levels", index_bytes / 3 + 4});
         w->counts = rg_buffer(g, &(rg_buffer_desc){"warp.counts", (uint64_t)(w->chunk_count + 1) * 8});
+        w->edge_levels = rg_buffer(g, &(rg_buffer_desc){"warp.edge_levels", (uint64_t)(w->edge_count + 1) * 4});
         /* Both passes push the same descriptors; each declares what it touches. */
         rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = "warp.classify", .type = RG_PASS_COMPUTE,
                                                      .execute = classify_execute, .user = w});
@@ -445,8 +467,10 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         rg_use(g, cls, res->curve, RG_STORAGE_READ);
         rg_use(g, cls, res->vertices, RG_STORAGE_READ);
         rg_use(g, cls, res->indices, RG_STORAGE_READ);
+        /* Written first within the pass (its own barriers order its three dispatches). */
         rg_use(g, cls, w->kinds, RG_STORAGE_WRITE);
         rg_use(g, cls, w->counts, RG_STORAGE_WRITE);
+        rg_use(g, cls, w->edge_levels, RG_STORAGE_WRITE);
         rg_pass cpt = rg_pass_add(g, &(rg_pass_desc){.name = "warp.compact", .type = RG_PASS_COMPUTE,
                                                      .execute = compact_execute, .user = w});
         rg_use(g, cpt, res->depth, RG_SAMPLED);
@@ -598,16 +622,18 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     /* warp.classify: the scene bindings of set 0 plus its own buffers; the
      * frame constants as a storage buffer (shaders/common.glsl,
      * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
-    VkDescriptorType ctypes[VG_BINDING_TESS_LEVELS + 1];
-    for (int i = 0; i <= VG_BINDING_TESS_LEVELS; i++)
+    VkDescriptorType ctypes[VG_BINDING_EDGE_LEVELS + 1];
+    for (int i = 0; i <= VG_BINDING_EDGE_LEVELS; i++)
         ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     if (st == VG_OK)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_TESS_LEVELS + 1,
+            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_EDGE_LEVELS + 1,
             .push_size = sizeof(vg_classify_push),
-            .kernels = {[K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
+            .kernels = {[K_CULL] = GPU_KERNEL(spv_warp_cull_comp, "warp.cull"),
+                        [K_EDGES] = GPU_KERNEL(spv_warp_edges_comp, "warp.edges"),
+                        [K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
                         [K_COMPACT] = GPU_KERNEL(spv_warp_compact_comp, "warp.compact")}}, &w->classify);
     static const VkDescriptorType ftypes[5] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                                VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
@@ -616,6 +642,69 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
             .name = "warp.fill", .types = ftypes, .count = 5,
             .kernels = {GPU_KERNEL(spv_warp_fill_comp, "warp.fill")}}, &w->fill);
+    return st;
+}
+
+/* Every edge of the scene's triangles once (vg_warp_edge), and each
+ * triangle's three edge ids (opposite vertex 0, 1, 2: edges 1-2, 2-0, 0-1),
+ * so warp.edges levels an edge once for the two triangles that share it.
+ * Edges are keyed by their two global vertex numbers (open addressing). */
+static vg_status create_edge_table(warp_gpu *w)
+{
+    const scene *s = w->fc->scene;
+    const vg_warp_instance *table = w->instances.mapped;
+    uint64_t triangles = s->index_count / 3; /* triangle g of instance i is first_index / 3 + t (as warp.kinds) */
+    size_t cap = 16;
+    while (cap < 4 * triangles)
+        cap *= 2;
+    uint64_t *keys = malloc(cap * sizeof(uint64_t));
+    uint32_t *slot_edge = malloc(cap * sizeof(uint32_t));
+    vg_warp_edge *list = malloc((3 * triangles + 1) * sizeof(vg_warp_edge));
+    vg_status st = keys && slot_edge && list ? VG_OK : VG_ERR_NOMEM;
+    if (st == VG_OK)
+        st = gpu_buffer_create(w->fc->gpu, &(gpu_buffer_desc){
+            .name = "warp triangle edges", .size = (3 * triangles + 1) * sizeof(uint32_t),
+            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true}, &w->tri_edges);
+    uint32_t n = 0;
+    if (st == VG_OK) {
+        memset(keys, 0xff, cap * sizeof(uint64_t)); /* UINT64_MAX: empty (no edge joins vertex 2^32 - 1 twice) */
+        uint32_t *tri_edges = w->tri_edges.mapped;
+        for (int i = 0; i < s->instance_count; i++) {
+            uint32_t base = table[i].first_index / 3, fv = table[i].first_vertex;
+            for (uint32_t t = 0; t < table[i].index_count / 3; t++) {
+                const uint32_t *ix = s->indices + table[i].first_index + 3 * t;
+                for (int e = 0; e < 3; e++) {
+                    uint32_t a = fv + ix[(e + 1) % 3], b = fv + ix[(e + 2) % 3];
+                    uint64_t key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+                    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (cap - 1);
+                    while (keys[h] != UINT64_MAX && keys[h] != key)
+                        h = (h + 1) & (cap - 1);
+                    uint32_t g = base + t;
+                    if (keys[h] == UINT64_MAX) {
+                        keys[h] = key;
+                        slot_edge[h] = n;
+                        list[n++] = (vg_warp_edge){a, b, g, VG_EDGE_NONE};
+                    } else {
+                        vg_warp_edge *ed = &list[slot_edge[h]];
+                        if (ed->t1 == VG_EDGE_NONE && ed->t0 != g)
+                            ed->t1 = g;
+                        else if (ed->t0 != g && ed->t1 != g)
+                            ed->t0 = VG_EDGE_ALWAYS; /* a third triangle: level it whatever is culled */
+                    }
+                    tri_edges[3 * g + (uint32_t)e] = slot_edge[h];
+                }
+            }
+        }
+        w->edge_count = n;
+        st = gpu_buffer_create(w->fc->gpu, &(gpu_buffer_desc){
+            .name = "warp edges", .size = (n ? n : 1) * sizeof(vg_warp_edge),
+            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true}, &w->edges);
+    }
+    if (st == VG_OK)
+        memcpy(w->edges.mapped, list, (size_t)n * sizeof(vg_warp_edge));
+    free(keys);
+    free(slot_edge);
+    free(list);
     return st;
 }
 
@@ -660,7 +749,7 @@ static vg_status create_instance_table(warp_gpu *w)
         for (uint32_t t = 0; t < triangles; t += 256)
             chunks[k++] = (vg_warp_chunk){(uint32_t)i, t, triangles - t < 256 ? triangles - t : 256, first_chunk};
     }
-    return VG_OK;
+    return create_edge_table(w);
 }
 
 void warp_gpu_bind(warp_gpu *w, rg_graph *g)
@@ -722,6 +811,8 @@ void warp_gpu_destroy(warp_gpu *w)
     gpu_compute_kit_destroy(w->fc->gpu, &w->fill);
     gpu_buffer_destroy(w->fc->gpu, &w->instances);
     gpu_buffer_destroy(w->fc->gpu, &w->chunks);
+    gpu_buffer_destroy(w->fc->gpu, &w->tri_edges);
+    gpu_buffer_destroy(w->fc->gpu, &w->edges);
     gpu_buffer_destroy(w->fc->gpu, &w->baked);
     free(w);
 }

@@ -1,0 +1,33 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// warp.classify, step 1 of 3: which triangles the eyes may see (frustum
+// culling, as tess_levels.glsl's outside). kinds = 1 visible, 0 culled;
+// warp_edges then levels only the edges a visible triangle uses. No shared
+// memory and no barrier (lavapipe runs a kernel with a barrier as coroutines).
+#define VG_FRAME_STORAGE
+#include "common.glsl"
+#include "stereo.glsl"
+#include "cascade.glsl"
+#include "tess_levels.glsl"
+#include "classify.glsl"
+
+layout(local_size_x = 256) in;
+
+vec3 position(uint v)
+{
+    return vec3(vertices[6u * v], vertices[6u * v + 1u], vertices[6u * v + 2u]);
+}
+
+void main()
+{
+    vg_warp_chunk ch = chunks[gl_WorkGroupID.x];
+    vg_warp_instance inst = instances[ch.instance];
+    uint t = gl_LocalInvocationID.x;
+    if (t >= ch.triangle_count)
+        return;
+    uint tri = ch.first_triangle + t, first = inst.first_index + 3u * tri;
+    vec3 p0 = position(inst.first_vertex + indices[first]), p1 = position(inst.first_vertex + indices[first + 1u]),
+         p2 = position(inst.first_vertex + indices[first + 2u]);
+    bool seen = !outside(u.view_proj * vec4(p0, 1.0), u.view_proj * vec4(p1, 1.0), u.view_proj * vec4(p2, 1.0));
+    kinds[inst.first_index / 3u + tri] = seen ? 1u : 0u;
+}
