@@ -696,6 +696,13 @@ static vg_status create_edge_table(warp_gpu *w)
             }
         }
         w->edge_count = n;
+        if ((n + 63) / 64 > w->fc->gpu->props.limits.maxComputeWorkGroupCount[0]) {
+            vg_error("%s: %u triangle edges, more than the warp's one dispatch over edges takes on %s", s->path, n,
+                     w->fc->gpu->props.deviceName);
+            st = VG_ERR_UNSUPPORTED;
+        }
+    }
+    if (st == VG_OK) {
         st = gpu_buffer_create(w->fc->gpu, &(gpu_buffer_desc){
             .name = "warp edges", .size = (n ? n : 1) * sizeof(vg_warp_edge),
             .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true}, &w->edges);
