@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "core/manifest.h"
 #include "core/parallel.h"
+#include "core/srgb.h"
 #include "core/stats.h"
 #include "disparity/disp_metrics.h"
 #include "disparity/mid_causal.h"
@@ -321,11 +322,7 @@ static vg_status read_flow(seq *s, int t, bool next, float *out)
 
 static vg_status frame_depth(seq *s, int t, const float *g, float *z);
 
-static float srgb_linear(uint8_t v)
-{
-    float c = v / 255.0f;
-    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
+static float srgb_linear(uint8_t v) { return vg_srgb_to_linear(v / 255.0f); }
 
 /* Saliency of frame t when none is given: the engine's formula
  * (disp_saliency_computed, docs/method.md section 3) from what the sequence

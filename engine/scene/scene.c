@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/srgb.h"
 #include "scene_internal.h"
 
 /* ------------------------------------------------------------------------- */
@@ -329,11 +330,6 @@ bool scene_has_saliency(const scene *s)
     return false;
 }
 
-static float srgb_to_linear(float c)
-{
-    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
-}
-
 void scene_mean_base_color(const scene *s, float rgb[3])
 {
     double sum[3] = {0, 0, 0}, weight = 0;
@@ -351,7 +347,7 @@ void scene_mean_base_color(const scene *s, float rgb[3])
                 double tm[3] = {0, 0, 0};
                 for (size_t q = 0; q < n; q += step, count++)
                     for (int k = 0; k < 3; k++)
-                        tm[k] += srgb_to_linear(t->rgba[4 * q + (size_t)k] / 255.0f);
+                        tm[k] += vg_srgb_to_linear(t->rgba[4 * q + (size_t)k] / 255.0f);
                 for (int k = 0; k < 3 && count; k++)
                     c[k] *= tm[k] / (double)count;
             }
