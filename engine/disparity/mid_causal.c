@@ -28,56 +28,12 @@ static int nearest(int nx, int ny, float x, float y)
     return yi * nx + xi;
 }
 
-void mid_causal_predict(const mid_window *obs, int k, int steps, mid_window *w, int dst)
+/* Keyframe k of obs n intervals on (forward splat and hole fill) into w's
+ * samples from od, from the per-sample velocities and rates. */
+static void predict_step(const mid_window *obs, size_t o, const float *ux, const float *uy, const float *rg,
+                         const float *rh, const float *rz, float *zb, int *src, float n, mid_window *w, size_t od)
 {
     int nx = obs->nx, ny = obs->ny, ns = obs->ns;
-    size_t o = (size_t)k * ns, op = (size_t)(k - 1) * ns, od = (size_t)dst * ns;
-    float *rate = malloc((size_t)6 * ns * sizeof(float) + (size_t)ns * sizeof(int));
-    if (!rate) { /* held still: the prediction without velocities */
-        for (int i = 0; i < ns; i++) {
-            w->g[od + i] = obs->g[o + i];
-            w->h[od + i] = obs->h[o + i];
-            w->depth[od + i] = obs->depth[o + i];
-            w->id[od + i] = obs->id[o + i];
-            w->unknown[od + i] = obs->unknown[o + i];
-            w->flow_fwd[2 * (od + i)] = w->flow_fwd[2 * (od + i) + 1] = 0.0f;
-            w->flow_bwd[2 * (od + i)] = w->flow_bwd[2 * (od + i) + 1] = 0.0f;
-        }
-        return;
-    }
-    float *ux = rate, *uy = rate + ns, *rg = rate + 2 * ns, *rh = rate + 3 * ns, *rz = rate + 4 * ns;
-    float *zb = rate + 5 * ns;
-    int *src = (int *)(rate + 6 * ns);
-    /* Per sample of k: the image velocity u = -(flow to k - 1) and the rates
-     * of g, h and depth per interval, where the sample's track to k - 1
-     * holds (inside, known, the same instance, or without ids the depth
-     * test); elsewhere it is held still. */
-    for (int i = 0; i < ns; i++) {
-        ux[i] = uy[i] = rg[i] = rh[i] = rz[i] = 0.0f;
-        if (k == 0 || obs->unknown[o + i])
-            continue;
-        float bx = obs->flow_bwd[2 * (o + i)], by = obs->flow_bwd[2 * (o + i) + 1];
-        float x = (float)(i % nx) + bx, y = (float)(i / nx) + by;
-        if (!(x >= 0.0f && y >= 0.0f && x <= (float)(nx - 1) && y <= (float)(ny - 1)))
-            continue;
-        int j = nearest(nx, ny, x, y);
-        float z = obs->depth[o + i], zp = lookup(obs->depth + op, nx, ny, x, y);
-        bool same = obs->id[o + i] != 0.0f || obs->id[op + j] != 0.0f
-                        ? obs->id[op + j] == obs->id[o + i]
-                        : fabsf(zp - z) <= obs->occlusion_tolerance * fminf(z, zp);
-        if (!same || obs->unknown[op + j])
-            continue;
-        ux[i] = -bx;
-        uy[i] = -by;
-        rg[i] = obs->g[o + i] - lookup(obs->g + op, nx, ny, x, y);
-        rh[i] = obs->h[o + i] - lookup(obs->h + op, nx, ny, x, y);
-        rz[i] = z - zp;
-    }
-    /* Forward: each sample of k moves n velocities on, to the nearest grid
-     * sample (the nearest surface wins). A backward lookup (the velocity at
-     * the target) would never move a surface into the background ahead of
-     * it. */
-    float n = (float)steps;
     for (int i = 0; i < ns; i++) {
         src[i] = -1;
         zb[i] = INFINITY;
@@ -122,7 +78,51 @@ void mid_causal_predict(const mid_window *obs, int k, int steps, mid_window *w, 
         w->flow_bwd[2 * (od + i)] = -ux[j];
         w->flow_bwd[2 * (od + i) + 1] = -uy[j];
     }
+}
+
+vg_status mid_causal_predict(const mid_window *obs, int k, int count, mid_window *w, int dst)
+{
+    int nx = obs->nx, ny = obs->ny, ns = obs->ns;
+    size_t o = (size_t)k * ns, op = (size_t)(k - 1) * ns;
+    float *rate = malloc((size_t)6 * ns * sizeof(float) + (size_t)ns * sizeof(int));
+    if (!rate)
+        return VG_ERR_NOMEM;
+    float *ux = rate, *uy = rate + ns, *rg = rate + 2 * ns, *rh = rate + 3 * ns, *rz = rate + 4 * ns;
+    float *zb = rate + 5 * ns;
+    int *src = (int *)(rate + 6 * ns);
+    /* Per sample of k: the image velocity u = -(flow to k - 1) and the rates
+     * of g, h and depth per interval, where the sample's track to k - 1
+     * holds (inside, known, the same instance, or without ids the depth
+     * test); elsewhere it is held still. */
+    for (int i = 0; i < ns; i++) {
+        ux[i] = uy[i] = rg[i] = rh[i] = rz[i] = 0.0f;
+        if (k == 0 || obs->unknown[o + i])
+            continue;
+        float bx = obs->flow_bwd[2 * (o + i)], by = obs->flow_bwd[2 * (o + i) + 1];
+        float x = (float)(i % nx) + bx, y = (float)(i / nx) + by;
+        if (!(x >= 0.0f && y >= 0.0f && x <= (float)(nx - 1) && y <= (float)(ny - 1)))
+            continue;
+        int j = nearest(nx, ny, x, y);
+        float z = obs->depth[o + i], zp = lookup(obs->depth + op, nx, ny, x, y);
+        bool same = obs->id[o + i] != 0.0f || obs->id[op + j] != 0.0f
+                        ? obs->id[op + j] == obs->id[o + i]
+                        : fabsf(zp - z) <= obs->occlusion_tolerance * fminf(z, zp);
+        if (!same || obs->unknown[op + j])
+            continue;
+        ux[i] = -bx;
+        uy[i] = -by;
+        rg[i] = obs->g[o + i] - lookup(obs->g + op, nx, ny, x, y);
+        rh[i] = obs->h[o + i] - lookup(obs->h + op, nx, ny, x, y);
+        rz[i] = z - zp;
+    }
+    /* Forward: each sample of k moves n velocities on, to the nearest grid
+     * sample (the nearest surface wins). A backward lookup (the velocity at
+     * the target) would never move a surface into the background ahead of
+     * it. */
+    for (int step = 1; step <= count; step++)
+        predict_step(obs, o, ux, uy, rg, rh, rz, zb, src, (float)step, w, (size_t)(dst + step - 1) * ns);
     free(rate);
+    return VG_OK;
 }
 
 /* Keyframe j of `all` into keyframe dst of w as observed. */
@@ -174,18 +174,18 @@ vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, floa
             int m = j - first;
             if (j <= k)
                 copy_keyframe(all, j, w, m);
-            else
-                mid_causal_predict(all, k, j - k, w, m);
             if (m + 1 < wnt) /* the keyframes' times are known ahead; their content is not */
                 w->dt[m] = j + 1 < nt ? all->dt[j] : dt_pred;
         }
+        st = mid_causal_predict(all, k, future, w, k + 1 - first);
         /* Keyframe k's flow to k + 1 is a prediction too: its velocity. */
         size_t ok = (size_t)(k - first) * ns;
         for (size_t i = 0; i < (size_t)ns; i++) {
             w->flow_fwd[2 * (ok + i)] = k > 0 ? -all->flow_bwd[2 * ((size_t)k * ns + i)] : 0.0f;
             w->flow_fwd[2 * (ok + i) + 1] = k > 0 ? -all->flow_bwd[2 * ((size_t)k * ns + i) + 1] : 0.0f;
         }
-        st = mid_window_build(w, d->solve.pool);
+        if (st == VG_OK)
+            st = mid_window_build(w, d->solve.pool);
         if (st == VG_OK) {
             /* Warm start: the last window's solution where it has the keyframe. */
             for (int m = 0; m < wnt; m++) {

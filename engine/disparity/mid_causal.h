@@ -40,7 +40,7 @@ typedef struct mid_causal_stats {
  * clamped to the range. */
 vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *desc, float *f, mid_causal_stats *stats);
 
-/* Keyframe `dst` of w predicted `steps` intervals after keyframe k of `obs`
- * from k and k - 1 (k = 0: held still). Fills g, h, depth, id, unknown and
- * both flows of w's keyframe dst. */
-void mid_causal_predict(const mid_window *obs, int k, int steps, mid_window *w, int dst);
+/* Keyframes k + 1 .. k + count of `obs` predicted from k and k - 1 (k = 0:
+ * held still) into w's keyframes dst .. dst + count - 1: g, h, depth, id,
+ * unknown and both flows. VG_ERR_NOMEM when its scratch cannot be had. */
+vg_status mid_causal_predict(const mid_window *obs, int k, int count, mid_window *w, int dst);

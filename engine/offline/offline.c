@@ -267,28 +267,21 @@ static vg_status read_png_frame(seq *s, const disp_pattern *p, int t, int comp, 
     return st;
 }
 
-static vg_status read_saliency(seq *s, int t, float *out)
+/* An 8-bit PNG of a frame as floats: grey saliency in [0, 1] (comp 1), or
+ * instance ids as capture writes them (comp 3: 24-bit RGB, R the low byte). */
+static vg_status read_png_floats(seq *s, const disp_pattern *p, int t, int comp, const char *what, float *out)
 {
     uint8_t *px;
-    vg_status st = read_png_frame(s, &s->ps, t, 1, "saliency", out ? &px : NULL);
+    vg_status st = read_png_frame(s, p, t, comp, what, out ? &px : NULL);
     for (int i = 0; st == VG_OK && out && i < s->w * s->h; i++)
-        out[i] = px[i] / 255.0f;
+        out[i] = comp == 1 ? px[i] / 255.0f : (float)(px[3 * i] | px[3 * i + 1] << 8 | px[3 * i + 2] << 16);
     if (st == VG_OK && out)
         free(px);
     return st;
 }
 
-/* Instance ids of a frame (capture's frame_NNNN_ids.png, R the low byte), as floats. */
-static vg_status read_ids(seq *s, int t, float *out)
-{
-    uint8_t *px;
-    vg_status st = read_png_frame(s, &s->pid, t, 3, "ids", out ? &px : NULL);
-    for (int i = 0; st == VG_OK && out && i < s->w * s->h; i++)
-        out[i] = (float)(px[3 * i] | px[3 * i + 1] << 8 | px[3 * i + 2] << 16);
-    if (st == VG_OK && out)
-        free(px);
-    return st;
-}
+static vg_status read_saliency(seq *s, int t, float *out) { return read_png_floats(s, &s->ps, t, 1, "saliency", out); }
+static vg_status read_ids(seq *s, int t, float *out) { return read_png_floats(s, &s->pid, t, 3, "ids", out); }
 
 /* The view of frame t (--image), RGB; *out is freed with free(). */
 static vg_status read_image(seq *s, int t, uint8_t **out)
