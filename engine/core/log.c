@@ -7,6 +7,14 @@ static vg_log_level g_level = VG_LOG_INFO;
 static int g_errors;
 static bool g_progress_open;
 static bool g_silent;
+static _Thread_local vg_log_sink t_sink;
+
+vg_log_sink vg_log_set_sink(vg_log_sink sink)
+{
+    vg_log_sink was = t_sink;
+    t_sink = sink;
+    return was;
+}
 
 bool vg_log_set_silent(bool silent)
 {
@@ -66,7 +74,7 @@ void vg_log(vg_log_level level, const char *fmt, ...)
 {
     if (level == VG_LOG_ERROR)
         g_errors++;
-    if (level > g_level || g_silent)
+    if (!t_sink.fn && (level > g_level || g_silent))
         return;
     static const char *const prefix[] = {"", "error: ", "warning: ", "", "debug: "};
     char line[2048];
@@ -74,6 +82,10 @@ void vg_log(vg_log_level level, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
+    if (t_sink.fn) {
+        t_sink.fn(level, line, t_sink.user);
+        return;
+    }
     end_progress_line();
     fprintf(stderr, "vergence: %s", prefix[level]);
     put_clean(line);

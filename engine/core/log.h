@@ -25,6 +25,15 @@ void vg_log(vg_log_level level, const char *fmt, ...) __attribute__((format(prin
 #define vg_info(...)  vg_log(VG_LOG_INFO, __VA_ARGS__)
 #define vg_debug(...) vg_log(VG_LOG_DEBUG, __VA_ARGS__)
 
+/* Where this thread's lines go instead of stderr, all levels (the SDK hands
+ * them to its host's callback while one of its calls runs); {0} = stderr.
+ * Returns the sink before. */
+typedef struct vg_log_sink {
+    void (*fn)(vg_log_level level, const char *line, void *user);
+    void *user;
+} vg_log_sink;
+vg_log_sink vg_log_set_sink(vg_log_sink sink);
+
 /* Number of error lines logged so far (lets callers avoid logging twice). */
 int vg_log_error_count(void);
 

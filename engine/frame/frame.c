@@ -234,7 +234,7 @@ static vg_status create_layouts(frame_ctx *fc)
         .bindingCount = 8,
         .pBindings = bindings,
     };
-    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, NULL, &fc->push_layout));
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, g->alloc, &fc->push_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, fc->push_layout, "scene push layout");
     VkDescriptorSetLayout sets[2] = {fc->push_layout, fc->sg.texture_layout};
     VkPushConstantRange push = {VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof(vg_draw_push)};
@@ -245,7 +245,7 @@ static vg_status create_layouts(frame_ctx *fc)
         .pushConstantRangeCount = 1,
         .pPushConstantRanges = &push,
     };
-    VK_TRY(vkCreatePipelineLayout(g->device, &layout, NULL, &fc->scene_layout));
+    VK_TRY(vkCreatePipelineLayout(g->device, &layout, g->alloc, &fc->scene_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, fc->scene_layout, "scene pipeline layout");
 
     VkSamplerCreateInfo shadow = {
@@ -259,7 +259,7 @@ static vg_status create_layouts(frame_ctx *fc)
         .compareOp = VK_COMPARE_OP_LESS_OR_EQUAL,
         .borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE,
     };
-    VK_TRY(vkCreateSampler(g->device, &shadow, NULL, &fc->shadow_sampler));
+    VK_TRY(vkCreateSampler(g->device, &shadow, g->alloc, &fc->shadow_sampler));
     GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, fc->shadow_sampler, "shadow compare sampler");
     VkSamplerCreateInfo clamp = {
         .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
@@ -269,10 +269,10 @@ static vg_status create_layouts(frame_ctx *fc)
         .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
         .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
     };
-    VK_TRY(vkCreateSampler(g->device, &clamp, NULL, &fc->linear_clamp));
+    VK_TRY(vkCreateSampler(g->device, &clamp, g->alloc, &fc->linear_clamp));
     GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, fc->linear_clamp, "linear clamp sampler");
     clamp.magFilter = clamp.minFilter = VK_FILTER_NEAREST;
-    VK_TRY(vkCreateSampler(g->device, &clamp, NULL, &fc->nearest_clamp));
+    VK_TRY(vkCreateSampler(g->device, &clamp, g->alloc, &fc->nearest_clamp));
     GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, fc->nearest_clamp, "nearest clamp sampler");
     return VG_OK;
 }
@@ -435,7 +435,7 @@ void frame_destroy(frame *f)
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         gpu_buffer_destroy(g, &fc->ubo[i]);
         if (f->fence[i])
-            vkDestroyFence(g->device, f->fence[i], NULL);
+            vkDestroyFence(g->device, f->fence[i], g->alloc);
     }
     if (f->cmd[0])
         vkFreeCommandBuffers(g->device, g->pool, VG_FRAMES_IN_FLIGHT, f->cmd);
@@ -443,11 +443,11 @@ void frame_destroy(frame *f)
     VkSampler samplers[] = {fc->shadow_sampler, fc->linear_clamp, fc->nearest_clamp};
     for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
         if (samplers[i])
-            vkDestroySampler(g->device, samplers[i], NULL);
+            vkDestroySampler(g->device, samplers[i], g->alloc);
     if (fc->scene_layout)
-        vkDestroyPipelineLayout(g->device, fc->scene_layout, NULL);
+        vkDestroyPipelineLayout(g->device, fc->scene_layout, g->alloc);
     if (fc->push_layout)
-        vkDestroyDescriptorSetLayout(g->device, fc->push_layout, NULL);
+        vkDestroyDescriptorSetLayout(g->device, fc->push_layout, g->alloc);
     scene_gpu_destroy(g, &fc->sg);
     free(f);
 }

@@ -258,7 +258,7 @@ static int find_queue_family(VkPhysicalDevice p)
 }
 
 /* Names the first required feature the device lacks, or NULL when it has all. */
-static const char *missing_feature(VkPhysicalDevice p, bool need_swapchain)
+const char *gpu_missing_feature(VkPhysicalDevice p, bool need_swapchain)
 {
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(p, &props);
@@ -306,7 +306,7 @@ static vg_status pick_device(gpu *g, const gpu_desc *desc)
             continue;
         VkPhysicalDeviceProperties props;
         vkGetPhysicalDeviceProperties(devs[i], &props);
-        const char *missing = missing_feature(devs[i], desc->need_swapchain);
+        const char *missing = gpu_missing_feature(devs[i], desc->need_swapchain);
         if (missing) {
             why = missing;
             if (forced) {
@@ -458,10 +458,62 @@ vg_status gpu_create(const gpu_desc *desc, gpu **out)
     return VG_OK;
 }
 
+vg_status gpu_import(const gpu_import_desc *desc, gpu **out)
+{
+    *out = NULL;
+    const char *missing = gpu_missing_feature(desc->physical_device, false);
+    if (missing) {
+        vg_error("the host's device lacks %s, which vergence needs", missing);
+        return VG_ERR_DEVICE;
+    }
+    gpu *g = calloc(1, sizeof *g);
+    if (!g)
+        return VG_ERR_NOMEM;
+    g->imported = true;
+    g->alloc = desc->alloc;
+    g->instance = desc->instance;
+    g->phys = desc->physical_device;
+    g->device = desc->device;
+    g->queue_family = desc->queue_family;
+    vkGetPhysicalDeviceProperties(g->phys, &g->props);
+    vkGetPhysicalDeviceMemoryProperties(g->phys, &g->mem);
+    g->is_cpu = g->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    g->features.timestamps = g->props.limits.timestampComputeAndGraphics;
+    vkGetDeviceQueue(g->device, g->queue_family, desc->queue_index, &g->queue);
+    g->cmd_push_descriptor_set =
+        (PFN_vkCmdPushDescriptorSetKHR)vkGetDeviceProcAddr(g->device, "vkCmdPushDescriptorSetKHR");
+    /* No object names: whether the host's instance enabled debug utils is its own business. */
+    VkCommandPoolCreateInfo pool = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+        .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+        .queueFamilyIndex = g->queue_family,
+    };
+    if (!g->cmd_push_descriptor_set) {
+        vg_error("the host's device was created without %s, which vergence needs",
+                 VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+        free(g);
+        return VG_ERR_DEVICE;
+    }
+    VkResult r = vkCreateCommandPool(g->device, &pool, g->alloc, &g->pool);
+    if (r != VK_SUCCESS) {
+        gpu_report_failure(__FILE__, __LINE__, "vkCreateCommandPool", r);
+        free(g);
+        return VG_ERR_VULKAN;
+    }
+    *out = g;
+    return VG_OK;
+}
+
 void gpu_destroy(gpu *g)
 {
     if (!g)
         return;
+    if (g->imported) {
+        if (g->pool)
+            vkDestroyCommandPool(g->device, g->pool, g->alloc);
+        free(g);
+        return;
+    }
     if (g->device) {
         vkDeviceWaitIdle(g->device);
         if (g->pool)

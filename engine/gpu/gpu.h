@@ -60,10 +60,27 @@ typedef struct gpu {
     long submits;               /* queue submissions so far */
     long lost_at;               /* VERGENCE_FAULT=device-lost:N (tests): submission N and later fail as
                                    VK_ERROR_DEVICE_LOST without reaching the queue; 0 = never */
+    const VkAllocationCallbacks *alloc; /* host allocator of every object created (NULL: the driver's) */
+    bool imported;              /* a host's instance and device (gpu_import): never destroyed here */
 } gpu;
 
 vg_status gpu_create(const gpu_desc *desc, gpu **out);
 void gpu_destroy(gpu *g);
+
+/* A context over a host engine's Vulkan objects (the SDK, include/vergence):
+ * nothing is created but a command pool, and gpu_destroy leaves the host's
+ * device and instance alone. The host enabled on the device what
+ * gpu_missing_feature checks (features and extensions). */
+typedef struct gpu_import_desc {
+    VkInstance instance;
+    VkPhysicalDevice physical_device;
+    VkDevice device;
+    uint32_t queue_family, queue_index;
+    const VkAllocationCallbacks *alloc;
+} gpu_import_desc;
+vg_status gpu_import(const gpu_import_desc *desc, gpu **out);
+/* The first of the device's required features it lacks, or NULL when it has them all. */
+const char *gpu_missing_feature(VkPhysicalDevice p, bool need_swapchain);
 
 /* vkQueueSubmit on the context's queue; every submission goes through here
  * so tests can make the device fail (lost_at). */

@@ -113,7 +113,7 @@ vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *d, VkPip
         .pDynamicState = &dynamic,
         .layout = d->layout,
     };
-    VK_TRY(vkCreateGraphicsPipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out));
+    VK_TRY(vkCreateGraphicsPipelines(g->device, VK_NULL_HANDLE, 1, &info, g->alloc, out));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s", d->name ? d->name : "graphics pipeline");
     return VG_OK;
 }
@@ -131,7 +131,7 @@ vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderM
         },
         .layout = layout,
     };
-    VK_TRY(vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out));
+    VK_TRY(vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, g->alloc, out));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s", name ? name : "compute pipeline");
     return VG_OK;
 }
@@ -154,7 +154,7 @@ vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorTyp
         .bindingCount = count,
         .pBindings = bindings,
     };
-    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set, NULL, set_layout));
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &set, g->alloc, set_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, *set_layout, "%s set layout", name);
     VkPushConstantRange push = {stages, 0, push_size};
     VkPipelineLayoutCreateInfo info = {
@@ -164,7 +164,7 @@ vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorTyp
         .pushConstantRangeCount = push_size ? 1 : 0,
         .pPushConstantRanges = &push,
     };
-    VK_TRY(vkCreatePipelineLayout(g->device, &info, NULL, layout));
+    VK_TRY(vkCreatePipelineLayout(g->device, &info, g->alloc, layout));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, *layout, "%s layout", name);
     return VG_OK;
 }
@@ -180,7 +180,7 @@ vg_status gpu_compute_kit_create(gpu *g, const gpu_compute_kit_desc *d, gpu_comp
         if (st == VG_OK)
             st = gpu_compute_pipeline_create(g, out->layout, m, d->kernels[i].name, &out->pipeline[i]);
         if (m)
-            vkDestroyShaderModule(g->device, m, NULL);
+            vkDestroyShaderModule(g->device, m, g->alloc);
     }
     if (st != VG_OK)
         gpu_compute_kit_destroy(g, out);
@@ -193,11 +193,11 @@ void gpu_compute_kit_destroy(gpu *g, gpu_compute_kit *k)
         return;
     for (int i = 0; i < GPU_KIT_MAX_KERNELS; i++)
         if (k->pipeline[i])
-            vkDestroyPipeline(g->device, k->pipeline[i], NULL);
+            vkDestroyPipeline(g->device, k->pipeline[i], g->alloc);
     if (k->layout)
-        vkDestroyPipelineLayout(g->device, k->layout, NULL);
+        vkDestroyPipelineLayout(g->device, k->layout, g->alloc);
     if (k->set_layout)
-        vkDestroyDescriptorSetLayout(g->device, k->set_layout, NULL);
+        vkDestroyDescriptorSetLayout(g->device, k->set_layout, g->alloc);
     *k = (gpu_compute_kit){0};
 }
 
@@ -243,7 +243,7 @@ void gpu_pipelines_destroy(gpu *g, VkPipeline *p, uint32_t count)
 {
     for (uint32_t i = 0; i < count; i++)
         if (p[i]) {
-            vkDestroyPipeline(g->device, p[i], NULL);
+            vkDestroyPipeline(g->device, p[i], g->alloc);
             p[i] = VK_NULL_HANDLE;
         }
 }
@@ -252,7 +252,7 @@ void gpu_shaders_destroy(gpu *g, VkShaderModule *m, uint32_t count)
 {
     for (uint32_t i = 0; i < count; i++)
         if (m[i]) {
-            vkDestroyShaderModule(g->device, m[i], NULL);
+            vkDestroyShaderModule(g->device, m[i], g->alloc);
             m[i] = VK_NULL_HANDLE;
         }
 }

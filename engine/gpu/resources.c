@@ -34,7 +34,7 @@ static vg_status allocate(gpu *g, VkMemoryRequirements req, bool host_visible, c
         .allocationSize = req.size,
         .memoryTypeIndex = (uint32_t)type,
     };
-    VK_TRY(vkAllocateMemory(g->device, &info, NULL, out));
+    VK_TRY(vkAllocateMemory(g->device, &info, g->alloc, out));
     GPU_NAME(g, VK_OBJECT_TYPE_DEVICE_MEMORY, *out, "%s memory", name);
     *size = req.size;
     g->memory_bytes += req.size;
@@ -57,7 +57,7 @@ vg_status gpu_buffer_create(gpu *g, const gpu_buffer_desc *desc, gpu_buffer *out
         .usage = desc->usage,
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
     };
-    VK_TRY(vkCreateBuffer(g->device, &info, NULL, &out->buffer));
+    VK_TRY(vkCreateBuffer(g->device, &info, g->alloc, &out->buffer));
     GPU_NAME(g, VK_OBJECT_TYPE_BUFFER, out->buffer, "%s", name);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(g->device, out->buffer, &req);
@@ -78,9 +78,9 @@ void gpu_buffer_destroy(gpu *g, gpu_buffer *b)
     if (!b)
         return;
     if (b->buffer)
-        vkDestroyBuffer(g->device, b->buffer, NULL);
+        vkDestroyBuffer(g->device, b->buffer, g->alloc);
     if (b->memory) {
-        vkFreeMemory(g->device, b->memory, NULL);
+        vkFreeMemory(g->device, b->memory, g->alloc);
         g->memory_bytes -= b->memory_size;
     }
     *b = (gpu_buffer){0};
@@ -136,7 +136,7 @@ vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out)
         .usage = desc->usage,
         .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
     };
-    VK_TRY(vkCreateImage(g->device, &info, NULL, &out->image));
+    VK_TRY(vkCreateImage(g->device, &info, g->alloc, &out->image));
     GPU_NAME(g, VK_OBJECT_TYPE_IMAGE, out->image, "%s", name);
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(g->device, out->image, &req);
@@ -163,7 +163,7 @@ vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out)
         .format = desc->format,
         .subresourceRange = {gpu_format_aspect(desc->format), 0, 1, 0, layers},
     };
-    VK_TRY(vkCreateImageView(g->device, &view, NULL, &out->view));
+    VK_TRY(vkCreateImageView(g->device, &view, g->alloc, &out->view));
     GPU_NAME(g, VK_OBJECT_TYPE_IMAGE_VIEW, out->view, "%s view", name);
     return VG_OK;
 }
@@ -173,11 +173,11 @@ void gpu_image_destroy(gpu *g, gpu_image *img)
     if (!img)
         return;
     if (img->view)
-        vkDestroyImageView(g->device, img->view, NULL);
+        vkDestroyImageView(g->device, img->view, g->alloc);
     if (img->image)
-        vkDestroyImage(g->device, img->image, NULL);
+        vkDestroyImage(g->device, img->image, g->alloc);
     if (img->memory) {
-        vkFreeMemory(g->device, img->memory, NULL);
+        vkFreeMemory(g->device, img->memory, g->alloc);
         g->memory_bytes -= img->memory_size;
     }
     *img = (gpu_image){0};
@@ -210,7 +210,7 @@ vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd)
     VK_TRY(vkEndCommandBuffer(cmd));
     VkFence fence;
     VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VK_TRY(vkCreateFence(g->device, &fi, NULL, &fence));
+    VK_TRY(vkCreateFence(g->device, &fi, g->alloc, &fence));
     GPU_NAME(g, VK_OBJECT_TYPE_FENCE, fence, "one-shot fence");
     VkSubmitInfo submit = {
         .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
@@ -220,7 +220,7 @@ vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd)
     VkResult r = gpu_queue_submit(g, 1, &submit, fence);
     if (r == VK_SUCCESS)
         r = vkWaitForFences(g->device, 1, &fence, VK_TRUE, UINT64_MAX);
-    vkDestroyFence(g->device, fence, NULL);
+    vkDestroyFence(g->device, fence, g->alloc);
     vkFreeCommandBuffers(g->device, g->pool, 1, &cmd);
     VK_TRY(r);
     return VG_OK;
@@ -289,7 +289,7 @@ vg_status gpu_shader_create(gpu *g, const uint32_t *code, size_t size, const cha
         .codeSize = size,
         .pCode = code,
     };
-    VK_TRY(vkCreateShaderModule(g->device, &info, NULL, out));
+    VK_TRY(vkCreateShaderModule(g->device, &info, g->alloc, out));
     GPU_NAME(g, VK_OBJECT_TYPE_SHADER_MODULE, *out, "%s", name);
     return VG_OK;
 }

@@ -20,7 +20,7 @@ void rg_unrealize(rg_graph *g)
     }
     for (int i = 0; i < RG_MAX_SLOTS; i++) {
         if (g->queries[i])
-            vkDestroyQueryPool(g->gpu->device, g->queries[i], NULL);
+            vkDestroyQueryPool(g->gpu->device, g->queries[i], g->gpu->alloc);
         g->queries[i] = VK_NULL_HANDLE;
     }
     g->gpu = NULL;
@@ -58,7 +58,7 @@ vg_status rg_realize(rg_graph *g, gpu *gpu)
             .queryCount = 2 * g->order_count,
         };
         for (int i = 0; i < RG_MAX_SLOTS; i++) {
-            VK_TRY(vkCreateQueryPool(gpu->device, &q, NULL, &g->queries[i]));
+            VK_TRY(vkCreateQueryPool(gpu->device, &q, gpu->alloc, &g->queries[i]));
             GPU_NAME(gpu, VK_OBJECT_TYPE_QUERY_POOL, g->queries[i], "frame graph timestamps %d", i);
             /* Queries must be reset before their first use (hostQueryReset). */
             vkResetQueryPool(gpu->device, g->queries[i], 0, 2 * g->order_count);

@@ -198,7 +198,7 @@ vg_status overlay_gpu_create(frame_ctx *fc, overlay_gpu **out)
         .pPushConstantRanges = &push,
     };
     vg_status st = VG_OK;
-    if (vkCreatePipelineLayout(g->device, &li, NULL, &o->layout) != VK_SUCCESS)
+    if (vkCreatePipelineLayout(g->device, &li, g->alloc, &o->layout) != VK_SUCCESS)
         st = VG_ERR_VULKAN;
     else
         GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, o->layout, "overlay layout");
@@ -217,9 +217,9 @@ vg_status overlay_gpu_create(frame_ctx *fc, overlay_gpu **out)
             .attributes = va, .attribute_count = 2, .blend = true, .color_formats = &eye_format,
             .color_count = 1}, &o->pipeline);
     if (vs)
-        vkDestroyShaderModule(g->device, vs, NULL);
+        vkDestroyShaderModule(g->device, vs, g->alloc);
     if (fs)
-        vkDestroyShaderModule(g->device, fs, NULL);
+        vkDestroyShaderModule(g->device, fs, g->alloc);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT && st == VG_OK; i++)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "overlay vertices",
                                                      .size = OVERLAY_MAX_QUADS * 4 * sizeof(hud_vertex),
@@ -252,9 +252,9 @@ void overlay_gpu_destroy(overlay_gpu *o)
         return;
     gpu *g = o->fc->gpu;
     if (o->pipeline)
-        vkDestroyPipeline(g->device, o->pipeline, NULL);
+        vkDestroyPipeline(g->device, o->pipeline, g->alloc);
     if (o->layout)
-        vkDestroyPipelineLayout(g->device, o->layout, NULL);
+        vkDestroyPipelineLayout(g->device, o->layout, g->alloc);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++)
         gpu_buffer_destroy(g, &o->vertices[i]);
     gpu_buffer_destroy(g, &o->indices);

@@ -133,7 +133,7 @@ vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out)
             .depth_write = true, .depth_bias = true, .depth_format = GBUFFER_DEPTH_FORMAT}, &p->shadow);
     }
     if (svert)
-        vkDestroyShaderModule(g->device, svert, NULL);
+        vkDestroyShaderModule(g->device, svert, g->alloc);
     if (st == VG_OK)
         st = gbuffer_gpu_pipelines_create(fc, "gbuffer", lit, &p->sky, &p->gbuffer);
     if (st != VG_OK) {

@@ -32,7 +32,7 @@ static vg_status create_sampler(gpu *g, const scene_texture *t, VkSampler *out)
         .addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT,
         .maxLod = 0.0f,
     };
-    VK_TRY(vkCreateSampler(g->device, &info, NULL, out));
+    VK_TRY(vkCreateSampler(g->device, &info, g->alloc, out));
     GPU_NAME(g, VK_OBJECT_TYPE_SAMPLER, *out, "sampler %s", t ? t->name : "default");
     return VG_OK;
 }
@@ -75,7 +75,7 @@ static vg_status upload_textures(gpu *g, scene_gpu *sg)
         .bindingCount = 1,
         .pBindings = &binding,
     };
-    VK_TRY(vkCreateDescriptorSetLayout(g->device, &layout, NULL, &sg->texture_layout));
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &layout, g->alloc, &sg->texture_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, sg->texture_layout, "scene textures layout");
     VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, SCENE_MAX_TEXTURES};
     VkDescriptorPoolCreateInfo pool = {
@@ -84,7 +84,7 @@ static vg_status upload_textures(gpu *g, scene_gpu *sg)
         .poolSizeCount = 1,
         .pPoolSizes = &size,
     };
-    VK_TRY(vkCreateDescriptorPool(g->device, &pool, NULL, &sg->pool));
+    VK_TRY(vkCreateDescriptorPool(g->device, &pool, g->alloc, &sg->pool));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_POOL, sg->pool, "scene textures pool");
     VkDescriptorSetAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
@@ -187,15 +187,15 @@ void scene_gpu_destroy(gpu *g, scene_gpu *sg)
     for (int i = 0; i < SCENE_MAX_TEXTURES; i++) {
         gpu_image_destroy(g, &sg->textures[i]);
         if (sg->samplers[i])
-            vkDestroySampler(g->device, sg->samplers[i], NULL);
+            vkDestroySampler(g->device, sg->samplers[i], g->alloc);
     }
     gpu_image_destroy(g, &sg->white);
     if (sg->default_sampler)
-        vkDestroySampler(g->device, sg->default_sampler, NULL);
+        vkDestroySampler(g->device, sg->default_sampler, g->alloc);
     if (sg->pool)
-        vkDestroyDescriptorPool(g->device, sg->pool, NULL);
+        vkDestroyDescriptorPool(g->device, sg->pool, g->alloc);
     if (sg->texture_layout)
-        vkDestroyDescriptorSetLayout(g->device, sg->texture_layout, NULL);
+        vkDestroyDescriptorSetLayout(g->device, sg->texture_layout, g->alloc);
     scene_state_free(&sg->now);
     scene_state_free(&sg->prev);
     scene_state_free(&sg->next);

@@ -11,11 +11,10 @@
 #include "disparity/mid_shared.h"
 #include "disparity/mid_window.h"
 #include "operator_gpu.h"
+#include "original_gpu.h"
 #include "shared.h"
 #include "solve_gpu.h"
 #include "upsample_gpu.h"
-
-#include "disparity_original_comp.h"
 
 /* The solver's grid never exceeds this (paper 4.5: its resolution is chosen
  * by content, not by the screen, so the solve takes the same time at any
@@ -25,7 +24,7 @@
 
 struct disparity_gpu {
     frame_ctx *fc;
-    gpu_compute_kit original;         /* disparity.original */
+    original_gpu original;            /* disparity.original */
     operator_gpu *op;
     keyframe_gpu *kf;
     solve_gpu *mid;
@@ -87,11 +86,9 @@ static void original_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     const frame_ctx *fc = d->fc;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     VkDescriptorImageInfo src = image_of(ctx, d->depth), dst = image_of(ctx, d->g);
-    gpu_binding b[3] = {GPU_UNIFORM_BUFFER(fc->ubo[fc->slot].buffer), GPU_STORAGE_IMAGE(&src), GPU_STORAGE_IMAGE(&dst)};
-    gpu_compute_kit_bind_list(fc->gpu, cmd, &d->original, 0, b, 3, NULL);
-    vkCmdDispatch(cmd, (fc->desc.width + 7) / 8, (fc->desc.height + 7) / 8, 1);
+    original_gpu_record(fc->gpu, &d->original, rg_ctx_cmd(ctx), fc->ubo[fc->slot].buffer, &src, &dst,
+                        fc->desc.width, fc->desc.height);
 }
 
 static void fit_execute(const rg_context *ctx, void *user)
@@ -420,13 +417,9 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
     }
     d->ring = d->past + d->future + 2;
     d->slice = calloc((size_t)d->interval + 1, sizeof(int));
-    static const VkDescriptorType types[] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                             VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
     vg_status st = d->slice ? VG_OK : VG_ERR_NOMEM;
     if (st == VG_OK)
-        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "disparity.original", .types = types, .count = 3,
-            .kernels = {GPU_KERNEL(spv_disparity_original_comp, "disparity.original")}}, &d->original);
+        st = original_gpu_create(g, &d->original);
     if (st == VG_OK)
         st = operator_gpu_create(g, &(operator_gpu_desc){
             .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fc->display.screen_vergence,
@@ -474,7 +467,7 @@ void disparity_gpu_destroy(disparity_gpu *d)
     operator_gpu_destroy(d->op);
     gpu_buffer_destroy(g, &d->store);
     gpu_buffer_destroy(g, &d->published);
-    gpu_compute_kit_destroy(g, &d->original);
+    original_gpu_destroy(g, &d->original);
     free(d->slice);
     free(d);
 }

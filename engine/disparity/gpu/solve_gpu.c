@@ -379,7 +379,7 @@ static vg_status pipelines_create(solve_gpu *m)
                               .pSpecializationInfo = &(VkSpecializationInfo){1, &entry, sizeof ops[v], &ops[v]}},
                     .layout = m->layout,
                 };
-                VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+                VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, g->alloc, out);
                 if (r != VK_SUCCESS) {
                     gpu_report_failure(__FILE__, __LINE__, "vkCreateComputePipelines", r);
                     st = VG_ERR_VULKAN;
@@ -390,7 +390,7 @@ static vg_status pipelines_create(solve_gpu *m)
         }
     for (int k = 0; k < K_COUNT; k++)
         if (mod[k])
-            vkDestroyShaderModule(g->device, mod[k], NULL);
+            vkDestroyShaderModule(g->device, mod[k], g->alloc);
     return st;
 }
 
@@ -457,11 +457,11 @@ void solve_gpu_destroy(solve_gpu *m)
     for (int k = 0; k < K_COUNT; k++)
         for (int op = 0; op < (int)MID_OP_COUNT; op++)
             if (m->pipe[k][op])
-                vkDestroyPipeline(dev, m->pipe[k][op], NULL);
+                vkDestroyPipeline(dev, m->pipe[k][op], m->gpu->alloc);
     if (m->layout)
-        vkDestroyPipelineLayout(dev, m->layout, NULL);
+        vkDestroyPipelineLayout(dev, m->layout, m->gpu->alloc);
     if (m->set_layout)
-        vkDestroyDescriptorSetLayout(dev, m->set_layout, NULL);
+        vkDestroyDescriptorSetLayout(dev, m->set_layout, m->gpu->alloc);
     gpu_buffer_destroy(m->gpu, &m->arena);
     gpu_buffer_destroy(m->gpu, &m->args);
     gpu_buffer_destroy(m->gpu, &m->own_store);

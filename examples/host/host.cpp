@@ -1,0 +1,876 @@
+// vergence_host — a small Vulkan renderer of its own that adds vergence's
+// comfortable stereo through the installed SDK only (docs/sdk.md).
+//
+// It loads a glTF scene with tinygltf, evaluates its node animations at a
+// time, draws its own G-buffer (linear depth and saliency) with dynamic
+// rendering, then records vgx_dispatch into the same command buffer and
+// copies the maps back: writes depth.pfm, g.pfm and h.pfm (arcmin) to --out.
+// Rigid meshes only (no skins or morph targets): it is an example.
+//
+//   vergence_host --scene FILE --out DIR [--size WxH] [--time T] [--validate]
+//                 [--interaxial M] [--convergence M] [--operator none|linear|lang|lang-smoothed]
+//
+// Exit codes: 0 done, 1 bad arguments or scene, 2 Vulkan or SDK failure,
+// 3 validation messages (with --validate).
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <sys/stat.h>
+
+#include <tiny_gltf.h>
+#include <vergence/vergence.h>
+
+#include "host_gbuffer_frag.h"
+#include "host_gbuffer_vert.h"
+
+namespace {
+
+// ---------------------------------------------------------------------------
+// Small maths: column-major 4x4 matrices, as GLSL and glTF store them.
+// ---------------------------------------------------------------------------
+
+struct Mat4 {
+    float m[16];
+};
+
+Mat4 identity()
+{
+    Mat4 r{};
+    r.m[0] = r.m[5] = r.m[10] = r.m[15] = 1.0f;
+    return r;
+}
+
+Mat4 mul(const Mat4 &a, const Mat4 &b)
+{
+    Mat4 r{};
+    for (int c = 0; c < 4; c++)
+        for (int row = 0; row < 4; row++) {
+            float s = 0;
+            for (int k = 0; k < 4; k++)
+                s += a.m[k * 4 + row] * b.m[c * 4 + k];
+            r.m[c * 4 + row] = s;
+        }
+    return r;
+}
+
+Mat4 trs(const double t[3], const double q[4], const double s[3])
+{
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    Mat4 r = identity();
+    r.m[0] = float((1 - 2 * (y * y + z * z)) * s[0]);
+    r.m[1] = float((2 * (x * y + z * w)) * s[0]);
+    r.m[2] = float((2 * (x * z - y * w)) * s[0]);
+    r.m[4] = float((2 * (x * y - z * w)) * s[1]);
+    r.m[5] = float((1 - 2 * (x * x + z * z)) * s[1]);
+    r.m[6] = float((2 * (y * z + x * w)) * s[1]);
+    r.m[8] = float((2 * (x * z + y * w)) * s[2]);
+    r.m[9] = float((2 * (y * z - x * w)) * s[2]);
+    r.m[10] = float((1 - 2 * (x * x + y * y)) * s[2]);
+    r.m[12] = float(t[0]), r.m[13] = float(t[1]), r.m[14] = float(t[2]);
+    return r;
+}
+
+// ---------------------------------------------------------------------------
+// The scene: glTF nodes at a time t
+// ---------------------------------------------------------------------------
+
+struct Node {
+    double t[3] = {0, 0, 0}, r[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
+    bool has_matrix = false;
+    Mat4 matrix = identity();
+};
+
+// Reads accessor element i as n floats (float components only: the
+// animation and position accessors this host supports).
+bool read_floats(const tinygltf::Model &m, int accessor, size_t i, int n, double *out)
+{
+    if (accessor < 0 || accessor >= (int)m.accessors.size())
+        return false;
+    const tinygltf::Accessor &a = m.accessors[accessor];
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.bufferView < 0 || i >= a.count)
+        return false;
+    const tinygltf::BufferView &v = m.bufferViews[a.bufferView];
+    const tinygltf::Buffer &b = m.buffers[v.buffer];
+    size_t stride = v.byteStride ? v.byteStride : (size_t)n * 4;
+    size_t at = v.byteOffset + a.byteOffset + i * stride;
+    if (at + (size_t)n * 4 > b.data.size())
+        return false;
+    for (int k = 0; k < n; k++) {
+        float f;
+        std::memcpy(&f, &b.data[at + 4 * k], 4);
+        out[k] = f;
+    }
+    return true;
+}
+
+void slerp(const double *a, const double *b, double u, double *out)
+{
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], sign = d < 0 ? -1 : 1;
+    d = std::fabs(d);
+    double wa = 1 - u, wb = u;
+    if (d < 0.9995) {
+        double th = std::acos(d), sn = std::sin(th);
+        wa = std::sin((1 - u) * th) / sn;
+        wb = std::sin(u * th) / sn;
+    }
+    double len = 0;
+    for (int k = 0; k < 4; k++) {
+        out[k] = wa * a[k] + sign * wb * b[k];
+        len += out[k] * out[k];
+    }
+    for (int k = 0; k < 4; k++)
+        out[k] /= std::sqrt(len);
+}
+
+// Applies every animation channel of translation, rotation or scale at time t.
+void animate(const tinygltf::Model &m, double t, std::vector<Node> &nodes)
+{
+    for (const tinygltf::Animation &an : m.animations)
+        for (const tinygltf::AnimationChannel &ch : an.channels) {
+            if (ch.sampler < 0 || ch.sampler >= (int)an.samplers.size() || ch.target_node < 0 ||
+                ch.target_node >= (int)nodes.size())
+                continue;
+            const tinygltf::AnimationSampler &sm = an.samplers[ch.sampler];
+            int n = ch.target_path == "rotation" ? 4 : 3;
+            double *dst = ch.target_path == "translation" ? nodes[ch.target_node].t
+                          : ch.target_path == "rotation"  ? nodes[ch.target_node].r
+                          : ch.target_path == "scale"     ? nodes[ch.target_node].s
+                                                          : nullptr;
+            if (!dst)
+                continue;
+            size_t count = m.accessors[sm.input].count, k = 0;
+            bool cubic = sm.interpolation == "CUBICSPLINE";
+            double t0, t1, a[4], b[4];
+            while (k + 1 < count && read_floats(m, sm.input, k + 1, 1, &t1) && t1 <= t)
+                k++;
+            read_floats(m, sm.input, k, 1, &t0);
+            // A cubic spline's value is the middle element of each triple.
+            auto value = [&](size_t i, double *v) { return read_floats(m, sm.output, cubic ? 3 * i + 1 : i, n, v); };
+            if (!value(k, a))
+                continue;
+            if (k + 1 >= count || t <= t0 || sm.interpolation == "STEP" || !read_floats(m, sm.input, k + 1, 1, &t1) ||
+                !value(k + 1, b)) {
+                std::memcpy(dst, a, sizeof(double) * n);
+                continue;
+            }
+            double u = (t - t0) / (t1 - t0);
+            if (n == 4)
+                slerp(a, b, u, dst);
+            else
+                for (int c = 0; c < n; c++)
+                    dst[c] = a[c] + u * (b[c] - a[c]);
+        }
+}
+
+struct Draw {
+    uint32_t first_index, index_count;
+    float saliency;
+};
+
+struct Scene {
+    std::vector<float> positions;   // world space at t, xyz
+    std::vector<uint32_t> indices;
+    std::vector<Draw> draws;
+    Mat4 camera_world = identity();
+    bool has_camera = false;
+    double yfov = 0, znear = 0, zfar = 0;
+};
+
+void visit(const tinygltf::Model &m, const std::vector<Node> &nodes, int index, const Mat4 &parent, float saliency,
+           Scene &out, int depth)
+{
+    if (index < 0 || index >= (int)nodes.size() || depth > 64)
+        return;
+    const tinygltf::Node &gn = m.nodes[index];
+    const Node &n = nodes[index];
+    Mat4 world = mul(parent, n.has_matrix ? n.matrix : trs(n.t, n.r, n.s));
+    if (gn.extras.IsObject() && gn.extras.Has("saliency") && gn.extras.Get("saliency").IsNumber())
+        saliency = (float)std::fmin(1.0, std::fmax(0.0, gn.extras.Get("saliency").GetNumberAsDouble()));
+    if (gn.camera >= 0 && !out.has_camera && m.cameras[gn.camera].type == "perspective") {
+        const tinygltf::PerspectiveCamera &p = m.cameras[gn.camera].perspective;
+        out.has_camera = true;
+        out.camera_world = world;
+        out.yfov = p.yfov, out.znear = p.znear, out.zfar = p.zfar;
+    }
+    if (gn.mesh >= 0 && gn.mesh < (int)m.meshes.size())
+        for (const tinygltf::Primitive &pr : m.meshes[gn.mesh].primitives) {
+            auto pos = pr.attributes.find("POSITION");
+            if (pos == pr.attributes.end() || pr.mode != TINYGLTF_MODE_TRIANGLES)
+                continue;
+            uint32_t base = (uint32_t)(out.positions.size() / 3);
+            size_t vcount = m.accessors[pos->second].count;
+            for (size_t i = 0; i < vcount; i++) {
+                double p[3];
+                if (!read_floats(m, pos->second, i, 3, p))
+                    return;
+                for (int r = 0; r < 3; r++)
+                    out.positions.push_back(float(world.m[r] * p[0] + world.m[4 + r] * p[1] + world.m[8 + r] * p[2] +
+                                                  world.m[12 + r]));
+            }
+            Draw d{(uint32_t)out.indices.size(), 0, saliency};
+            if (pr.indices < 0) {
+                for (uint32_t i = 0; i < vcount; i++)
+                    out.indices.push_back(base + i);
+            } else {
+                const tinygltf::Accessor &a = m.accessors[pr.indices];
+                const tinygltf::BufferView &v = m.bufferViews[a.bufferView];
+                const unsigned char *src = m.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset;
+                for (size_t i = 0; i < a.count; i++) {
+                    uint32_t x = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? src[i]
+                                 : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? ((const uint16_t *)src)[i]
+                                                                                            : ((const uint32_t *)src)[i];
+                    out.indices.push_back(base + (x < vcount ? x : 0));
+                }
+            }
+            d.index_count = (uint32_t)out.indices.size() - d.first_index;
+            out.draws.push_back(d);
+        }
+    for (int child : gn.children)
+        visit(m, nodes, child, world, saliency, out, depth + 1);
+}
+
+bool load_scene(const std::string &path, double t, Scene &out)
+{
+    tinygltf::Model m;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
+    bool ok = binary ? loader.LoadBinaryFromFile(&m, &err, &warn, path) : loader.LoadASCIIFromFile(&m, &err, &warn, path);
+    if (!ok) {
+        std::fprintf(stderr, "vergence_host: error: %s: %s\n", path.c_str(), err.c_str());
+        return false;
+    }
+    std::vector<Node> nodes(m.nodes.size());
+    for (size_t i = 0; i < m.nodes.size(); i++) {
+        const tinygltf::Node &gn = m.nodes[i];
+        Node &n = nodes[i];
+        if (gn.matrix.size() == 16) {
+            n.has_matrix = true;
+            for (int k = 0; k < 16; k++)
+                n.matrix.m[k] = (float)gn.matrix[k];
+        }
+        for (size_t k = 0; k < gn.translation.size() && k < 3; k++) n.t[k] = gn.translation[k];
+        for (size_t k = 0; k < gn.rotation.size() && k < 4; k++) n.r[k] = gn.rotation[k];
+        for (size_t k = 0; k < gn.scale.size() && k < 3; k++) n.s[k] = gn.scale[k];
+    }
+    animate(m, t, nodes);
+    int sc = m.defaultScene >= 0 ? m.defaultScene : 0;
+    if (sc < (int)m.scenes.size())
+        for (int root : m.scenes[sc].nodes)
+            visit(m, nodes, root, identity(), 0.0f, out, 0);
+    if (!out.has_camera || !(out.zfar > out.znear) || !(out.znear > 0)) {
+        std::fprintf(stderr, "vergence_host: error: %s: needs a perspective camera node with znear and zfar\n",
+                     path.c_str());
+        return false;
+    }
+    if (out.draws.empty()) {
+        std::fprintf(stderr, "vergence_host: error: %s: no triangle meshes in the scene\n", path.c_str());
+        return false;
+    }
+    return true;
+}
+
+// The camera node's view (its world matrix without scale, inverted) and a
+// Vulkan projection: y down, depth 0..1 from near to far.
+void camera_matrices(const Scene &s, float aspect, Mat4 &view, Mat4 &proj)
+{
+    const float *w = s.camera_world.m;
+    float ax[3][3];
+    for (int c = 0; c < 3; c++) {
+        float len = std::sqrt(w[c * 4] * w[c * 4] + w[c * 4 + 1] * w[c * 4 + 1] + w[c * 4 + 2] * w[c * 4 + 2]);
+        for (int r = 0; r < 3; r++)
+            ax[c][r] = w[c * 4 + r] / len;
+    }
+    view = identity();
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            view.m[r * 4 + c] = ax[c][r];
+    for (int c = 0; c < 3; c++)
+        view.m[12 + c] = -(ax[c][0] * w[12] + ax[c][1] * w[13] + ax[c][2] * w[14]);
+    float t = 1.0f / std::tan(0.5f * (float)s.yfov), n = (float)s.znear, f = (float)s.zfar;
+    proj = Mat4{};
+    proj.m[0] = t / aspect;
+    proj.m[5] = -t;
+    proj.m[10] = f / (n - f);
+    proj.m[11] = -1.0f;
+    proj.m[14] = n * f / (n - f);
+}
+
+// ---------------------------------------------------------------------------
+// Vulkan
+// ---------------------------------------------------------------------------
+
+int g_validation_messages;
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
+                                          const VkDebugUtilsMessengerCallbackDataEXT *data, void *)
+{
+    g_validation_messages++;
+    std::fprintf(stderr, "vergence_host: validation: %s\n", data->pMessage);
+    return VK_FALSE;
+}
+
+void on_vgx_message(vgx_severity severity, const char *message, void *)
+{
+    std::fprintf(stderr, "vergence_host: vergence %s: %s\n",
+                 severity == VGX_SEVERITY_ERROR ? "error" : severity == VGX_SEVERITY_WARNING ? "warning" : "info",
+                 message);
+}
+
+#define CHECK(call)                                                                        \
+    do {                                                                                   \
+        VkResult r_ = (call);                                                              \
+        if (r_ != VK_SUCCESS) {                                                            \
+            std::fprintf(stderr, "vergence_host: error: %s failed (%d)\n", #call, (int)r_); \
+            std::exit(2);                                                                  \
+        }                                                                                  \
+    } while (0)
+
+struct Vk {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice phys = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    uint32_t family = 0;
+    VkQueue queue = VK_NULL_HANDLE;
+    VkPhysicalDeviceMemoryProperties mem{};
+};
+
+void create_vk(Vk &vk, bool validate)
+{
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "vergence_host";
+    app.apiVersion = VK_API_VERSION_1_3;
+    const char *layer = "VK_LAYER_KHRONOS_validation", *ext = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+    VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
+    mi.pfnUserCallback = on_message;
+    VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT vf{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    vf.enabledValidationFeatureCount = 1;
+    vf.pEnabledValidationFeatures = &sync;
+    VkInstanceCreateInfo ii{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ii.pApplicationInfo = &app;
+    if (validate) {
+        ii.enabledLayerCount = 1;
+        ii.ppEnabledLayerNames = &layer;
+        ii.enabledExtensionCount = 1;
+        ii.ppEnabledExtensionNames = &ext;
+        ii.pNext = &vf;
+    }
+    CHECK(vkCreateInstance(&ii, nullptr, &vk.instance));
+    if (validate) {
+        auto create = (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(vk.instance,
+                                                                                "vkCreateDebugUtilsMessengerEXT");
+        CHECK(create(vk.instance, &mi, nullptr, &vk.messenger));
+    }
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(vk.instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> devs(n);
+    vkEnumeratePhysicalDevices(vk.instance, &n, devs.data());
+    const char *missing = "a Vulkan device";
+    for (VkPhysicalDevice p : devs)
+        if (vgx_check_physical_device(p, &missing) == VGX_SUCCESS) {
+            vk.phys = p;
+            break;
+        }
+    if (!vk.phys) {
+        std::fprintf(stderr, "vergence_host: error: no device has what vergence needs (missing %s)\n", missing);
+        std::exit(2);
+    }
+    vkGetPhysicalDeviceMemoryProperties(vk.phys, &vk.mem);
+    uint32_t nf = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(vk.phys, &nf, nullptr);
+    std::vector<VkQueueFamilyProperties> fams(nf);
+    vkGetPhysicalDeviceQueueFamilyProperties(vk.phys, &nf, fams.data());
+    for (uint32_t i = 0; i < nf; i++)
+        if ((fams[i].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) ==
+            (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) {
+            vk.family = i;
+            break;
+        }
+    // What vergence asks the host to enable (vergence.h, "Device requirements").
+    VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    f13.dynamicRendering = f13.synchronization2 = f13.maintenance4 = VK_TRUE;
+    VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    f12.pNext = &f13;
+    f12.hostQueryReset = f12.scalarBlockLayout = VK_TRUE;
+    VkPhysicalDeviceFeatures2 f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    f.pNext = &f12;
+    f.features.shaderStorageImageWriteWithoutFormat = f.features.drawIndirectFirstInstance = VK_TRUE;
+    float prio = 1.0f;
+    VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qi.queueFamilyIndex = vk.family;
+    qi.queueCount = 1;
+    qi.pQueuePriorities = &prio;
+    uint32_t next = 0;
+    const char *const *exts = vgx_device_extensions(&next);
+    VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    di.pNext = &f;
+    di.queueCreateInfoCount = 1;
+    di.pQueueCreateInfos = &qi;
+    di.enabledExtensionCount = next;
+    di.ppEnabledExtensionNames = exts;
+    CHECK(vkCreateDevice(vk.phys, &di, nullptr, &vk.device));
+    vkGetDeviceQueue(vk.device, vk.family, 0, &vk.queue);
+}
+
+uint32_t memory_type(const Vk &vk, uint32_t bits, VkMemoryPropertyFlags want)
+{
+    for (uint32_t i = 0; i < vk.mem.memoryTypeCount; i++)
+        if ((bits & (1u << i)) && (vk.mem.memoryTypes[i].propertyFlags & want) == want)
+            return i;
+    std::fprintf(stderr, "vergence_host: error: no suitable memory type\n");
+    std::exit(2);
+}
+
+struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    void *mapped = nullptr;
+};
+
+Buffer make_buffer(const Vk &vk, VkDeviceSize size, VkBufferUsageFlags usage)
+{
+    Buffer b;
+    VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bi.size = size;
+    bi.usage = usage;
+    CHECK(vkCreateBuffer(vk.device, &bi, nullptr, &b.buffer));
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(vk.device, b.buffer, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = memory_type(vk, req.memoryTypeBits,
+                                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    CHECK(vkAllocateMemory(vk.device, &ai, nullptr, &b.memory));
+    CHECK(vkBindBufferMemory(vk.device, b.buffer, b.memory, 0));
+    CHECK(vkMapMemory(vk.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+    return b;
+}
+
+void free_buffer(const Vk &vk, Buffer &b)
+{
+    vkDestroyBuffer(vk.device, b.buffer, nullptr);
+    vkFreeMemory(vk.device, b.memory, nullptr);
+}
+
+struct Image {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+};
+
+Image make_image(const Vk &vk, VkFormat format, uint32_t w, uint32_t h, VkImageUsageFlags usage,
+                 VkImageAspectFlags aspect)
+{
+    Image im;
+    VkImageCreateInfo ii{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ii.imageType = VK_IMAGE_TYPE_2D;
+    ii.format = format;
+    ii.extent = {w, h, 1};
+    ii.mipLevels = ii.arrayLayers = 1;
+    ii.samples = VK_SAMPLE_COUNT_1_BIT;
+    ii.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ii.usage = usage;
+    CHECK(vkCreateImage(vk.device, &ii, nullptr, &im.image));
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(vk.device, im.image, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = memory_type(vk, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    CHECK(vkAllocateMemory(vk.device, &ai, nullptr, &im.memory));
+    CHECK(vkBindImageMemory(vk.device, im.image, im.memory, 0));
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = im.image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = format;
+    vi.subresourceRange = {aspect, 0, 1, 0, 1};
+    CHECK(vkCreateImageView(vk.device, &vi, nullptr, &im.view));
+    return im;
+}
+
+void free_image(const Vk &vk, Image &im)
+{
+    vkDestroyImageView(vk.device, im.view, nullptr);
+    vkDestroyImage(vk.device, im.image, nullptr);
+    vkFreeMemory(vk.device, im.memory, nullptr);
+}
+
+void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
+             VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage,
+             VkAccessFlags2 dst_access)
+{
+    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    b.srcStageMask = src_stage;
+    b.srcAccessMask = src_access;
+    b.dstStageMask = dst_stage;
+    b.dstAccessMask = dst_access;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {aspect, 0, 1, 0, 1};
+    VkDependencyInfo d{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    d.imageMemoryBarrierCount = 1;
+    d.pImageMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd, &d);
+}
+
+VkShaderModule shader(const Vk &vk, const uint32_t *code, size_t size)
+{
+    VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    si.codeSize = size;
+    si.pCode = code;
+    VkShaderModule m;
+    CHECK(vkCreateShaderModule(vk.device, &si, nullptr, &m));
+    return m;
+}
+
+struct Push {
+    float view_proj[16];
+    float view_z[4]; // row 2 of the view matrix
+    float saliency;
+};
+
+// The G-buffer: linear depth (R32F) and saliency (RGBA8, alpha), depth-tested.
+void create_pipeline(const Vk &vk, VkPipelineLayout *layout, VkPipeline *pipe)
+{
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.pushConstantRangeCount = 1;
+    li.pPushConstantRanges = &range;
+    CHECK(vkCreatePipelineLayout(vk.device, &li, nullptr, layout));
+    VkShaderModule vs = shader(vk, host_gbuffer_vert, sizeof host_gbuffer_vert);
+    VkShaderModule fs = shader(vk, host_gbuffer_frag, sizeof host_gbuffer_frag);
+    VkPipelineShaderStageCreateInfo st[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                             {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+    st[0].stage = VK_SHADER_STAGE_VERTEX_BIT, st[0].module = vs, st[0].pName = "main";
+    st[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT, st[1].module = fs, st[1].pName = "main";
+    VkVertexInputBindingDescription vb{0, 12, VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription va{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vin.vertexBindingDescriptionCount = 1, vin.pVertexBindingDescriptions = &vb;
+    vin.vertexAttributeDescriptionCount = 1, vin.pVertexAttributeDescriptions = &va;
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.cullMode = VK_CULL_MODE_NONE; // single-sided surfaces seen from behind still occlude
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
+    ds.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState cb[2] = {};
+    cb[0].colorWriteMask = cb[1].colorWriteMask = 0xf;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 2, blend.pAttachments = cb;
+    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dy.dynamicStateCount = 2, dy.pDynamicStates = dyn;
+    VkFormat colors[2] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM};
+    VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    ri.colorAttachmentCount = 2, ri.pColorAttachmentFormats = colors;
+    ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
+    VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gi.pNext = &ri;
+    gi.stageCount = 2, gi.pStages = st;
+    gi.pVertexInputState = &vin, gi.pInputAssemblyState = &ia, gi.pViewportState = &vp;
+    gi.pRasterizationState = &rs, gi.pMultisampleState = &ms, gi.pDepthStencilState = &ds;
+    gi.pColorBlendState = &blend, gi.pDynamicState = &dy, gi.layout = *layout;
+    CHECK(vkCreateGraphicsPipelines(vk.device, VK_NULL_HANDLE, 1, &gi, nullptr, pipe));
+    vkDestroyShaderModule(vk.device, vs, nullptr);
+    vkDestroyShaderModule(vk.device, fs, nullptr);
+}
+
+// PFM, one channel, little-endian, rows bottom to top (the format's order).
+bool write_pfm(const std::string &path, const float *data, uint32_t w, uint32_t h)
+{
+    std::string tmp = path + ".tmp";
+    FILE *f = std::fopen(tmp.c_str(), "wb");
+    if (!f)
+        return false;
+    std::fprintf(f, "Pf\n%u %u\n-1.0\n", w, h);
+    bool ok = true;
+    for (uint32_t y = h; y-- > 0;)
+        ok = ok && std::fwrite(data + (size_t)y * w, 4, w, f) == w;
+    ok = std::fclose(f) == 0 && ok;
+    return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
+int usage(const char *why)
+{
+    std::fprintf(stderr,
+                 "vergence_host: error: %s\n"
+                 "usage: vergence_host --scene FILE --out DIR [--size WxH] [--time T] [--validate]\n"
+                 "                     [--interaxial M] [--convergence M] [--operator none|linear|lang|lang-smoothed]\n",
+                 why);
+    return 1;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    std::string scene_path, out_dir;
+    uint32_t W = 960, H = 540;
+    double t = 0, interaxial = 0.25, convergence = 6.0;
+    bool validate = false;
+    vgx_operator op = VGX_OPERATOR_DEFAULT;
+    for (int i = 1; i < argc; i++) {
+        std::string a = argv[i];
+        bool has = i + 1 < argc;
+        if (a == "--validate")
+            validate = true;
+        else if (a == "--scene" && has)
+            scene_path = argv[++i];
+        else if (a == "--out" && has)
+            out_dir = argv[++i];
+        else if (a == "--size" && has) {
+            if (std::sscanf(argv[++i], "%ux%u", &W, &H) != 2 || W < 8 || H < 8 || W > 8192 || H > 8192)
+                return usage("--size: give WxH, 8 to 8192 each");
+        } else if (a == "--time" && has)
+            t = std::atof(argv[++i]);
+        else if (a == "--interaxial" && has)
+            interaxial = std::atof(argv[++i]);
+        else if (a == "--convergence" && has)
+            convergence = std::atof(argv[++i]);
+        else if (a == "--operator" && has) {
+            std::string n = argv[++i];
+            op = n == "none" ? VGX_OPERATOR_NONE : n == "linear" ? VGX_OPERATOR_LINEAR : n == "lang" ? VGX_OPERATOR_LANG
+                 : n == "lang-smoothed" ? VGX_OPERATOR_LANG_SMOOTHED : (vgx_operator)-1;
+            if (op == (vgx_operator)-1)
+                return usage("--operator: none, linear, lang or lang-smoothed");
+        } else
+            return usage(("unknown or incomplete option " + a).c_str());
+    }
+    if (scene_path.empty() || out_dir.empty())
+        return usage("--scene and --out are required");
+    if (mkdir(out_dir.c_str(), 0777) != 0 && errno != EEXIST)
+        return usage(("--out " + out_dir + ": cannot create the folder").c_str());
+    if (VGX_VERSION_MAJOR(vgx_version()) != VGX_VERSION_MAJOR(VGX_HEADER_VERSION)) {
+        std::fprintf(stderr, "vergence_host: error: libvergence %u.%u does not match the header\n",
+                     VGX_VERSION_MAJOR(vgx_version()), VGX_VERSION_MINOR(vgx_version()));
+        return 2;
+    }
+    Scene scene;
+    if (!load_scene(scene_path, t, scene))
+        return 1;
+
+    Vk vk;
+    create_vk(vk, validate);
+
+    // The SDK's context over this renderer's device.
+    vgx_context_desc cd = {};
+    cd.header_version = VGX_HEADER_VERSION;
+    cd.instance = vk.instance;
+    cd.physical_device = vk.phys;
+    cd.device = vk.device;
+    cd.queue_family = vk.family;
+    cd.width = W;
+    cd.height = H;
+    cd.op = op;
+    cd.flags = VGX_CONTEXT_SALIENCY;
+    cd.message = on_vgx_message;
+    vgx_context *ctx = nullptr;
+    vgx_result vr = vgx_context_create(&cd, &ctx);
+    if (vr != VGX_SUCCESS) {
+        std::fprintf(stderr, "vergence_host: error: vgx_context_create: %s\n", vgx_result_name(vr));
+        return 2;
+    }
+
+    // This renderer's own resources.
+    Image depth = make_image(vk, VK_FORMAT_D32_SFLOAT, W, H, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                             VK_IMAGE_ASPECT_DEPTH_BIT);
+    Image linear = make_image(vk, VK_FORMAT_R32_SFLOAT, W, H,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    Image saliency = make_image(vk, VK_FORMAT_R8G8B8A8_UNORM, W, H,
+                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT,
+                                VK_IMAGE_ASPECT_COLOR_BIT);
+    Buffer vbuf = make_buffer(vk, scene.positions.size() * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    Buffer ibuf = make_buffer(vk, scene.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    std::memcpy(vbuf.mapped, scene.positions.data(), scene.positions.size() * 4);
+    std::memcpy(ibuf.mapped, scene.indices.data(), scene.indices.size() * 4);
+    VkDeviceSize map_bytes = (VkDeviceSize)W * H * 4;
+    Buffer readback = make_buffer(vk, 3 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    VkPipelineLayout layout;
+    VkPipeline pipe;
+    create_pipeline(vk, &layout, &pipe);
+
+    VkCommandPool pool;
+    VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pi.queueFamilyIndex = vk.family;
+    CHECK(vkCreateCommandPool(vk.device, &pi, nullptr, &pool));
+    VkCommandBuffer cmd;
+    VkCommandBufferAllocateInfo ca{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ca.commandPool = pool;
+    ca.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ca.commandBufferCount = 1;
+    CHECK(vkAllocateCommandBuffers(vk.device, &ca, &cmd));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    CHECK(vkBeginCommandBuffer(cmd, &bi));
+
+    // 1. The host's own G-buffer.
+    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkPipelineStageFlags2 TESTS =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    barrier(cmd, linear.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, OUT,
+            VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    barrier(cmd, saliency.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, OUT,
+            VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    barrier(cmd, depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, TESTS,
+            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    VkRenderingAttachmentInfo color[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                          {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
+    color[0].imageView = linear.view;
+    color[1].imageView = saliency.view;
+    for (VkRenderingAttachmentInfo &c : color) {
+        c.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    }
+    color[0].clearValue.color = {{(float)scene.zfar, 0, 0, 0}}; // background at the far plane
+    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    dat.imageView = depth.view;
+    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    dat.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {W, H}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = 2;
+    ri.pColorAttachments = color;
+    ri.pDepthAttachment = &dat;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
+    VkViewport viewport{0, 0, (float)W, (float)H, 0, 1};
+    VkRect2D scissor{{0, 0}, {W, H}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    VkDeviceSize zero = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vbuf.buffer, &zero);
+    vkCmdBindIndexBuffer(cmd, ibuf.buffer, 0, VK_INDEX_TYPE_UINT32);
+    Mat4 view, proj;
+    camera_matrices(scene, (float)W / (float)H, view, proj);
+    Mat4 vp = mul(proj, view);
+    for (const Draw &d : scene.draws) {
+        Push p{};
+        std::memcpy(p.view_proj, vp.m, 64);
+        for (int c = 0; c < 4; c++)
+            p.view_z[c] = view.m[c * 4 + 2];
+        p.saliency = d.saliency;
+        vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof p, &p);
+        vkCmdDrawIndexed(cmd, d.index_count, 1, d.first_index, 0, 0);
+    }
+    vkCmdEndRendering(cmd);
+    // Its writes made available, the two images in GENERAL for the SDK.
+    for (VkImage im : {linear.image, saliency.image})
+        barrier(cmd, im, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                OUT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+
+    // 2. vergence, recorded into the same command buffer.
+    vgx_dispatch_desc dd = {};
+    dd.command_buffer = cmd;
+    dd.depth = {linear.image, linear.view, VK_IMAGE_LAYOUT_GENERAL};
+    dd.saliency = {saliency.image, saliency.view, VK_IMAGE_LAYOUT_GENERAL};
+    dd.rig.hfov_deg = 2.0 * std::atan(std::tan(0.5 * scene.yfov) * W / H) * 180.0 / M_PI;
+    dd.rig.interaxial_m = interaxial;
+    dd.rig.convergence_m = convergence;
+    vr = vgx_dispatch(ctx, &dd);
+    if (vr != VGX_SUCCESS) {
+        std::fprintf(stderr, "vergence_host: error: vgx_dispatch: %s\n", vgx_result_name(vr));
+        return 2;
+    }
+
+    // 3. Copies of depth, g and h for the files (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
+    VkImage copies[3] = {linear.image, VK_NULL_HANDLE, VK_NULL_HANDLE};
+    VkImageLayout layouts[3] = {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    for (int k = 1; k < 3; k++) {
+        vgx_image out;
+        vgx_get_output(ctx, k == 1 ? VGX_OUTPUT_G : VGX_OUTPUT_H, &out);
+        copies[k] = out.image;
+    }
+    for (int k = 0; k < 3; k++) {
+        barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, layouts[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.bufferOffset = k * map_bytes;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {W, H, 1};
+        vkCmdCopyImageToBuffer(cmd, copies[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
+        barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layouts[k],
+                VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+    }
+    VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+    host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+    host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+    VkDependencyInfo hd{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    hd.memoryBarrierCount = 1;
+    hd.pMemoryBarriers = &host;
+    vkCmdPipelineBarrier2(cmd, &hd);
+    CHECK(vkEndCommandBuffer(cmd));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cmd;
+    CHECK(vkQueueSubmit(vk.queue, 1, &si, VK_NULL_HANDLE));
+    CHECK(vkQueueWaitIdle(vk.queue));
+
+    const float *maps = (const float *)readback.mapped;
+    static const char *const names[3] = {"depth.pfm", "g.pfm", "h.pfm"};
+    int rc = 0;
+    for (int k = 0; k < 3; k++)
+        if (!write_pfm(out_dir + "/" + names[k], maps + (size_t)k * W * H, W, H)) {
+            std::fprintf(stderr, "vergence_host: error: %s/%s: cannot write\n", out_dir.c_str(), names[k]);
+            rc = 2;
+        }
+    double lo, hi;
+    vgx_target_range(ctx, &lo, &hi);
+    std::printf("vergence_host: libvergence %u.%u.%u, %zu triangles, %ux%u, t = %.3f s, h in [%.1f, %.1f] arcmin\n",
+                VGX_VERSION_MAJOR(vgx_version()), VGX_VERSION_MINOR(vgx_version()), VGX_VERSION_PATCH(vgx_version()),
+                scene.indices.size() / 3, W, H, t, lo, hi);
+
+    vkDeviceWaitIdle(vk.device);
+    vgx_context_destroy(ctx);
+    vkDestroyCommandPool(vk.device, pool, nullptr);
+    vkDestroyPipeline(vk.device, pipe, nullptr);
+    vkDestroyPipelineLayout(vk.device, layout, nullptr);
+    free_buffer(vk, readback);
+    free_buffer(vk, ibuf);
+    free_buffer(vk, vbuf);
+    free_image(vk, saliency);
+    free_image(vk, linear);
+    free_image(vk, depth);
+    vkDestroyDevice(vk.device, nullptr);
+    if (vk.messenger) {
+        auto destroy = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(vk.instance,
+                                                                                  "vkDestroyDebugUtilsMessengerEXT");
+        destroy(vk.instance, vk.messenger, nullptr);
+    }
+    vkDestroyInstance(vk.instance, nullptr);
+    if (g_validation_messages > 0) {
+        std::fprintf(stderr, "vergence_host: %d validation messages\n", g_validation_messages);
+        return 3;
+    }
+    return rc;
+}

@@ -1,0 +1,207 @@
+/* vergence — comfortable stereo that keeps motion in depth, for any Vulkan
+ * engine (docs/sdk.md is the integration guide).
+ *
+ * A context is made from the host's own Vulkan objects; each frame the host
+ * records one dispatch into its own command buffer, naming its own images
+ * (VkImage + VkImageView + the layout they are in), and gets the vergence
+ * maps back as images it can sample. Nothing is submitted, waited on or
+ * created behind the host's back after vgx_context_create.
+ *
+ *   g  the vergence (arcmin) a viewer of the display gets from the host's
+ *      original stereo camera, per pixel of the host's linear depth
+ *   h  g compressed into the display's comfortable range by the operator
+ *      (Lang et al. 2010 by default), weighted by the host's saliency
+ *
+ * Conventions (DESIGN.md "Units and conventions" of the vergence repository):
+ * vergence in arcmin, larger = nearer; depth in metres along the view axis.
+ *
+ * Errors: every call that can fail returns a vgx_result; the context's
+ * message callback gets one line naming the cause (without one, lines go to
+ * stderr). No global state: contexts are independent. Thread safety: a
+ * context is used by one thread at a time (external synchronisation, as
+ * Vulkan's); different contexts may be used from different threads. The
+ * command buffer given to vgx_dispatch is externally synchronised by the
+ * host, as for any vkCmd call.
+ *
+ * C99 and C++ compatible. */
+#ifndef VERGENCE_VERGENCE_H
+#define VERGENCE_VERGENCE_H
+
+#include <stdint.h>
+
+#include <vulkan/vulkan.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------- */
+/* Version                                                                   */
+/* ------------------------------------------------------------------------- */
+
+#define VGX_MAKE_VERSION(major, minor, patch) (((uint32_t)(major) << 22) | ((uint32_t)(minor) << 12) | (uint32_t)(patch))
+#define VGX_VERSION_MAJOR(v) ((uint32_t)(v) >> 22)
+#define VGX_VERSION_MINOR(v) (((uint32_t)(v) >> 12) & 0x3ffu)
+#define VGX_VERSION_PATCH(v) ((uint32_t)(v) & 0xfffu)
+/* The version of this header; vgx_version() is the library's. A context
+ * is created only when both have the same major version (and, while it is
+ * 0, the same minor version). */
+#define VGX_HEADER_VERSION VGX_MAKE_VERSION(0, 1, 0)
+
+#if defined(_WIN32)
+#define VGX_API
+#else
+#define VGX_API __attribute__((visibility("default")))
+#endif
+
+VGX_API uint32_t vgx_version(void);
+
+/* ------------------------------------------------------------------------- */
+/* Results and messages                                                      */
+/* ------------------------------------------------------------------------- */
+
+typedef enum vgx_result {
+    VGX_SUCCESS = 0,
+    VGX_ERROR_INVALID_ARGUMENT = -1, /* a null or out-of-range field, named in the message */
+    VGX_ERROR_OUT_OF_MEMORY = -2,
+    VGX_ERROR_VULKAN = -3,           /* a Vulkan call failed; the message names it and its VkResult */
+    VGX_ERROR_DEVICE = -4,           /* the host's device lacks a feature or extension (vgx_device_requirements) */
+    VGX_ERROR_VERSION = -5,          /* header and library versions do not match */
+} vgx_result;
+
+/* "VGX_SUCCESS", "VGX_ERROR_INVALID_ARGUMENT", ... ("unknown" for others). */
+VGX_API const char *vgx_result_name(vgx_result result);
+
+typedef enum vgx_severity {
+    VGX_SEVERITY_ERROR = 1,
+    VGX_SEVERITY_WARNING = 2,
+    VGX_SEVERITY_INFO = 3,
+} vgx_severity;
+
+/* One line, no newline. Called on the thread of the vgx_ call that says it. */
+typedef void (*vgx_message_fn)(vgx_severity severity, const char *message, void *user);
+
+/* ------------------------------------------------------------------------- */
+/* Device requirements                                                       */
+/* ------------------------------------------------------------------------- */
+
+/* What the host enables on its VkDevice for vergence (Vulkan 1.3):
+ * the device extensions below, and the features dynamicRendering,
+ * synchronization2, maintenance4 (1.3), hostQueryReset, scalarBlockLayout
+ * (1.2), shaderStorageImageWriteWithoutFormat and drawIndirectFirstInstance
+ * (1.0). Returns the extension names (count in *count; static storage). */
+VGX_API const char *const *vgx_device_extensions(uint32_t *count);
+/* VGX_SUCCESS when the physical device supports everything above; else
+ * VGX_ERROR_DEVICE with the first missing name in *missing (may be NULL). */
+VGX_API vgx_result vgx_check_physical_device(VkPhysicalDevice physical_device, const char **missing);
+
+/* ------------------------------------------------------------------------- */
+/* Context                                                                   */
+/* ------------------------------------------------------------------------- */
+
+/* The display the stereo pair is watched on (zero = the paper's: a 24"
+ * 16:9 1920x1080 panel at 0.80 m, a 65 mm interocular distance). */
+typedef struct vgx_display {
+    double diagonal_in;
+    int aspect_w, aspect_h;
+    int res_x, res_y;
+    double distance_m;
+    double ipd_m;
+} vgx_display;
+
+typedef enum vgx_operator {
+    VGX_OPERATOR_DEFAULT = 0, /* = lang */
+    VGX_OPERATOR_NONE,        /* h = g */
+    VGX_OPERATOR_LINEAR,      /* scale about the screen until g's range fits */
+    VGX_OPERATOR_LANG,        /* saliency-weighted histogram mapping (Lang et al. 2010) */
+    VGX_OPERATOR_LANG_SMOOTHED, /* lang with its mapping smoothed in time (0.5 s) */
+} vgx_operator;
+
+typedef enum vgx_preset {
+    VGX_PRESET_DEFAULT = 0,   /* comfort: the screen +- 60 arcmin */
+    VGX_PRESET_STUDY,         /* +- 30 arcmin: the paper's studies */
+} vgx_preset;
+
+/* vgx_context_desc.flags */
+#define VGX_CONTEXT_SALIENCY 0x1u /* the host gives a saliency image each frame (else every pixel weighs 1) */
+
+typedef struct vgx_context_desc {
+    uint32_t header_version;          /* VGX_HEADER_VERSION */
+    VkInstance instance;
+    VkPhysicalDevice physical_device;
+    VkDevice device;                  /* with vgx_device_extensions() and the features above enabled */
+    uint32_t queue_family;            /* of the command buffers the host records dispatches into */
+    const VkAllocationCallbacks *allocator; /* used for every Vulkan object the context creates; NULL = driver's */
+    uint32_t width, height;           /* the frame's size: depth, saliency and the maps */
+    vgx_display display;
+    vgx_operator op;
+    vgx_preset preset;
+    double target_range_arcmin;       /* half-width of the comfortable range around the screen; 0 = the preset's */
+    double frame_seconds;             /* time between dispatches (lang-smoothed); 0 = 1/60 s */
+    uint32_t flags;                   /* VGX_CONTEXT_* */
+    vgx_message_fn message;           /* NULL = stderr */
+    void *message_user;
+} vgx_context_desc;
+
+typedef struct vgx_context vgx_context;
+
+VGX_API vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context **out);
+/* The host makes sure the GPU no longer uses what the context recorded
+ * (vkDeviceWaitIdle, or its frame fences). NULL is ignored. */
+VGX_API void vgx_context_destroy(vgx_context *context);
+
+/* The comfortable range h is mapped into, arcmin (the screen's vergence +- the target range). */
+VGX_API void vgx_target_range(const vgx_context *context, double *lo_arcmin, double *hi_arcmin);
+
+/* ------------------------------------------------------------------------- */
+/* Per frame                                                                 */
+/* ------------------------------------------------------------------------- */
+
+/* A host image: its handle, a 2D view of it, and the layout it is in when
+ * the dispatch's commands run. The dispatch leaves it in that layout,
+ * having made its own accesses available; the host's earlier writes must be
+ * available to compute shaders (for a layout other than the one it was
+ * written in, the host's own barrier did it). COLOR_ATTACHMENT_OPTIMAL
+ * tells the dispatch the image was just rendered: it waits for the colour
+ * attachment writes itself. */
+typedef struct vgx_image {
+    VkImage image;
+    VkImageView view;
+    VkImageLayout layout;
+} vgx_image;
+
+/* The original stereo camera: a parallel rig with shifted sensors whose
+ * centre is the host's camera. Zero interaxial / convergence = the
+ * display's interocular distance / viewing distance (ortho-stereo). */
+typedef struct vgx_rig {
+    double hfov_deg;                  /* the host camera's horizontal field of view (required) */
+    double interaxial_m;
+    double convergence_m;             /* the distance that lands on the screen */
+} vgx_rig;
+
+typedef struct vgx_dispatch_desc {
+    VkCommandBuffer command_buffer;   /* recording, outside a render pass, of the context's queue family */
+    vgx_image depth;                  /* R32_SFLOAT linear depth in metres (usage STORAGE) */
+    vgx_image saliency;               /* with VGX_CONTEXT_SALIENCY: R8G8B8A8_UNORM, saliency in alpha (usage STORAGE) */
+    vgx_rig rig;
+} vgx_dispatch_desc;
+
+/* Records the frame's passes into desc->command_buffer. */
+VGX_API vgx_result vgx_dispatch(vgx_context *context, const vgx_dispatch_desc *desc);
+
+typedef enum vgx_output {
+    VGX_OUTPUT_G = 0,                 /* original vergence, arcmin */
+    VGX_OUTPUT_H = 1,                 /* the operator's, arcmin */
+} vgx_output;
+
+/* An output map, R32_SFLOAT, owned by the context: after the commands of a
+ * dispatch it is in SHADER_READ_ONLY_OPTIMAL with its writes available to
+ * fragment and compute shader reads and to transfers (copies need the host
+ * to transition it, and back). The handles stay valid for the context's
+ * life; the contents are the last recorded dispatch's. */
+VGX_API vgx_result vgx_get_output(const vgx_context *context, vgx_output which, vgx_image *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
