@@ -1,0 +1,389 @@
+/* The public API (include/vergence/vergence.h) as a host uses it, compiled
+ * as C99 (the header's promise). The device comes from the engine's own
+ * gpu module, as any host's would from its renderer; everything else goes
+ * through vgx_ calls only. */
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <vergence/vergence.h>
+
+#include "gpu/gpu.h"
+#include "stereo/stereo_display.h"
+#include "test.h"
+
+/* ------------------------------------------------------------------------- */
+/* A host's side                                                             */
+/* ------------------------------------------------------------------------- */
+
+typedef struct messages {
+    int errors, others;
+    char last[512];
+} messages;
+
+static void on_message(vgx_severity severity, const char *message, void *user)
+{
+    messages *m = user;
+    if (severity == VGX_SEVERITY_ERROR)
+        m->errors++;
+    else
+        m->others++;
+    snprintf(m->last, sizeof m->last, "%s", message);
+}
+
+static vgx_context_desc context_desc(const gpu *g, uint32_t w, uint32_t h, messages *m)
+{
+    vgx_context_desc d;
+    memset(&d, 0, sizeof d);
+    d.header_version = VGX_HEADER_VERSION;
+    d.instance = g->instance;
+    d.physical_device = g->phys;
+    d.device = g->device;
+    d.queue_family = g->queue_family;
+    d.width = w;
+    d.height = h;
+    d.message = on_message;
+    d.message_user = m;
+    return d;
+}
+
+/* Copies an output map (SHADER_READ_ONLY_OPTIMAL after a dispatch) into out. */
+static int read_map(gpu *g, const vgx_image *img, uint32_t w, uint32_t h, float *out)
+{
+    gpu_buffer buf;
+    CHECK(gpu_buffer_create(g, &(gpu_buffer_desc){.name = "test readback", .size = (VkDeviceSize)w * h * 4,
+                                                  .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT, .host_visible = true},
+                            &buf) == VG_OK, "readback buffer");
+    VkCommandBuffer cmd;
+    CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+    VkImageMemoryBarrier2 b = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
+        .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+        .dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+        .dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT,
+        .oldLayout = img->layout,
+        .newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .image = img->image,
+        .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1},
+    };
+    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
+                            .pImageMemoryBarriers = &b};
+    vkCmdPipelineBarrier2(cmd, &dep);
+    VkBufferImageCopy region = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1}, .imageExtent = {w, h, 1}};
+    vkCmdCopyImageToBuffer(cmd, img->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buf.buffer, 1, &region);
+    b.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+    b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    b.dstAccessMask = 0;
+    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    b.newLayout = img->layout;
+    vkCmdPipelineBarrier2(cmd, &dep);
+    VkMemoryBarrier2 host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+                             .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                             .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT, .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT};
+    VkDependencyInfo hd = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
+                           .pMemoryBarriers = &host};
+    vkCmdPipelineBarrier2(cmd, &hd);
+    CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
+    memcpy(out, buf.mapped, (size_t)w * h * 4);
+    gpu_buffer_destroy(g, &buf);
+    return 0;
+}
+
+static gpu *make_gpu(void)
+{
+    gpu *g = NULL;
+    if (gpu_create(&(gpu_desc){0}, &g) != VG_OK)
+        return NULL;
+    return g;
+}
+
+/* ------------------------------------------------------------------------- */
+/* Cases                                                                     */
+/* ------------------------------------------------------------------------- */
+
+static int version(void)
+{
+    CHECK(vgx_version() == VGX_HEADER_VERSION, "library %u.%u.%u, header %u.%u.%u",
+          VGX_VERSION_MAJOR(vgx_version()), VGX_VERSION_MINOR(vgx_version()), VGX_VERSION_PATCH(vgx_version()),
+          VGX_VERSION_MAJOR(VGX_HEADER_VERSION), VGX_VERSION_MINOR(VGX_HEADER_VERSION),
+          VGX_VERSION_PATCH(VGX_HEADER_VERSION));
+    CHECK(strcmp(vgx_result_name(VGX_SUCCESS), "VGX_SUCCESS") == 0, "%s", vgx_result_name(VGX_SUCCESS));
+    CHECK(strcmp(vgx_result_name(VGX_ERROR_VERSION), "VGX_ERROR_VERSION") == 0, "%s",
+          vgx_result_name(VGX_ERROR_VERSION));
+    CHECK(strcmp(vgx_result_name((vgx_result)42), "unknown") == 0, "%s", vgx_result_name((vgx_result)42));
+    uint32_t n = 0;
+    const char *const *exts = vgx_device_extensions(&n);
+    CHECK(n == 1 && strcmp(exts[0], VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME) == 0, "%u extensions", n);
+    return 0;
+}
+
+/* Every bad field: one error line through the host's callback naming it,
+ * the documented result, no context. */
+static int errors(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    messages m = {0};
+    vgx_context *c = (vgx_context *)1;
+    CHECK(vgx_context_create(NULL, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "null desc");
+    CHECK(vgx_context_create(NULL, NULL) == VGX_ERROR_INVALID_ARGUMENT, "null out");
+
+
+    vgx_context_desc d = context_desc(g, 64, 48, &m);
+    d.header_version = VGX_MAKE_VERSION(VGX_VERSION_MAJOR(VGX_HEADER_VERSION) + 1, 0, 0);
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_VERSION && c == NULL, "version");
+    CHECK(m.errors == 1 && strstr(m.last, "header_version"), "%d errors, last '%s'", m.errors, m.last);
+
+    d = context_desc(g, 0, 48, &m);
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "width 0");
+    CHECK(m.errors == 2 && strstr(m.last, "width"), "%d errors, last '%s'", m.errors, m.last);
+
+    d = context_desc(g, 64, 48, &m);
+    d.device = VK_NULL_HANDLE;
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "null device");
+    CHECK(m.errors == 3 && strstr(m.last, "device"), "%d errors, last '%s'", m.errors, m.last);
+
+    d = context_desc(g, 64, 48, &m);
+    d.flags = 0x80;
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "flags");
+    CHECK(m.errors == 4 && strstr(m.last, "flags"), "%d errors, last '%s'", m.errors, m.last);
+
+    d = context_desc(g, 64, 48, &m);
+    d.op = (vgx_operator)9;
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "op");
+    CHECK(m.errors == 5 && strstr(m.last, ".op"), "%d errors, last '%s'", m.errors, m.last);
+
+    /* A good context, then bad dispatches: nothing is recorded. */
+    d = context_desc(g, 64, 48, &m);
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS && c, "create: %s", m.last);
+    VkCommandBuffer cmd;
+    CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+    vgx_dispatch_desc dd;
+    memset(&dd, 0, sizeof dd);
+    dd.rig.hfov_deg = 60;
+    CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "null command buffer");
+    CHECK(m.errors == 6 && strstr(m.last, "command_buffer"), "%d errors, last '%s'", m.errors, m.last);
+    dd.command_buffer = cmd;
+    CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "null depth");
+    CHECK(m.errors == 7 && strstr(m.last, "depth"), "%d errors, last '%s'", m.errors, m.last);
+    vgx_image out;
+    CHECK(vgx_get_output(c, VGX_OUTPUT_G, &out) == VGX_SUCCESS, "output");
+    dd.depth = out; /* any image will do for the checks before recording */
+    dd.depth.layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "layout");
+    CHECK(m.errors == 8 && strstr(m.last, "depth.layout"), "%d errors, last '%s'", m.errors, m.last);
+    dd.depth.layout = VK_IMAGE_LAYOUT_GENERAL;
+    dd.rig.hfov_deg = 0;
+    CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "hfov");
+    CHECK(m.errors == 9 && strstr(m.last, "hfov_deg"), "%d errors, last '%s'", m.errors, m.last);
+    CHECK(vgx_get_output(c, (vgx_output)7, &out) == VGX_ERROR_INVALID_ARGUMENT, "output 7");
+    CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "empty submit");
+    vgx_context_destroy(c);
+    vgx_context_destroy(NULL);
+    gpu_destroy(g);
+    return gpu_validation_messages() != 0;
+}
+
+/* g is the rig's vergence at each depth (stereo_camera_vergence), h lies in
+ * the target range and keeps the order of depths; the input found in
+ * SHADER_READ_ONLY_OPTIMAL, then (a new graph) in GENERAL, gives the same. */
+static int maps(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    enum { W = 64, H = 48 };
+    messages m = {0};
+    vgx_context_desc d = context_desc(g, W, H, &m);
+    vgx_context *c = NULL;
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
+
+    static float depth[W * H];
+    const double z[4] = {2.0, 4.5, 9.0, 40.0}; /* four vertical bands */
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            depth[y * W + x] = (float)z[x * 4 / W];
+    gpu_image img;
+    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
+                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
+                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                           &img) == VG_OK, "depth image");
+    CHECK(gpu_image_upload(g, &img, depth, sizeof depth) == VG_OK, "upload");
+
+    stereo_display disp;
+    stereo_display_init(&disp, NULL);
+    stereo_camera cam;
+    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
+                                                   .image_width = W}, &disp);
+    double lo, hi;
+    vgx_target_range(c, &lo, &hi);
+    static float gmap[2][W * H], hmap[2][W * H];
+    VkImageLayout layouts[2] = {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL};
+    for (int run = 0; run < 2; run++) {
+        VkCommandBuffer cmd;
+        CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+        if (run == 1) { /* the host moves its image to GENERAL itself */
+            VkImageMemoryBarrier2 b = {
+                .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
+                .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                .dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                .newLayout = VK_IMAGE_LAYOUT_GENERAL,
+                .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                .image = img.image,
+                .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1},
+            };
+            VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
+                                    .pImageMemoryBarriers = &b};
+            vkCmdPipelineBarrier2(cmd, &dep);
+        }
+        vgx_dispatch_desc dd;
+        memset(&dd, 0, sizeof dd);
+        dd.command_buffer = cmd;
+        dd.depth.image = img.image;
+        dd.depth.view = img.view;
+        dd.depth.layout = layouts[run];
+        dd.rig.hfov_deg = 70;
+        dd.rig.interaxial_m = 0.25;
+        dd.rig.convergence_m = 6.0;
+        CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "dispatch %d: %s", run, m.last);
+        CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
+        vgx_image og, oh;
+        CHECK(vgx_get_output(c, VGX_OUTPUT_G, &og) == VGX_SUCCESS && vgx_get_output(c, VGX_OUTPUT_H, &oh) == VGX_SUCCESS,
+              "outputs");
+        CHECK(og.layout == VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, "layout %d", (int)og.layout);
+        CHECK(read_map(g, &og, W, H, gmap[run]) == 0 && read_map(g, &oh, W, H, hmap[run]) == 0, "read");
+    }
+    double prev_h = 1e9;
+    for (int band = 0; band < 4; band++) {
+        int i = (H / 2) * W + band * (W / 4) + 3;
+        double want = stereo_camera_vergence(&cam, &disp, z[band]);
+        /* GLSL's atan is allowed 4096 ULP (Vulkan spec, "Precision and
+         * Operation of SPIR-V Instructions"); llvmpipe is 0.008 arcmin off. */
+        EXPECT_NEAR(gmap[0][i], want, 0.05, "g at %g m", z[band]);
+        EXPECT(hmap[0][i] >= lo - 1e-3 && hmap[0][i] <= hi + 1e-3, "h %g at %g m outside [%g, %g]", hmap[0][i],
+               z[band], lo, hi);
+        EXPECT(hmap[0][i] < prev_h, "h %g at %g m not below the nearer band's %g", hmap[0][i], z[band], prev_h);
+        prev_h = hmap[0][i];
+    }
+    EXPECT(gmap[0][0] - gmap[0][W - 1] > 20, "g spans %g arcmin", gmap[0][0] - gmap[0][W - 1]);
+    EXPECT(memcmp(gmap[0], gmap[1], sizeof gmap[0]) == 0 && memcmp(hmap[0], hmap[1], sizeof hmap[0]) == 0,
+           "the two input layouts gave different maps");
+    EXPECT(m.errors == 0, "%d errors: %s", m.errors, m.last);
+    vgx_context_destroy(c);
+    gpu_image_destroy(g, &img);
+    gpu_destroy(g);
+    return gpu_validation_messages() != 0;
+}
+
+/* The host's allocator gets every allocation of the context's objects back. */
+typedef struct counting {
+    long live, total;
+} counting;
+
+static void *VKAPI_PTR count_alloc(void *user, size_t size, size_t align, VkSystemAllocationScope scope)
+{
+    (void)scope;
+    void *p = NULL;
+    if (posix_memalign(&p, align < sizeof(void *) ? sizeof(void *) : align, size ? size : 1) != 0)
+        return NULL;
+    ((counting *)user)->live++;
+    ((counting *)user)->total++;
+    return p;
+}
+
+static void *VKAPI_PTR count_realloc(void *user, void *old, size_t size, size_t align, VkSystemAllocationScope scope)
+{
+    (void)scope;
+    if (!old)
+        return count_alloc(user, size, align, scope);
+    if (size == 0) {
+        free(old);
+        ((counting *)user)->live--;
+        return NULL;
+    }
+    void *p = count_alloc(user, size, align, scope);
+    if (p) {
+        memcpy(p, old, size); /* the test's objects are small; a real host keeps the old size */
+        free(old);
+        ((counting *)user)->live--;
+    }
+    return p;
+}
+
+static void VKAPI_PTR count_free(void *user, void *p)
+{
+    if (!p)
+        return;
+    free(p);
+    ((counting *)user)->live--;
+}
+
+static int allocator(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    counting n = {0, 0};
+    VkAllocationCallbacks cb = {.pUserData = &n, .pfnAllocation = count_alloc, .pfnReallocation = count_realloc,
+                                .pfnFree = count_free};
+    messages m = {0};
+    vgx_context_desc d = context_desc(g, 32, 32, &m);
+    d.allocator = &cb;
+    vgx_context *c = NULL;
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
+    long during = n.live;
+    vgx_context_destroy(c);
+    gpu_destroy(g);
+    CHECK(n.total > 0 && during > 0, "the driver never used the host's allocator (%ld allocations)", n.total);
+    CHECK(n.live == 0, "%ld of %ld allocations not freed", n.live, n.total);
+    return gpu_validation_messages() != 0;
+}
+
+/* Two contexts on two threads: each one's messages reach its own callback. */
+typedef struct worker {
+    gpu *g;
+    messages m;
+    int bad_calls;
+} worker;
+
+static void *work(void *arg)
+{
+    worker *w = arg;
+    vgx_context_desc d = context_desc(w->g, 32, 32, &w->m);
+    vgx_context *c = NULL;
+    if (vgx_context_create(&d, &c) != VGX_SUCCESS)
+        return NULL;
+    vgx_dispatch_desc dd;
+    memset(&dd, 0, sizeof dd);
+    for (int i = 0; i < w->bad_calls; i++)
+        vgx_dispatch(c, &dd); /* no command buffer: one error each */
+    vgx_context_destroy(c);
+    return NULL;
+}
+
+static int threads(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    worker w[2] = {{g, {0, 0, ""}, 3}, {g, {0, 0, ""}, 5}};
+    pthread_t t[2];
+    for (int i = 0; i < 2; i++)
+        CHECK(pthread_create(&t[i], NULL, work, &w[i]) == 0, "thread");
+    for (int i = 0; i < 2; i++)
+        pthread_join(t[i], NULL);
+    gpu_destroy(g);
+    CHECK(w[0].m.errors == 3 && w[1].m.errors == 5, "errors %d and %d (want 3 and 5)", w[0].m.errors, w[1].m.errors);
+    return gpu_validation_messages() != 0;
+}
+
+int main(int argc, char **argv)
+{
+    static const vg_test_case cases[] = {
+        {"version", version}, {"errors", errors}, {"maps", maps}, {"allocator", allocator}, {"threads", threads},
+    };
+    return vg_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
+}
