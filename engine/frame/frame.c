@@ -11,6 +11,7 @@
 #include "core/clock.h"
 #include "core/log.h"
 #include "disparity/gpu/disparity_gpu.h"
+#include "disparity/gpu/keyframe_gpu.h"
 #include "disparity/mid_window.h"
 #include "render/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
@@ -37,6 +38,7 @@ struct frame {
     frame_ctx fc;
     gbuffer_gpu *gbuffer;
     disparity_gpu *disparity;
+    keyframe_gpu *keyframes;     /* the atlas of the window's keyframes the disparity passes read */
     warp_gpu *warp;
     compose_gpu *compose;
     overlay_gpu *overlay;        /* stereo frames that draw a HUD (windowed, or desc.overlay) */
@@ -130,7 +132,9 @@ static vg_status build_graph(frame *f)
     if (stereo) {
         rg_res target = {0};
         if (f->disparity) {
-            disparity_gpu_add(f->disparity, g, res);
+            disparity_gpu_atlas atlas;
+            keyframe_gpu_add(f->keyframes, g, res, &atlas);
+            disparity_gpu_add(f->disparity, g, res, &atlas);
             target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
                      : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
                                                              : res->g;
@@ -290,7 +294,7 @@ static vg_status create_submission(frame *f)
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         GPU_NAME(g, VK_OBJECT_TYPE_COMMAND_BUFFER, f->cmd[i], "frame commands slot %d", i);
         VK_TRY(vkCreateFence(g->device, &(VkFenceCreateInfo){.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO},
-                             NULL, &f->fence[i]));
+                             g->alloc, &f->fence[i]));
         GPU_NAME(g, VK_OBJECT_TYPE_FENCE, f->fence[i], "frame fence slot %d", i);
         char name[32];
         snprintf(name, sizeof name, "frame ubo slot %d", i);
@@ -368,6 +372,30 @@ bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap)
     return false;
 }
 
+/* The disparity passes for the frame's settings, and the renderer of their
+ * keyframe atlas. */
+static vg_status disparity_create(frame *f)
+{
+    frame_ctx *fc = &f->fc;
+    const frame_desc *fd = &fc->desc; /* defaults resolved */
+    vg_status st = disparity_gpu_create(&(disparity_gpu_desc){
+        .gpu = fc->gpu, .width = fd->width, .height = fd->height, .fps = fd->fps,
+        .keyframe_stride = fd->keyframe_stride, .coarse_stride = fd->coarse_stride,
+        .window_seconds = fd->window_seconds, .window_future = fd->window_future, .op = fd->op,
+        .op_preset = fd->op_preset, .target_range = fd->target_range,
+        .screen_vergence = fc->display.screen_vergence, .solver = fd->solver,
+        .solver_iterations = fd->solver_iterations, .causal = fd->look_ahead == FRAME_LOOK_AHEAD_CAUSAL,
+        .temporal_depth_only = fd->temporal_depth_only, .keyframes = true,
+        .f = fd->mode == FRAME_MODE_OPTIMIZED || fd->measure || (fd->readback && !fd->maps_only),
+        .readback = fd->readback}, &f->disparity);
+    if (st != VG_OK)
+        return st;
+    disparity_gpu_info i;
+    disparity_gpu_get_info(f->disparity, &i);
+    return keyframe_gpu_create(fc, &(keyframe_gpu_desc){.disparity = f->disparity, .nx = i.nx, .ny = i.ny, .stride = i.stride,
+                                                          .max_tiles = i.max_tiles}, &f->keyframes);
+}
+
 vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **out)
 {
     *out = NULL;
@@ -396,7 +424,7 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         st = gbuffer_gpu_create(fc, &f->gbuffer);
     if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
         if (frame_needs_maps(&fc->desc))
-            st = disparity_gpu_create(fc, &f->disparity);
+            st = disparity_create(f);
         if (st == VG_OK && !fc->desc.maps_only)
             st = warp_gpu_create(fc, &f->warp);
         if (st == VG_OK && !fc->desc.maps_only)
@@ -431,6 +459,7 @@ void frame_destroy(frame *f)
     compose_gpu_destroy(f->compose);
     warp_gpu_destroy(f->warp);
     disparity_gpu_destroy(f->disparity);
+    keyframe_gpu_destroy(f->keyframes);
     gbuffer_gpu_destroy(f->gbuffer);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         gpu_buffer_destroy(g, &fc->ubo[i]);
@@ -568,7 +597,14 @@ static vg_status frame_begin(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
     fill_ubo(fc, fc->ubo[slot].mapped);
-    return f->disparity ? disparity_gpu_prepare(f->disparity) : VG_OK;
+    if (!f->disparity)
+        return VG_OK;
+    vg_status st = disparity_gpu_prepare(f->disparity, fc->times.index, slot);
+    long first;
+    int count;
+    disparity_gpu_keyframes(f->disparity, &first, &count);
+    keyframe_gpu_prepare(f->keyframes, first, count);
+    return st;
 }
 
 /* Binds this slot's imported buffers to the graph. */

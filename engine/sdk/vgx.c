@@ -10,31 +10,40 @@
 
 #include "core/log.h"
 #include "disparity/gpu/disparity_gpu.h"
-#include "disparity/gpu/operator_gpu.h"
-#include "disparity/gpu/original_gpu.h"
+#include "disparity/mid_shared.h"
+#include "disparity/mid_window.h"
 #include "graph/graph.h"
 #include "shared.h"
 #include "stereo/stereo_display.h"
 
 #define VGX_LIBRARY_VERSION VGX_MAKE_VERSION(VERGENCE_VERSION_MAJOR, VERGENCE_VERSION_MINOR, VERGENCE_VERSION_PATCH)
 
+#define VGX_INPUTS 8 /* frame depth, saliency, motion, ids; the atlas's four */
+
 struct vgx_context {
     vgx_context_desc desc;
     gpu *gpu;
     stereo_display display;
-    original_gpu original;
-    operator_gpu *op;
+    disparity_gpu *d;
+    disparity_gpu_info info;
+    uint32_t atlas_w, atlas_h;
     gpu_buffer ubo;                   /* vg_frame_ubo: rig, display, viewport (device-local, updated in the command buffer) */
-    gpu_image out[2];                 /* g, h */
-    gpu_image no_saliency;            /* bound where the operator's saliency goes when the host gives none */
-    bool initialised;                 /* the outputs were moved to their steady layouts */
+    gpu_image out[3];                 /* g, h, f */
+    gpu_image blank[2];               /* where the host gives no saliency: the frame's and the atlas's */
+    bool initialised;                 /* the context's images were moved to their steady layouts */
 
     /* The graph for the host's current input layouts. */
     rg_graph *graph;
-    VkImageLayout graph_layouts[2];   /* depth, saliency */
-    rg_res r_ubo, r_depth, r_saliency, r_state, r_out[2];
-    vgx_dispatch_desc frame;          /* this dispatch's (the passes read it) */
+    VkImageLayout layouts[VGX_INPUTS];
+    rg_res inputs[VGX_INPUTS];
+    frame_resources res;
     vg_frame_ubo constants;
+
+    /* The frame planned by vgx_begin_frame. */
+    bool planned;
+    int64_t next_index;               /* without a plan: the dispatch's frame */
+    vgx_frame_plan plan;
+    long key_first;
 };
 
 uint32_t vgx_version(void)
@@ -135,19 +144,25 @@ static vg_status check_desc(const vgx_context_desc *d)
         vg_error("vgx_context_desc.width x height is %u x %u (8 to 16384 each)", d->width, d->height);
         return VG_ERR_ARG;
     }
-    if ((unsigned)d->op > VGX_OPERATOR_LANG_SMOOTHED || (unsigned)d->preset > VGX_PRESET_STUDY) {
-        vg_error("vgx_context_desc.op (%d) or .preset (%d) is not one of the enum's values", (int)d->op,
-                 (int)d->preset);
+    if ((unsigned)d->op > VGX_OPERATOR_LANG_SMOOTHED || (unsigned)d->preset > VGX_PRESET_STUDY ||
+        (unsigned)d->look_ahead > VGX_LOOK_AHEAD_CAUSAL) {
+        vg_error("vgx_context_desc.op (%d), .preset (%d) or .look_ahead (%d) is not one of its enum's values",
+                 (int)d->op, (int)d->preset, (int)d->look_ahead);
         return VG_ERR_ARG;
     }
-    if (!(d->target_range_arcmin >= 0 && d->target_range_arcmin < 600) ||
-        !(d->frame_seconds >= 0 && d->frame_seconds < 10)) {
-        vg_error("vgx_context_desc.target_range_arcmin (%g) must be in [0, 600) and frame_seconds (%g) in [0, 10)",
-                 d->target_range_arcmin, d->frame_seconds);
+    if (!(d->target_range_arcmin >= 0 && d->target_range_arcmin < 600)) {
+        vg_error("vgx_context_desc.target_range_arcmin (%g) must be in [0, 600)", d->target_range_arcmin);
         return VG_ERR_ARG;
     }
-    if (d->flags & ~VGX_CONTEXT_SALIENCY) {
-        vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~VGX_CONTEXT_SALIENCY);
+    if (!(d->fps >= 0 && d->fps <= 1000) || d->keyframe_stride < 0 || d->keyframe_stride > 1000 ||
+        !(d->window_seconds >= 0 && d->window_seconds <= 60)) {
+        vg_error("vgx_context_desc.fps (%g, 0 to 1000), .keyframe_stride (%d, 0 to 1000) or .window_seconds "
+                 "(%g, 0 to 60) is out of range", d->fps, d->keyframe_stride, d->window_seconds);
+        return VG_ERR_ARG;
+    }
+    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE;
+    if (d->flags & ~known) {
+        vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
         return VG_ERR_ARG;
     }
     return VG_OK;
@@ -156,6 +171,7 @@ static vg_status check_desc(const vgx_context_desc *d)
 static vg_status create(vgx_context *c)
 {
     const vgx_context_desc *d = &c->desc;
+    bool optimize = d->flags & VGX_CONTEXT_OPTIMIZE;
     vg_status st = gpu_import(&(gpu_import_desc){.instance = d->instance, .physical_device = d->physical_device,
                                                  .device = d->device, .queue_family = d->queue_family,
                                                  .alloc = d->allocator}, &c->gpu);
@@ -165,30 +181,38 @@ static vg_status create(vgx_context *c)
         .diagonal_in = d->display.diagonal_in, .aspect_w = d->display.aspect_w, .aspect_h = d->display.aspect_h,
         .res_x = d->display.res_x, .res_y = d->display.res_y, .distance_m = d->display.distance_m,
         .ipd_m = d->display.ipd_m});
-    st = original_gpu_create(c->gpu, &c->original);
-    if (st == VG_OK)
-        /* The frame's statistics on the solver's grid, as the engine's frame fits them. */
-        st = operator_gpu_create(c->gpu, &(operator_gpu_desc){
-            .op = {.kind = (disp_operator_kind)d->op, .preset = (disp_operator_preset)d->preset,
-                   .screen_vergence = c->display.screen_vergence, .range = d->target_range_arcmin,
-                   .frame_seconds = d->frame_seconds > 0 ? d->frame_seconds : 1.0 / 60.0},
-            .stride = disparity_gpu_grid_stride(d->width, d->height, 0),
-            .no_saliency = !(d->flags & VGX_CONTEXT_SALIENCY)}, &c->op);
-    if (st == VG_OK)
-        st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx constants", .size = sizeof(vg_frame_ubo),
-                                                          .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                                                                   VK_BUFFER_USAGE_TRANSFER_DST_BIT}, &c->ubo);
-    static const char *const names[2] = {"vgx g", "vgx h"};
-    for (int i = 0; i < 2 && st == VG_OK; i++)
+    /* The engine's frame resolves the same defaults (frame.c). */
+    st = disparity_gpu_create(&(disparity_gpu_desc){
+        .gpu = c->gpu, .width = d->width, .height = d->height, .fps = d->fps > 0 ? d->fps : 60.0,
+        .keyframe_stride = d->keyframe_stride > 0 ? d->keyframe_stride : MID_KEYFRAME_STRIDE,
+        .coarse_stride = MID_COARSE_STRIDE,
+        .window_seconds = d->window_seconds > 0 ? d->window_seconds : MID_WINDOW_SECONDS,
+        .window_future = MID_WINDOW_FUTURE,
+        .op = d->op == VGX_OPERATOR_DEFAULT ? DISP_OPERATOR_LANG : (disp_operator_kind)d->op,
+        .op_preset = (disp_operator_preset)d->preset, .target_range = d->target_range_arcmin,
+        .screen_vergence = c->display.screen_vergence, .no_saliency = !(d->flags & VGX_CONTEXT_SALIENCY),
+        .solver = MID_SOLVER_GAUSS_NEWTON, .causal = d->look_ahead == VGX_LOOK_AHEAD_CAUSAL,
+        .keyframes = optimize, .f = optimize}, &c->d);
+    if (st != VG_OK)
+        return st;
+    disparity_gpu_get_info(c->d, &c->info);
+    c->atlas_w = c->info.nx;
+    c->atlas_h = c->info.ny * c->info.max_tiles;
+    st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx constants", .size = sizeof(vg_frame_ubo),
+                                                      .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                                               VK_BUFFER_USAGE_TRANSFER_DST_BIT}, &c->ubo);
+    static const char *const names[3] = {"vgx g", "vgx h", "vgx f"};
+    for (int i = 0; i < (optimize ? 3 : 2) && st == VG_OK; i++)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = names[i], .format = VK_FORMAT_R32_SFLOAT,
                                                         .width = d->width, .height = d->height,
                                                         .usage = VK_IMAGE_USAGE_STORAGE_BIT |
                                                                  VK_IMAGE_USAGE_SAMPLED_BIT |
                                                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT}, &c->out[i]);
-    if (st == VG_OK && !(d->flags & VGX_CONTEXT_SALIENCY))
+    for (int i = 0; i < (optimize ? 2 : 1) && st == VG_OK && !(d->flags & VGX_CONTEXT_SALIENCY); i++)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = "vgx no saliency", .format = VK_FORMAT_R8G8B8A8_UNORM,
-                                                        .width = d->width, .height = d->height,
-                                                        .usage = VK_IMAGE_USAGE_STORAGE_BIT}, &c->no_saliency);
+                                                        .width = i ? c->atlas_w : d->width,
+                                                        .height = i ? c->atlas_h : d->height,
+                                                        .usage = VK_IMAGE_USAGE_STORAGE_BIT}, &c->blank[i]);
     return st;
 }
 
@@ -228,35 +252,96 @@ void vgx_context_destroy(vgx_context *c)
     vg_log_sink was = sink_begin(&m, c->desc.message, c->desc.message_user);
     if (c->gpu) {
         rg_destroy(c->graph);
-        for (int i = 0; i < 2; i++)
+        for (int i = 0; i < 3; i++)
             gpu_image_destroy(c->gpu, &c->out[i]);
-        gpu_image_destroy(c->gpu, &c->no_saliency);
+        for (int i = 0; i < 2; i++)
+            gpu_image_destroy(c->gpu, &c->blank[i]);
         gpu_buffer_destroy(c->gpu, &c->ubo);
-        operator_gpu_destroy(c->op);
-        original_gpu_destroy(c->gpu, &c->original);
+        disparity_gpu_destroy(c->d);
         gpu_destroy(c->gpu);
     }
     vg_log_set_sink(was);
     free(c);
 }
 
-void vgx_target_range(const vgx_context *c, double *lo, double *hi)
+void vgx_get_info(const vgx_context *c, vgx_context_info *info)
 {
-    double l = NAN, h = NAN;
-    if (c)
-        operator_gpu_range(c->op, &l, &h);
-    if (lo)
-        *lo = l;
-    if (hi)
-        *hi = h;
+    if (!c || !info)
+        return;
+    bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE;
+    *info = (vgx_context_info){.range_lo_arcmin = c->info.range_lo, .range_hi_arcmin = c->info.range_hi,
+                               .grid_width = c->info.nx, .grid_height = c->info.ny, .grid_stride = c->info.stride,
+                               .window_past = c->info.past, .window_future = c->info.future,
+                               .atlas_width = optimize ? c->atlas_w : 0, .atlas_height = optimize ? c->atlas_h : 0,
+                               .atlas_tiles = optimize ? c->info.max_tiles : 0};
 }
 
 vgx_result vgx_get_output(const vgx_context *c, vgx_output which, vgx_image *out)
 {
-    if (!c || !out || (unsigned)which > VGX_OUTPUT_H)
+    if (!c || !out || (unsigned)which > VGX_OUTPUT_F || !c->out[which].image)
         return VGX_ERROR_INVALID_ARGUMENT;
     *out = (vgx_image){c->out[which].image, c->out[which].view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     return VGX_SUCCESS;
+}
+
+/* ------------------------------------------------------------------------- */
+/* The frame's plan                                                          */
+/* ------------------------------------------------------------------------- */
+
+static vg_status begin_frame(vgx_context *c, int64_t index)
+{
+    if (index < 0 || index > ((int64_t)1 << 40)) {
+        vg_error("vgx_begin_frame: frame_index %lld is out of range (0 to 2^40)", (long long)index);
+        return VG_ERR_ARG;
+    }
+    int stride = c->desc.keyframe_stride > 0 ? c->desc.keyframe_stride : MID_KEYFRAME_STRIDE;
+    double fps = c->desc.fps > 0 ? c->desc.fps : 60.0;
+    vg_status st = disparity_gpu_prepare(c->d, (long)index, (int)(index % 2));
+    if (st != VG_OK)
+        return st;
+    int count;
+    disparity_gpu_keyframes(c->d, &c->key_first, &count);
+    frame_times t = frame_times_at((long)index, fps, stride);
+    c->plan = (vgx_frame_plan){.frame_index = index, .time_s = t.t, .prev_key_time_s = t.t_prev,
+                               .next_key_time_s = t.t_next, .keyframe_count = (uint32_t)count};
+    c->planned = true;
+    c->next_index = index + 1;
+    return VG_OK;
+}
+
+vgx_result vgx_begin_frame(vgx_context *c, int64_t frame_index, vgx_frame_plan *plan)
+{
+    if (!c)
+        return VGX_ERROR_INVALID_ARGUMENT;
+    message_to m;
+    vg_log_sink was = sink_begin(&m, c->desc.message, c->desc.message_user);
+    vg_status st = begin_frame(c, frame_index);
+    vg_log_set_sink(was);
+    if (st == VG_OK && plan)
+        *plan = c->plan;
+    return result_of(st);
+}
+
+vgx_result vgx_get_keyframe(const vgx_context *c, uint32_t i, vgx_keyframe *out)
+{
+    if (!c || !out || !c->planned || i >= c->plan.keyframe_count)
+        return VGX_ERROR_INVALID_ARGUMENT;
+    int stride = c->desc.keyframe_stride > 0 ? c->desc.keyframe_stride : MID_KEYFRAME_STRIDE;
+    double fps = c->desc.fps > 0 ? c->desc.fps : 60.0, step = stride / fps;
+    long k = c->key_first + (long)i;
+    /* The times the frame at that keyframe would be rendered at, and its
+     * neighbouring keyframes (keyframe_gpu, the engine's renderer of the atlas). */
+    double t = (double)(k * stride) / fps;
+    *out = (vgx_keyframe){.index = k, .time_s = t, .prev_time_s = t - step, .next_time_s = t + step,
+                          .scissor = {{0, (int32_t)(i * c->info.ny)}, {c->info.nx, c->info.ny}}};
+    disparity_gpu_atlas_matrix(c->d, (int)i, out->atlas_from_clip);
+    return VGX_SUCCESS;
+}
+
+void vgx_restart(vgx_context *c)
+{
+    if (c)
+        disparity_gpu_restart(c->d);
 }
 
 /* ------------------------------------------------------------------------- */
@@ -277,83 +362,86 @@ static rg_usage usage_of_layout(VkImageLayout layout)
     }
 }
 
-static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
-{
-    return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
-}
-
 static void constants_execute(const rg_context *ctx, void *user)
 {
     vgx_context *c = user;
     vkCmdUpdateBuffer(rg_ctx_cmd(ctx), c->ubo.buffer, 0, sizeof c->constants, &c->constants);
 }
 
-static void original_execute(const rg_context *ctx, void *user)
+/* The inputs in a fixed order: the frame's G-buffer, then the atlas's. */
+static const char *const input_names[VGX_INPUTS] = {
+    "frame.depth", "frame.saliency", "frame.motion", "frame.ids",
+    "keyframes.depth", "keyframes.saliency", "keyframes.motion", "keyframes.ids",
+};
+static const VkFormat input_formats[4] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM,
+                                          VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT};
+
+static void inputs_of(const vgx_dispatch_desc *d, vgx_image out[VGX_INPUTS])
 {
-    vgx_context *c = user;
-    VkDescriptorImageInfo depth = image_of(ctx, c->r_depth), g = image_of(ctx, c->r_out[0]);
-    original_gpu_record(c->gpu, &c->original, rg_ctx_cmd(ctx), c->ubo.buffer, &depth, &g, c->desc.width,
-                        c->desc.height);
+    const vgx_gbuffer *gb[2] = {&d->frame, &d->keyframes};
+    for (int i = 0; i < 2; i++) {
+        out[4 * i + 0] = gb[i]->depth;
+        out[4 * i + 1] = gb[i]->saliency;
+        out[4 * i + 2] = gb[i]->motion;
+        out[4 * i + 3] = gb[i]->ids;
+    }
 }
 
-static void fit_execute(const rg_context *ctx, void *user)
+/* Which inputs the context reads: depth always, saliency with
+ * VGX_CONTEXT_SALIENCY, the rest with VGX_CONTEXT_OPTIMIZE. */
+static bool input_used(const vgx_context *c, int i)
 {
-    vgx_context *c = user;
-    VkDescriptorImageInfo g = image_of(ctx, c->r_out[0]), s = image_of(ctx, c->r_saliency);
-    operator_gpu_record_fit(c->op, rg_ctx_cmd(ctx), &g, &s, c->desc.width, c->desc.height);
+    bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE, saliency = c->desc.flags & VGX_CONTEXT_SALIENCY;
+    int kind = i % 4;
+    if (i >= 4 && !optimize)
+        return false;
+    return kind == 0 || (kind == 1 ? saliency : optimize);
 }
 
-static void map_execute(const rg_context *ctx, void *user)
-{
-    vgx_context *c = user;
-    VkDescriptorImageInfo g = image_of(ctx, c->r_out[0]), h = image_of(ctx, c->r_out[1]);
-    operator_gpu_record_map(c->op, rg_ctx_cmd(ctx), &g, &h, c->desc.width, c->desc.height);
-}
-
-static vg_status build_graph(vgx_context *c, VkImageLayout depth_layout, VkImageLayout saliency_layout)
+static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS])
 {
     rg_destroy(c->graph);
     rg_graph *g = c->graph = rg_create();
     if (!g)
         return VG_ERR_NOMEM;
-    uint32_t w = c->desc.width, h = c->desc.height;
-    rg_usage du = usage_of_layout(depth_layout), su = usage_of_layout(saliency_layout);
-    c->r_ubo = rg_import_buffer(g, &(rg_buffer_desc){"vgx.constants", sizeof(vg_frame_ubo)},
+    bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE;
+    frame_resources *res = &c->res;
+    *res = (frame_resources){0};
+    res->ubo = rg_import_buffer(g, &(rg_buffer_desc){"vgx.constants", sizeof(vg_frame_ubo)},
                                 &(rg_import_desc){RG_UNIFORM, RG_UNIFORM});
-    c->r_depth = rg_import_image(g, &(rg_image_desc){"host.depth", VK_FORMAT_R32_SFLOAT, w, h, 1},
-                                 &(rg_import_desc){du, du});
-    c->r_saliency = rg_import_image(g, &(rg_image_desc){"host.saliency", VK_FORMAT_R8G8B8A8_UNORM, w, h, 1},
-                                    &(rg_import_desc){su, su});
-    rg_import_desc rw = {RG_STORAGE_READ_WRITE, RG_STORAGE_READ_WRITE}, out = {RG_SAMPLED, RG_SAMPLED};
-    c->r_state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", operator_gpu_state_size(c->op)}, &rw);
-    c->r_out[0] = rg_import_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, w, h, 1}, &out);
-    c->r_out[1] = rg_import_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, w, h, 1}, &out);
+    for (int i = 0; i < VGX_INPUTS; i++) {
+        c->inputs[i] = (rg_res){0};
+        bool blank = i % 4 == 1 && !(c->desc.flags & VGX_CONTEXT_SALIENCY) && (i < 4 || optimize);
+        if (!input_used(c, i) && !blank)
+            continue;
+        uint32_t w = i < 4 ? c->desc.width : c->atlas_w, h = i < 4 ? c->desc.height : c->atlas_h;
+        rg_usage u = blank ? RG_STORAGE_READ : usage_of_layout(layouts[i]);
+        c->inputs[i] = rg_import_image(g, &(rg_image_desc){input_names[i], input_formats[i % 4], w, h, 1},
+                                       &(rg_import_desc){u, u});
+    }
+    res->depth = c->inputs[0], res->color = c->inputs[1], res->motion = c->inputs[2], res->ids = c->inputs[3];
+    disparity_gpu_atlas atlas = {.depth = c->inputs[4], .color = c->inputs[5], .motion = c->inputs[6],
+                                 .ids = c->inputs[7]};
+    rg_import_desc out = {RG_SAMPLED, RG_SAMPLED};
+    static const char *const names[3] = {"disparity.g", "disparity.h", "disparity.f"};
+    rg_res *maps[3] = {&res->g, &res->h, &res->f};
+    for (int i = 0; i < (optimize ? 3 : 2); i++)
+        *maps[i] = rg_import_image(g, &(rg_image_desc){names[i], VK_FORMAT_R32_SFLOAT, c->desc.width,
+                                                       c->desc.height, 1}, &out);
 
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){"vgx.constants", RG_PASS_TRANSFER, constants_execute, c, false});
-    rg_use(g, p, c->r_ubo, RG_TRANSFER_DST);
-    p = rg_pass_add(g, &(rg_pass_desc){"disparity.original", RG_PASS_COMPUTE, original_execute, c, false});
-    rg_use(g, p, c->r_ubo, RG_UNIFORM);
-    rg_use(g, p, c->r_depth, RG_STORAGE_READ);
-    rg_use(g, p, c->r_out[0], RG_STORAGE_WRITE);
-    p = rg_pass_add(g, &(rg_pass_desc){"disparity.operator.fit", RG_PASS_COMPUTE, fit_execute, c, false});
-    rg_use(g, p, c->r_out[0], RG_STORAGE_READ);
-    rg_use(g, p, c->r_saliency, RG_STORAGE_READ);
-    rg_use(g, p, c->r_state, RG_STORAGE_READ_WRITE);
-    p = rg_pass_add(g, &(rg_pass_desc){"disparity.operator", RG_PASS_COMPUTE, map_execute, c, false});
-    rg_use(g, p, c->r_out[0], RG_STORAGE_READ);
-    rg_use(g, p, c->r_state, RG_STORAGE_READ);
-    rg_use(g, p, c->r_out[1], RG_STORAGE_WRITE);
+    rg_use(g, p, res->ubo, RG_TRANSFER_DST);
+    disparity_gpu_add(c->d, g, res, optimize ? &atlas : NULL);
     vg_status st = rg_compile(g);
     if (st == VG_OK)
         st = rg_realize(g, c->gpu);
     if (st != VG_OK)
         return st;
-    rg_bind_buffer(g, c->r_ubo, c->ubo.buffer);
-    rg_bind_buffer(g, c->r_state, operator_gpu_state(c->op));
-    for (int i = 0; i < 2; i++)
-        rg_bind_image(g, c->r_out[i], c->out[i].image, c->out[i].view);
-    c->graph_layouts[0] = depth_layout;
-    c->graph_layouts[1] = saliency_layout;
+    rg_bind_buffer(g, res->ubo, c->ubo.buffer);
+    for (int i = 0; i < (optimize ? 3 : 2); i++)
+        rg_bind_image(g, *maps[i], c->out[i].image, c->out[i].view);
+    disparity_gpu_bind(c->d, g);
+    memcpy(c->layouts, layouts, sizeof c->layouts);
     return VG_OK;
 }
 
@@ -361,10 +449,10 @@ static vg_status build_graph(vgx_context *c, VkImageLayout depth_layout, VkImage
  * the layouts every later dispatch finds them in. */
 static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
 {
-    VkImageMemoryBarrier2 b[3];
+    VkImageMemoryBarrier2 b[5];
     uint32_t n = 0;
-    for (int i = 0; i < 3; i++) {
-        const gpu_image *img = i < 2 ? &c->out[i] : &c->no_saliency;
+    for (int i = 0; i < 5; i++) {
+        const gpu_image *img = i < 3 ? &c->out[i] : &c->blank[i - 3];
         if (!img->image)
             continue;
         b[n++] = (VkImageMemoryBarrier2){
@@ -373,7 +461,7 @@ static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
             .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
             .dstAccessMask = VK_ACCESS_2_SHADER_READ_BIT,
             .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .newLayout = i < 2 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL,
+            .newLayout = i < 3 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL,
             .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
             .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
             .image = img->image,
@@ -384,15 +472,16 @@ static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
                                                    .imageMemoryBarrierCount = n, .pImageMemoryBarriers = b});
 }
 
-static vg_status check_image(const char *name, const vgx_image *img)
+static vg_status check_image(const char *gbuffer, const char *name, const vgx_image *img)
 {
     if (!img->image || !img->view) {
-        vg_error("vgx_dispatch_desc.%s: image or view is null", name);
+        vg_error("vgx_dispatch_desc.%s.%s: image or view is null", gbuffer, name);
         return VG_ERR_ARG;
     }
     if (usage_of_layout(img->layout) == RG_USAGE_NONE) {
-        vg_error("vgx_dispatch_desc.%s.layout is %d; give GENERAL, SHADER_READ_ONLY_OPTIMAL, "
-                 "COLOR_ATTACHMENT_OPTIMAL, TRANSFER_SRC_OPTIMAL or TRANSFER_DST_OPTIMAL", name, (int)img->layout);
+        vg_error("vgx_dispatch_desc.%s.%s.layout is %d; give GENERAL, SHADER_READ_ONLY_OPTIMAL, "
+                 "COLOR_ATTACHMENT_OPTIMAL, TRANSFER_SRC_OPTIMAL or TRANSFER_DST_OPTIMAL", gbuffer, name,
+                 (int)img->layout);
         return VG_ERR_ARG;
     }
     return VG_OK;
@@ -420,29 +509,45 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
         vg_error("vgx_dispatch_desc.command_buffer is null");
         return VG_ERR_ARG;
     }
-    bool saliency = c->desc.flags & VGX_CONTEXT_SALIENCY;
-    vg_status st = check_image("depth", &d->depth);
-    if (st == VG_OK && saliency)
-        st = check_image("saliency", &d->saliency);
-    if (st != VG_OK)
-        return st;
+    vgx_image in[VGX_INPUTS];
+    inputs_of(d, in);
+    VkImageLayout layouts[VGX_INPUTS] = {0};
+    for (int i = 0; i < VGX_INPUTS; i++) {
+        if (!input_used(c, i))
+            continue;
+        vg_status st = check_image(i < 4 ? "frame" : "keyframes", strchr(input_names[i], '.') + 1, &in[i]);
+        if (st != VG_OK)
+            return st;
+        layouts[i] = in[i].layout;
+    }
     if (!(d->rig.hfov_deg > 0 && d->rig.hfov_deg < 180) || !(d->rig.interaxial_m >= 0 && d->rig.interaxial_m < 1e3) ||
         !(d->rig.convergence_m >= 0 && d->rig.convergence_m < 1e6)) {
         vg_error("vgx_dispatch_desc.rig: hfov_deg (%g) must be in (0, 180), interaxial_m (%g) and convergence_m (%g) "
                  "not negative", d->rig.hfov_deg, d->rig.interaxial_m, d->rig.convergence_m);
         return VG_ERR_ARG;
     }
-    VkImageLayout sl = saliency ? d->saliency.layout : VK_IMAGE_LAYOUT_GENERAL;
-    if (!c->graph || c->graph_layouts[0] != d->depth.layout || c->graph_layouts[1] != sl) {
-        st = build_graph(c, d->depth.layout, sl);
+    bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE;
+    if (!c->planned) {
+        if (optimize) {
+            vg_error("vgx_dispatch: call vgx_begin_frame first (a context with VGX_CONTEXT_OPTIMIZE plans each "
+                     "frame's keyframes)");
+            return VG_ERR_ARG;
+        }
+        vg_status st = begin_frame(c, c->next_index);
         if (st != VG_OK)
             return st;
     }
-    rg_bind_image(c->graph, c->r_depth, d->depth.image, d->depth.view);
-    if (saliency)
-        rg_bind_image(c->graph, c->r_saliency, d->saliency.image, d->saliency.view);
-    else
-        rg_bind_image(c->graph, c->r_saliency, c->no_saliency.image, c->no_saliency.view);
+    if (!c->graph || memcmp(c->layouts, layouts, sizeof layouts) != 0) {
+        vg_status st = build_graph(c, layouts);
+        if (st != VG_OK)
+            return st;
+    }
+    for (int i = 0; i < VGX_INPUTS; i++) {
+        if (input_used(c, i))
+            rg_bind_image(c->graph, c->inputs[i], in[i].image, in[i].view);
+        else if (c->inputs[i].id)
+            rg_bind_image(c->graph, c->inputs[i], c->blank[i / 4].image, c->blank[i / 4].view);
+    }
     fill_constants(c, &d->rig);
 
     VkCommandBuffer cmd = d->command_buffer;
@@ -460,6 +565,7 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
                                                    .memoryBarrierCount = 1, .pMemoryBarriers = &host});
     for (uint32_t o = 0; o < rg_order_count(c->graph); o++)
         rg_execute_pass(c->graph, cmd, o);
+    c->planned = false;
     return VG_OK;
 }
 

@@ -1,14 +1,19 @@
 // vergence_host — a small Vulkan renderer of its own that adds vergence's
-// comfortable stereo through the installed SDK only (docs/sdk.md).
+// comfortable stereo with motion in depth kept, through the installed SDK
+// only (docs/sdk.md).
 //
-// It loads a glTF scene with tinygltf, evaluates its node animations at a
-// time, draws its own G-buffer (linear depth and saliency) with dynamic
-// rendering, then records vgx_dispatch into the same command buffer and
-// copies the maps back: writes depth.pfm, g.pfm and h.pfm (arcmin) to --out.
+// It loads a glTF scene with tinygltf, evaluates its node animations at any
+// time, and each frame draws its own G-buffer (linear depth, saliency,
+// motion, object ids) for the keyframes vergence asks for (its scene
+// seconds ahead, into tiles of the atlas) and for the frame, then records
+// vgx_dispatch into the same command buffer and copies g, h and f back.
 // Rigid meshes only (no skins or morph targets): it is an example.
 //
-//   vergence_host --scene FILE --out DIR [--size WxH] [--time T] [--validate]
-//                 [--interaxial M] [--convergence M] [--operator none|linear|lang|lang-smoothed]
+//   vergence_host --scene FILE --out DIR [--size WxH] [--time T] [--frames N] [--fps HZ]
+//                 [--interaxial M] [--convergence M] [--causal] [--validate]
+//
+// --causal renders the keyframes as a host that cannot see its future would:
+// extrapolated from the last two frames (VGX_LOOK_AHEAD_CAUSAL).
 //
 // Exit codes: 0 done, 1 bad arguments or scene, 2 Vulkan or SDK failure,
 // 3 validation messages (with --validate).
@@ -150,17 +155,31 @@ void animate(const tinygltf::Model &m, double t, std::vector<Node> &nodes)
             while (k + 1 < count && read_floats(m, sm.input, k + 1, 1, &t1) && t1 <= t)
                 k++;
             read_floats(m, sm.input, k, 1, &t0);
-            // A cubic spline's value is the middle element of each triple.
-            auto value = [&](size_t i, double *v) { return read_floats(m, sm.output, cubic ? 3 * i + 1 : i, n, v); };
-            if (!value(k, a))
+            // A cubic spline stores (in-tangent, value, out-tangent) per key.
+            auto element = [&](size_t key, int which, double *v) {
+                return read_floats(m, sm.output, cubic ? 3 * key + which : key, n, v);
+            };
+            if (!element(k, 1, a))
                 continue;
             if (k + 1 >= count || t <= t0 || sm.interpolation == "STEP" || !read_floats(m, sm.input, k + 1, 1, &t1) ||
-                !value(k + 1, b)) {
+                !element(k + 1, 1, b) || !(t1 > t0)) {
                 std::memcpy(dst, a, sizeof(double) * n);
                 continue;
             }
             double u = (t - t0) / (t1 - t0);
-            if (n == 4)
+            if (cubic) { // glTF 2.0 Appendix C: a Hermite spline, tangents scaled by the key interval
+                double out0[4], in1[4], dt = t1 - t0, u2 = u * u, u3 = u2 * u, len = 0;
+                element(k, 2, out0);
+                element(k + 1, 0, in1);
+                for (int c = 0; c < n; c++) {
+                    dst[c] = (2 * u3 - 3 * u2 + 1) * a[c] + (u3 - 2 * u2 + u) * dt * out0[c] +
+                             (-2 * u3 + 3 * u2) * b[c] + (u3 - u2) * dt * in1[c];
+                    len += dst[c] * dst[c];
+                }
+                if (n == 4)
+                    for (int c = 0; c < 4; c++)
+                        dst[c] /= std::sqrt(len);
+            } else if (n == 4)
                 slerp(a, b, u, dst);
             else
                 for (int c = 0; c < n; c++)
@@ -171,19 +190,29 @@ void animate(const tinygltf::Model &m, double t, std::vector<Node> &nodes)
 struct Draw {
     uint32_t first_index, index_count;
     float saliency;
+    uint32_t id; // 1-based, one per node and primitive: the same surface has the same id at any time
 };
 
+// The scene's draws (fixed) and, at a time, its world-space vertices and camera.
 struct Scene {
-    std::vector<float> positions;   // world space at t, xyz
+    tinygltf::Model model;
+    std::vector<Node> rest;          // the nodes as authored (before animation)
     std::vector<uint32_t> indices;
     std::vector<Draw> draws;
-    Mat4 camera_world = identity();
-    bool has_camera = false;
+    size_t vertex_count = 0;
     double yfov = 0, znear = 0, zfar = 0;
 };
 
+struct Pose {
+    std::vector<float> positions;    // xyz per vertex, world space
+    Mat4 camera_world = identity();
+    bool has_camera = false;
+};
+
+// Walks the node tree: world positions and the first perspective camera into
+// pose; with scene non-null (the first walk), the draws too.
 void visit(const tinygltf::Model &m, const std::vector<Node> &nodes, int index, const Mat4 &parent, float saliency,
-           Scene &out, int depth)
+           Pose &pose, Scene *scene, int depth)
 {
     if (index < 0 || index >= (int)nodes.size() || depth > 64)
         return;
@@ -192,64 +221,108 @@ void visit(const tinygltf::Model &m, const std::vector<Node> &nodes, int index, 
     Mat4 world = mul(parent, n.has_matrix ? n.matrix : trs(n.t, n.r, n.s));
     if (gn.extras.IsObject() && gn.extras.Has("saliency") && gn.extras.Get("saliency").IsNumber())
         saliency = (float)std::fmin(1.0, std::fmax(0.0, gn.extras.Get("saliency").GetNumberAsDouble()));
-    if (gn.camera >= 0 && !out.has_camera && m.cameras[gn.camera].type == "perspective") {
-        const tinygltf::PerspectiveCamera &p = m.cameras[gn.camera].perspective;
-        out.has_camera = true;
-        out.camera_world = world;
-        out.yfov = p.yfov, out.znear = p.znear, out.zfar = p.zfar;
+    if (gn.camera >= 0 && gn.camera < (int)m.cameras.size() && !pose.has_camera &&
+        m.cameras[gn.camera].type == "perspective") {
+        pose.has_camera = true;
+        pose.camera_world = world;
+        if (scene) {
+            const tinygltf::PerspectiveCamera &p = m.cameras[gn.camera].perspective;
+            scene->yfov = p.yfov, scene->znear = p.znear, scene->zfar = p.zfar;
+        }
     }
     if (gn.mesh >= 0 && gn.mesh < (int)m.meshes.size())
         for (const tinygltf::Primitive &pr : m.meshes[gn.mesh].primitives) {
             auto pos = pr.attributes.find("POSITION");
             if (pos == pr.attributes.end() || pr.mode != TINYGLTF_MODE_TRIANGLES)
                 continue;
-            uint32_t base = (uint32_t)(out.positions.size() / 3);
+            uint32_t base = (uint32_t)(pose.positions.size() / 3);
             size_t vcount = m.accessors[pos->second].count;
             for (size_t i = 0; i < vcount; i++) {
-                double p[3];
-                if (!read_floats(m, pos->second, i, 3, p))
-                    return;
+                double p[3] = {0, 0, 0};
+                read_floats(m, pos->second, i, 3, p);
                 for (int r = 0; r < 3; r++)
-                    out.positions.push_back(float(world.m[r] * p[0] + world.m[4 + r] * p[1] + world.m[8 + r] * p[2] +
-                                                  world.m[12 + r]));
+                    pose.positions.push_back(float(world.m[r] * p[0] + world.m[4 + r] * p[1] + world.m[8 + r] * p[2] +
+                                                   world.m[12 + r]));
             }
-            Draw d{(uint32_t)out.indices.size(), 0, saliency};
-            if (pr.indices < 0) {
+            if (!scene)
+                continue;
+            Draw d{(uint32_t)scene->indices.size(), 0, saliency, (uint32_t)scene->draws.size() + 1};
+            if (pr.indices < 0 || pr.indices >= (int)m.accessors.size()) {
                 for (uint32_t i = 0; i < vcount; i++)
-                    out.indices.push_back(base + i);
+                    scene->indices.push_back(base + i);
             } else {
                 const tinygltf::Accessor &a = m.accessors[pr.indices];
+                size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                              : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2 : 4;
+                if (a.bufferView < 0 || a.bufferView >= (int)m.bufferViews.size())
+                    continue;
                 const tinygltf::BufferView &v = m.bufferViews[a.bufferView];
-                const unsigned char *src = m.buffers[v.buffer].data.data() + v.byteOffset + a.byteOffset;
+                const std::vector<unsigned char> &data = m.buffers[v.buffer].data;
+                size_t at = v.byteOffset + a.byteOffset;
+                if (at + a.count * size > data.size())
+                    continue;
                 for (size_t i = 0; i < a.count; i++) {
-                    uint32_t x = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? src[i]
-                                 : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? ((const uint16_t *)src)[i]
-                                                                                            : ((const uint32_t *)src)[i];
-                    out.indices.push_back(base + (x < vcount ? x : 0));
+                    uint32_t x = 0;
+                    std::memcpy(&x, &data[at + i * size], size); // little-endian, as glTF
+                    scene->indices.push_back(base + (x < vcount ? x : 0));
                 }
             }
-            d.index_count = (uint32_t)out.indices.size() - d.first_index;
-            out.draws.push_back(d);
+            d.index_count = (uint32_t)scene->indices.size() - d.first_index;
+            scene->draws.push_back(d);
         }
     for (int child : gn.children)
-        visit(m, nodes, child, world, saliency, out, depth + 1);
+        visit(m, nodes, child, world, saliency, pose, scene, depth + 1);
 }
 
-bool load_scene(const std::string &path, double t, Scene &out)
+void pose_at(const Scene &s, double t, Pose &out, Scene *build = nullptr)
 {
-    tinygltf::Model m;
+    std::vector<Node> nodes = s.rest;
+    animate(s.model, t, nodes);
+    out = Pose{};
+    int sc = s.model.defaultScene >= 0 ? s.model.defaultScene : 0;
+    if (sc < (int)s.model.scenes.size())
+        for (int root : s.model.scenes[sc].nodes)
+            visit(s.model, nodes, root, identity(), 0.0f, out, build, 0);
+}
+
+// What a renderer that cannot see its future knows of time t, at the frame
+// of time now: the scene itself up to now, after it a prediction from the
+// last frame and the one a step before (every vertex and the camera's
+// origin at their last velocity, the camera's rotation held), as the
+// engine's `--look-ahead causal` predicts (scene_evaluate_known).
+void pose_known(const Scene &s, double t, double now, double step, Pose &out)
+{
+    if (t <= now) {
+        pose_at(s, t, out);
+        return;
+    }
+    Pose a, b;
+    pose_at(s, now, a);
+    pose_at(s, now - step, b);
+    double u = (t - now) / step;
+    out = a;
+    for (size_t i = 0; i < out.positions.size(); i++)
+        out.positions[i] = (float)(a.positions[i] + u * (a.positions[i] - b.positions[i]));
+    for (int k = 12; k < 15; k++)
+        out.camera_world.m[k] = (float)(a.camera_world.m[k] + u * (a.camera_world.m[k] - b.camera_world.m[k]));
+}
+
+bool load_scene(const std::string &path, Scene &out)
+{
     tinygltf::TinyGLTF loader;
     std::string err, warn;
     bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-    bool ok = binary ? loader.LoadBinaryFromFile(&m, &err, &warn, path) : loader.LoadASCIIFromFile(&m, &err, &warn, path);
+    bool ok = binary ? loader.LoadBinaryFromFile(&out.model, &err, &warn, path)
+                     : loader.LoadASCIIFromFile(&out.model, &err, &warn, path);
     if (!ok) {
         std::fprintf(stderr, "vergence_host: error: %s: %s\n", path.c_str(), err.c_str());
         return false;
     }
-    std::vector<Node> nodes(m.nodes.size());
+    const tinygltf::Model &m = out.model;
+    out.rest.resize(m.nodes.size());
     for (size_t i = 0; i < m.nodes.size(); i++) {
         const tinygltf::Node &gn = m.nodes[i];
-        Node &n = nodes[i];
+        Node &n = out.rest[i];
         if (gn.matrix.size() == 16) {
             n.has_matrix = true;
             for (int k = 0; k < 16; k++)
@@ -259,12 +332,10 @@ bool load_scene(const std::string &path, double t, Scene &out)
         for (size_t k = 0; k < gn.rotation.size() && k < 4; k++) n.r[k] = gn.rotation[k];
         for (size_t k = 0; k < gn.scale.size() && k < 3; k++) n.s[k] = gn.scale[k];
     }
-    animate(m, t, nodes);
-    int sc = m.defaultScene >= 0 ? m.defaultScene : 0;
-    if (sc < (int)m.scenes.size())
-        for (int root : m.scenes[sc].nodes)
-            visit(m, nodes, root, identity(), 0.0f, out, 0);
-    if (!out.has_camera || !(out.zfar > out.znear) || !(out.znear > 0)) {
+    Pose first;
+    pose_at(out, 0.0, first, &out);
+    out.vertex_count = first.positions.size() / 3;
+    if (!first.has_camera || !(out.zfar > out.znear) || !(out.znear > 0)) {
         std::fprintf(stderr, "vergence_host: error: %s: needs a perspective camera node with znear and zfar\n",
                      path.c_str());
         return false;
@@ -278,9 +349,9 @@ bool load_scene(const std::string &path, double t, Scene &out)
 
 // The camera node's view (its world matrix without scale, inverted) and a
 // Vulkan projection: y down, depth 0..1 from near to far.
-void camera_matrices(const Scene &s, float aspect, Mat4 &view, Mat4 &proj)
+void camera_matrices(const Scene &s, const Pose &pose, float aspect, Mat4 &view, Mat4 &proj)
 {
-    const float *w = s.camera_world.m;
+    const float *w = pose.camera_world.m;
     float ax[3][3];
     for (int c = 0; c < 3; c++) {
         float len = std::sqrt(w[c * 4] * w[c * 4] + w[c * 4 + 1] * w[c * 4 + 1] + w[c * 4 + 2] * w[c * 4 + 2]);
@@ -534,31 +605,75 @@ VkShaderModule shader(const Vk &vk, const uint32_t *code, size_t size)
     return m;
 }
 
+// Per render (the frame, or one keyframe tile): the camera of its time and
+// of the two times its motion goes to, and the viewport motion is measured in.
+struct View {
+    float vp[16], vp_prev[16], vp_next[16];
+    float view_z[4];   // row 2 of the view matrix: view-space z
+    float viewport[4]; // width, height of the render target's viewport
+};
+const VkDeviceSize VIEW_STRIDE = 256; // minUniformBufferOffsetAlignment is at most 256
+
 struct Push {
-    float view_proj[16];
-    float view_z[4]; // row 2 of the view matrix
     float saliency;
+    uint32_t id;
 };
 
-// The G-buffer: linear depth (R32F) and saliency (RGBA8, alpha), depth-tested.
-void create_pipeline(const Vk &vk, VkPipelineLayout *layout, VkPipeline *pipe)
+// The G-buffer formats, in the fragment shader's output order.
+const VkFormat GBUFFER_FORMATS[4] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                     VK_FORMAT_R32_UINT};
+
+struct Pipeline {
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipe;
+    VkDescriptorPool pool;
+    VkDescriptorSet set;
+};
+
+// The G-buffer: linear depth, saliency (alpha), motion to two other times
+// and the object id; depth-tested, three position streams (t, prev, next).
+Pipeline create_pipeline(const Vk &vk, VkBuffer views)
 {
-    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
+    Pipeline p;
+    VkDescriptorSetLayoutBinding bind{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1,
+                                      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    sl.bindingCount = 1, sl.pBindings = &bind;
+    CHECK(vkCreateDescriptorSetLayout(vk.device, &sl, nullptr, &p.set_layout));
+    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
     VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.pushConstantRangeCount = 1;
-    li.pPushConstantRanges = &range;
-    CHECK(vkCreatePipelineLayout(vk.device, &li, nullptr, layout));
+    li.setLayoutCount = 1, li.pSetLayouts = &p.set_layout;
+    li.pushConstantRangeCount = 1, li.pPushConstantRanges = &range;
+    CHECK(vkCreatePipelineLayout(vk.device, &li, nullptr, &p.layout));
+    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1};
+    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pi.maxSets = 1, pi.poolSizeCount = 1, pi.pPoolSizes = &ps;
+    CHECK(vkCreateDescriptorPool(vk.device, &pi, nullptr, &p.pool));
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = p.pool, ai.descriptorSetCount = 1, ai.pSetLayouts = &p.set_layout;
+    CHECK(vkAllocateDescriptorSets(vk.device, &ai, &p.set));
+    VkDescriptorBufferInfo bi{views, 0, sizeof(View)};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = p.set, w.descriptorCount = 1, w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(vk.device, 1, &w, 0, nullptr);
+
     VkShaderModule vs = shader(vk, host_gbuffer_vert, sizeof host_gbuffer_vert);
     VkShaderModule fs = shader(vk, host_gbuffer_frag, sizeof host_gbuffer_frag);
     VkPipelineShaderStageCreateInfo st[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                              {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
     st[0].stage = VK_SHADER_STAGE_VERTEX_BIT, st[0].module = vs, st[0].pName = "main";
     st[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT, st[1].module = fs, st[1].pName = "main";
-    VkVertexInputBindingDescription vb{0, 12, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription va{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    VkVertexInputBindingDescription vb[3];
+    VkVertexInputAttributeDescription va[3];
+    for (uint32_t i = 0; i < 3; i++) {
+        vb[i] = {i, 12, VK_VERTEX_INPUT_RATE_VERTEX};
+        va[i] = {i, i, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    }
     VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vin.vertexBindingDescriptionCount = 1, vin.pVertexBindingDescriptions = &vb;
-    vin.vertexAttributeDescriptionCount = 1, vin.pVertexAttributeDescriptions = &va;
+    vin.vertexBindingDescriptionCount = 3, vin.pVertexBindingDescriptions = vb;
+    vin.vertexAttributeDescriptionCount = 3, vin.pVertexAttributeDescriptions = va;
     VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
@@ -571,26 +686,174 @@ void create_pipeline(const Vk &vk, VkPipelineLayout *layout, VkPipeline *pipe)
     VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
     ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState cb[2] = {};
-    cb[0].colorWriteMask = cb[1].colorWriteMask = 0xf;
+    VkPipelineColorBlendAttachmentState cb[4] = {};
+    for (VkPipelineColorBlendAttachmentState &c : cb)
+        c.colorWriteMask = 0xf;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 2, blend.pAttachments = cb;
+    blend.attachmentCount = 4, blend.pAttachments = cb;
     VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
     dy.dynamicStateCount = 2, dy.pDynamicStates = dyn;
-    VkFormat colors[2] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM};
     VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    ri.colorAttachmentCount = 2, ri.pColorAttachmentFormats = colors;
+    ri.colorAttachmentCount = 4, ri.pColorAttachmentFormats = GBUFFER_FORMATS;
     ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
     VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
     gi.pNext = &ri;
     gi.stageCount = 2, gi.pStages = st;
     gi.pVertexInputState = &vin, gi.pInputAssemblyState = &ia, gi.pViewportState = &vp;
     gi.pRasterizationState = &rs, gi.pMultisampleState = &ms, gi.pDepthStencilState = &ds;
-    gi.pColorBlendState = &blend, gi.pDynamicState = &dy, gi.layout = *layout;
-    CHECK(vkCreateGraphicsPipelines(vk.device, VK_NULL_HANDLE, 1, &gi, nullptr, pipe));
+    gi.pColorBlendState = &blend, gi.pDynamicState = &dy, gi.layout = p.layout;
+    CHECK(vkCreateGraphicsPipelines(vk.device, VK_NULL_HANDLE, 1, &gi, nullptr, &p.pipe));
     vkDestroyShaderModule(vk.device, vs, nullptr);
     vkDestroyShaderModule(vk.device, fs, nullptr);
+    return p;
+}
+
+void destroy_pipeline(const Vk &vk, Pipeline &p)
+{
+    vkDestroyPipeline(vk.device, p.pipe, nullptr);
+    vkDestroyPipelineLayout(vk.device, p.layout, nullptr);
+    vkDestroyDescriptorPool(vk.device, p.pool, nullptr);
+    vkDestroyDescriptorSetLayout(vk.device, p.set_layout, nullptr);
+}
+
+// A G-buffer of this renderer: the four images vergence reads and a z-buffer.
+struct GBuffer {
+    Image images[4];
+    Image zbuffer;
+    uint32_t width = 0, height = 0;
+};
+
+GBuffer make_gbuffer(const Vk &vk, uint32_t w, uint32_t h)
+{
+    GBuffer g;
+    g.width = w, g.height = h;
+    for (int i = 0; i < 4; i++)
+        g.images[i] = make_image(vk, GBUFFER_FORMATS[i], w, h,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                     VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    g.zbuffer = make_image(vk, VK_FORMAT_D32_SFLOAT, w, h, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                           VK_IMAGE_ASPECT_DEPTH_BIT);
+    return g;
+}
+
+void free_gbuffer(const Vk &vk, GBuffer &g)
+{
+    for (Image &im : g.images)
+        free_image(vk, im);
+    free_image(vk, g.zbuffer);
+}
+
+vgx_gbuffer as_vgx(const GBuffer &g)
+{
+    vgx_gbuffer v = {};
+    vgx_image *dst[4] = {&v.depth, &v.saliency, &v.motion, &v.ids};
+    for (int i = 0; i < 4; i++)
+        *dst[i] = {g.images[i].image, g.images[i].view, VK_IMAGE_LAYOUT_GENERAL};
+    return v;
+}
+
+// One render of the scene into the G-buffer (the frame, or one keyframe
+// tile of the atlas): its streams at three times and its View slot.
+struct Render {
+    uint32_t slot;                  // index into the views and the vertex streams
+    VkRect2D scissor;
+};
+
+// Renders into g: clears it (depth at the far plane, the rest 0), draws each
+// render in its scissor, and leaves the four images in GENERAL with their
+// writes available to compute shaders (what vgx_dispatch is told).
+void render_gbuffer(VkCommandBuffer cmd, const GBuffer &g, const Pipeline &p, const Scene &scene, VkBuffer vbuf,
+                    VkBuffer ibuf, const std::vector<Render> &renders)
+{
+    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkPipelineStageFlags2 TESTS =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    for (const Image &im : g.images) // the last frame's contents are not needed: vergence has read them
+        barrier(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, OUT,
+                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    barrier(cmd, g.zbuffer.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, TESTS, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, TESTS,
+            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    VkRenderingAttachmentInfo color[4];
+    for (int i = 0; i < 4; i++) {
+        color[i] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        color[i].imageView = g.images[i].view;
+        color[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        color[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        color[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    }
+    color[0].clearValue.color = {{(float)scene.zfar, 0, 0, 0}}; // the background at the far plane
+    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    dat.imageView = g.zbuffer.view;
+    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    dat.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {g.width, g.height}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = 4;
+    ri.pColorAttachments = color;
+    ri.pDepthAttachment = &dat;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
+    VkViewport viewport{0, 0, (float)g.width, (float)g.height, 0, 1};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdBindIndexBuffer(cmd, ibuf, 0, VK_INDEX_TYPE_UINT32);
+    VkDeviceSize stream = (VkDeviceSize)scene.vertex_count * 12;
+    for (const Render &r : renders) {
+        vkCmdSetScissor(cmd, 0, 1, &r.scissor);
+        uint32_t offset = (uint32_t)(r.slot * VIEW_STRIDE);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.layout, 0, 1, &p.set, 1, &offset);
+        VkBuffer bufs[3] = {vbuf, vbuf, vbuf};
+        VkDeviceSize offs[3] = {(3 * r.slot + 0) * stream, (3 * r.slot + 1) * stream, (3 * r.slot + 2) * stream};
+        vkCmdBindVertexBuffers(cmd, 0, 3, bufs, offs);
+        for (const Draw &d : scene.draws) {
+            Push push{d.saliency, d.id};
+            vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
+            vkCmdDrawIndexed(cmd, d.index_count, 1, d.first_index, 0, 0);
+        }
+    }
+    vkCmdEndRendering(cmd);
+    for (const Image &im : g.images)
+        barrier(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                VK_IMAGE_LAYOUT_GENERAL, OUT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
+// Fills slot `slot` of the views and the streams: the scene at t (and its
+// camera), its motion to t_prev and t_next, all through `atlas` (identity
+// for the frame) with a viewport of vw x vh.
+void set_render(const Scene &scene, uint32_t W, uint32_t H, uint32_t slot, double t, double t_prev, double t_next,
+                const float *atlas, float vw, float vh, Buffer &views, Buffer &vbuf, double known_until = INFINITY,
+                double step = 0)
+{
+    double times[3] = {t, t_prev, t_next};
+    View v{};
+    float *dst[3] = {v.vp, v.vp_prev, v.vp_next};
+    Mat4 a = identity();
+    if (atlas)
+        std::memcpy(a.m, atlas, 64);
+    VkDeviceSize stream = (VkDeviceSize)scene.vertex_count * 3;
+    for (int k = 0; k < 3; k++) {
+        Pose pose;
+        if (std::isinf(known_until))
+            pose_at(scene, times[k], pose);
+        else
+            pose_known(scene, times[k], known_until, step, pose);
+        Mat4 view, proj;
+        camera_matrices(scene, pose, (float)W / (float)H, view, proj);
+        Mat4 vp = mul(a, mul(proj, view));
+        std::memcpy(dst[k], vp.m, 64);
+        if (k == 0)
+            for (int c = 0; c < 4; c++)
+                v.view_z[c] = view.m[c * 4 + 2];
+        std::memcpy((float *)vbuf.mapped + (3 * slot + k) * stream, pose.positions.data(), stream * 4);
+    }
+    v.viewport[0] = vw, v.viewport[1] = vh;
+    std::memcpy((char *)views.mapped + slot * VIEW_STRIDE, &v, sizeof v);
 }
 
 // PFM, one channel, little-endian, rows bottom to top (the format's order).
@@ -612,26 +875,31 @@ int usage(const char *why)
 {
     std::fprintf(stderr,
                  "vergence_host: error: %s\n"
-                 "usage: vergence_host --scene FILE --out DIR [--size WxH] [--time T] [--validate]\n"
-                 "                     [--interaxial M] [--convergence M] [--operator none|linear|lang|lang-smoothed]\n",
+                 "usage: vergence_host --scene FILE --out DIR [--size WxH] [--time T] [--frames N] [--fps HZ]\n"
+                 "                     [--interaxial M] [--convergence M] [--causal] [--validate]\n",
                  why);
     return 1;
 }
 
 } // namespace
 
+// Renders frames round(T fps) .. + N - 1 of the scene and writes, for frame
+// i of them, frame_NNNN_h.pfm and _f.pfm, and for the last one also its depth and g
+// (the names `vergence capture` uses).
 int main(int argc, char **argv)
 {
     std::string scene_path, out_dir;
     uint32_t W = 960, H = 540;
-    double t = 0, interaxial = 0.25, convergence = 6.0;
-    bool validate = false;
-    vgx_operator op = VGX_OPERATOR_DEFAULT;
+    double t0 = 0, fps = 60, interaxial = 0.25, convergence = 6.0;
+    int frames = 1;
+    bool validate = false, causal = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         bool has = i + 1 < argc;
         if (a == "--validate")
             validate = true;
+        else if (a == "--causal")
+            causal = true;
         else if (a == "--scene" && has)
             scene_path = argv[++i];
         else if (a == "--out" && has)
@@ -640,22 +908,22 @@ int main(int argc, char **argv)
             if (std::sscanf(argv[++i], "%ux%u", &W, &H) != 2 || W < 8 || H < 8 || W > 8192 || H > 8192)
                 return usage("--size: give WxH, 8 to 8192 each");
         } else if (a == "--time" && has)
-            t = std::atof(argv[++i]);
+            t0 = std::atof(argv[++i]);
+        else if (a == "--frames" && has)
+            frames = std::atoi(argv[++i]);
+        else if (a == "--fps" && has)
+            fps = std::atof(argv[++i]);
         else if (a == "--interaxial" && has)
             interaxial = std::atof(argv[++i]);
         else if (a == "--convergence" && has)
             convergence = std::atof(argv[++i]);
-        else if (a == "--operator" && has) {
-            std::string n = argv[++i];
-            op = n == "none" ? VGX_OPERATOR_NONE : n == "linear" ? VGX_OPERATOR_LINEAR : n == "lang" ? VGX_OPERATOR_LANG
-                 : n == "lang-smoothed" ? VGX_OPERATOR_LANG_SMOOTHED : (vgx_operator)-1;
-            if (op == (vgx_operator)-1)
-                return usage("--operator: none, linear, lang or lang-smoothed");
-        } else
+        else
             return usage(("unknown or incomplete option " + a).c_str());
     }
     if (scene_path.empty() || out_dir.empty())
         return usage("--scene and --out are required");
+    if (frames < 1 || frames > 100000 || !(fps > 0 && fps <= 1000) || !(t0 >= 0))
+        return usage("--frames 1 to 100000, --fps in (0, 1000], --time >= 0");
     if (mkdir(out_dir.c_str(), 0777) != 0 && errno != EEXIST)
         return usage(("--out " + out_dir + ": cannot create the folder").c_str());
     if (VGX_VERSION_MAJOR(vgx_version()) != VGX_VERSION_MAJOR(VGX_HEADER_VERSION)) {
@@ -664,7 +932,7 @@ int main(int argc, char **argv)
         return 2;
     }
     Scene scene;
-    if (!load_scene(scene_path, t, scene))
+    if (!load_scene(scene_path, scene))
         return 1;
 
     Vk vk;
@@ -679,8 +947,9 @@ int main(int argc, char **argv)
     cd.queue_family = vk.family;
     cd.width = W;
     cd.height = H;
-    cd.op = op;
-    cd.flags = VGX_CONTEXT_SALIENCY;
+    cd.fps = fps;
+    cd.look_ahead = causal ? VGX_LOOK_AHEAD_CAUSAL : VGX_LOOK_AHEAD_PREDICTED;
+    cd.flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE;
     cd.message = on_vgx_message;
     vgx_context *ctx = nullptr;
     vgx_result vr = vgx_context_create(&cd, &ctx);
@@ -688,28 +957,26 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "vergence_host: error: vgx_context_create: %s\n", vgx_result_name(vr));
         return 2;
     }
+    vgx_context_info info;
+    vgx_get_info(ctx, &info);
+    uint32_t AW = info.atlas_width, AH = info.atlas_height;
 
-    // This renderer's own resources.
-    Image depth = make_image(vk, VK_FORMAT_D32_SFLOAT, W, H, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                             VK_IMAGE_ASPECT_DEPTH_BIT);
-    Image linear = make_image(vk, VK_FORMAT_R32_SFLOAT, W, H,
-                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
-    Image saliency = make_image(vk, VK_FORMAT_R8G8B8A8_UNORM, W, H,
-                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT,
-                                VK_IMAGE_ASPECT_COLOR_BIT);
-    Buffer vbuf = make_buffer(vk, scene.positions.size() * 4, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    // This renderer's resources: its frame and keyframe G-buffers, the
+    // scene's streams and views (slot 0 the frame, 1.. the keyframes).
+    const uint32_t MAX_RENDERS = 1 + info.atlas_tiles;
+    GBuffer frame_gb = make_gbuffer(vk, W, H), atlas_gb = make_gbuffer(vk, AW, AH);
+    Buffer vbuf = make_buffer(vk, (VkDeviceSize)MAX_RENDERS * 3 * scene.vertex_count * 12,
+                              VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
     Buffer ibuf = make_buffer(vk, scene.indices.size() * 4, VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-    std::memcpy(vbuf.mapped, scene.positions.data(), scene.positions.size() * 4);
+    Buffer views = make_buffer(vk, MAX_RENDERS * VIEW_STRIDE, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     std::memcpy(ibuf.mapped, scene.indices.data(), scene.indices.size() * 4);
     VkDeviceSize map_bytes = (VkDeviceSize)W * H * 4;
-    Buffer readback = make_buffer(vk, 3 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-    VkPipelineLayout layout;
-    VkPipeline pipe;
-    create_pipeline(vk, &layout, &pipe);
+    Buffer readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    Pipeline pipe = create_pipeline(vk, views.buffer);
 
     VkCommandPool pool;
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pi.queueFamilyIndex = vk.family;
     CHECK(vkCreateCommandPool(vk.device, &pi, nullptr, &pool));
     VkCommandBuffer cmd;
@@ -718,149 +985,121 @@ int main(int argc, char **argv)
     ca.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ca.commandBufferCount = 1;
     CHECK(vkAllocateCommandBuffers(vk.device, &ca, &cmd));
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    CHECK(vkBeginCommandBuffer(cmd, &bi));
 
-    // 1. The host's own G-buffer.
-    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    const VkPipelineStageFlags2 TESTS =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    barrier(cmd, linear.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-            VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, OUT,
-            VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    barrier(cmd, saliency.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-            VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, OUT,
-            VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    barrier(cmd, depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_NONE, 0, TESTS,
-            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-    VkRenderingAttachmentInfo color[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
-                                          {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
-    color[0].imageView = linear.view;
-    color[1].imageView = saliency.view;
-    for (VkRenderingAttachmentInfo &c : color) {
-        c.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    }
-    color[0].clearValue.color = {{(float)scene.zfar, 0, 0, 0}}; // background at the far plane
-    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    dat.imageView = depth.view;
-    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    dat.clearValue.depthStencil = {1.0f, 0};
-    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    ri.renderArea = {{0, 0}, {W, H}};
-    ri.layerCount = 1;
-    ri.colorAttachmentCount = 2;
-    ri.pColorAttachments = color;
-    ri.pDepthAttachment = &dat;
-    vkCmdBeginRendering(cmd, &ri);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
-    VkViewport viewport{0, 0, (float)W, (float)H, 0, 1};
-    VkRect2D scissor{{0, 0}, {W, H}};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
-    VkDeviceSize zero = 0;
-    vkCmdBindVertexBuffers(cmd, 0, 1, &vbuf.buffer, &zero);
-    vkCmdBindIndexBuffer(cmd, ibuf.buffer, 0, VK_INDEX_TYPE_UINT32);
-    Mat4 view, proj;
-    camera_matrices(scene, (float)W / (float)H, view, proj);
-    Mat4 vp = mul(proj, view);
-    for (const Draw &d : scene.draws) {
-        Push p{};
-        std::memcpy(p.view_proj, vp.m, 64);
-        for (int c = 0; c < 4; c++)
-            p.view_z[c] = view.m[c * 4 + 2];
-        p.saliency = d.saliency;
-        vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof p, &p);
-        vkCmdDrawIndexed(cmd, d.index_count, 1, d.first_index, 0, 0);
-    }
-    vkCmdEndRendering(cmd);
-    // Its writes made available, the two images in GENERAL for the SDK.
-    for (VkImage im : {linear.image, saliency.image})
-        barrier(cmd, im, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                OUT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-
-    // 2. vergence, recorded into the same command buffer.
-    vgx_dispatch_desc dd = {};
-    dd.command_buffer = cmd;
-    dd.depth = {linear.image, linear.view, VK_IMAGE_LAYOUT_GENERAL};
-    dd.saliency = {saliency.image, saliency.view, VK_IMAGE_LAYOUT_GENERAL};
-    dd.rig.hfov_deg = 2.0 * std::atan(std::tan(0.5 * scene.yfov) * W / H) * 180.0 / M_PI;
-    dd.rig.interaxial_m = interaxial;
-    dd.rig.convergence_m = convergence;
-    vr = vgx_dispatch(ctx, &dd);
-    if (vr != VGX_SUCCESS) {
-        std::fprintf(stderr, "vergence_host: error: vgx_dispatch: %s\n", vgx_result_name(vr));
-        return 2;
-    }
-
-    // 3. Copies of depth, g and h for the files (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
-    VkImage copies[3] = {linear.image, VK_NULL_HANDLE, VK_NULL_HANDLE};
-    VkImageLayout layouts[3] = {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    for (int k = 1; k < 3; k++) {
-        vgx_image out;
-        vgx_get_output(ctx, k == 1 ? VGX_OUTPUT_G : VGX_OUTPUT_H, &out);
-        copies[k] = out.image;
-    }
-    for (int k = 0; k < 3; k++) {
-        barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, layouts[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_TRANSFER_READ_BIT);
-        VkBufferImageCopy region{};
-        region.bufferOffset = k * map_bytes;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {W, H, 1};
-        vkCmdCopyImageToBuffer(cmd, copies[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
-        barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layouts[k],
-                VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
-    }
-    VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-    host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-    host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-    host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-    VkDependencyInfo hd{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    hd.memoryBarrierCount = 1;
-    hd.pMemoryBarriers = &host;
-    vkCmdPipelineBarrier2(cmd, &hd);
-    CHECK(vkEndCommandBuffer(cmd));
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cmd;
-    CHECK(vkQueueSubmit(vk.queue, 1, &si, VK_NULL_HANDLE));
-    CHECK(vkQueueWaitIdle(vk.queue));
-
-    const float *maps = (const float *)readback.mapped;
-    static const char *const names[3] = {"depth.pfm", "g.pfm", "h.pfm"};
+    const double yfov = scene.yfov;
+    vgx_rig rig = {};
+    rig.hfov_deg = 2.0 * std::atan(std::tan(0.5 * yfov) * W / H) * 180.0 / M_PI;
+    rig.interaxial_m = interaxial;
+    rig.convergence_m = convergence;
+    int64_t first = (int64_t)std::llround(t0 * fps);
     int rc = 0;
-    for (int k = 0; k < 3; k++)
-        if (!write_pfm(out_dir + "/" + names[k], maps + (size_t)k * W * H, W, H)) {
-            std::fprintf(stderr, "vergence_host: error: %s/%s: cannot write\n", out_dir.c_str(), names[k]);
-            rc = 2;
+    uint32_t keyframes_rendered = 0;
+    vgx_frame_plan plan;
+    for (int i = 0; i < frames && rc == 0; i++) {
+        vr = vgx_begin_frame(ctx, first + i, &plan);
+        if (vr != VGX_SUCCESS) {
+            std::fprintf(stderr, "vergence_host: error: vgx_begin_frame: %s\n", vgx_result_name(vr));
+            return 2;
         }
-    double lo, hi;
-    vgx_target_range(ctx, &lo, &hi);
-    std::printf("vergence_host: libvergence %u.%u.%u, %zu triangles, %ux%u, t = %.3f s, h in [%.1f, %.1f] arcmin\n",
+        VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        CHECK(vkBeginCommandBuffer(cmd, &bi));
+
+        // 1. The keyframes vergence asks for: this renderer's scene at their
+        //    (future) times, each into its tile of the atlas (--causal: as
+        //    predicted from this frame and the one before).
+        std::vector<Render> tiles;
+        for (uint32_t k = 0; k < plan.keyframe_count; k++) {
+            vgx_keyframe kf;
+            vgx_get_keyframe(ctx, k, &kf);
+            set_render(scene, W, H, 1 + k, kf.time_s, kf.prev_time_s, kf.next_time_s, kf.atlas_from_clip, (float)AW,
+                       (float)AH, views, vbuf, causal ? plan.time_s : INFINITY, 1.0 / fps);
+            tiles.push_back({1 + k, kf.scissor});
+        }
+        if (!tiles.empty())
+            render_gbuffer(cmd, atlas_gb, pipe, scene, vbuf.buffer, ibuf.buffer, tiles);
+        keyframes_rendered += plan.keyframe_count;
+        // 2. The frame's own G-buffer, its motion to the neighbouring keyframes.
+        set_render(scene, W, H, 0, plan.time_s, plan.prev_key_time_s, plan.next_key_time_s, nullptr, (float)W,
+                   (float)H, views, vbuf);
+        render_gbuffer(cmd, frame_gb, pipe, scene, vbuf.buffer, ibuf.buffer, {{0, {{0, 0}, {W, H}}}});
+
+        // 3. vergence, recorded into the same command buffer.
+        vgx_dispatch_desc dd = {};
+        dd.command_buffer = cmd;
+        dd.frame = as_vgx(frame_gb);
+        dd.keyframes = as_vgx(atlas_gb);
+        dd.rig = rig;
+        vr = vgx_dispatch(ctx, &dd);
+        if (vr != VGX_SUCCESS) {
+            std::fprintf(stderr, "vergence_host: error: vgx_dispatch: %s\n", vgx_result_name(vr));
+            return 2;
+        }
+
+        // 4. Copies of depth, g, h and f (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
+        VkImage copies[4] = {frame_gb.images[0].image, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
+        VkImageLayout layouts[4] = {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        const vgx_output outputs[3] = {VGX_OUTPUT_G, VGX_OUTPUT_H, VGX_OUTPUT_F};
+        for (int k = 1; k < 4; k++) {
+            vgx_image out;
+            vgx_get_output(ctx, outputs[k - 1], &out);
+            copies[k] = out.image;
+        }
+        for (int k = 0; k < 4; k++) {
+            barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, layouts[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT);
+            VkBufferImageCopy region{};
+            region.bufferOffset = k * map_bytes;
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {W, H, 1};
+            vkCmdCopyImageToBuffer(cmd, copies[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
+            barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layouts[k],
+                    VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+        }
+        VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+        host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+        host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+        host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+        host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+        VkDependencyInfo hd{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+        hd.memoryBarrierCount = 1;
+        hd.pMemoryBarriers = &host;
+        vkCmdPipelineBarrier2(cmd, &hd);
+        CHECK(vkEndCommandBuffer(cmd));
+        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &cmd;
+        CHECK(vkQueueSubmit(vk.queue, 1, &si, VK_NULL_HANDLE));
+        CHECK(vkQueueWaitIdle(vk.queue)); // an example: one frame at a time
+
+        const float *maps = (const float *)readback.mapped;
+        static const char *const names[4] = {"depth", "g", "h", "f"};
+        for (int k = i + 1 == frames ? 0 : 2; k < 4; k++) {
+            char name[64];
+            std::snprintf(name, sizeof name, "/frame_%04d_%s.pfm", i, names[k]);
+            if (!write_pfm(out_dir + name, maps + (size_t)k * W * H, W, H)) {
+                std::fprintf(stderr, "vergence_host: error: %s%s: cannot write\n", out_dir.c_str(), name);
+                rc = 2;
+            }
+        }
+    }
+    double lo = info.range_lo_arcmin, hi = info.range_hi_arcmin;
+    std::printf("vergence_host: libvergence %u.%u.%u, %zu triangles, %ux%u, frames %lld..%lld, %u keyframes rendered "
+                "(atlas %ux%u), h and f in [%.1f, %.1f] arcmin\n",
                 VGX_VERSION_MAJOR(vgx_version()), VGX_VERSION_MINOR(vgx_version()), VGX_VERSION_PATCH(vgx_version()),
-                scene.indices.size() / 3, W, H, t, lo, hi);
+                scene.indices.size() / 3, W, H, (long long)first, (long long)(first + frames - 1), keyframes_rendered,
+                AW, AH, lo, hi);
 
     vkDeviceWaitIdle(vk.device);
     vgx_context_destroy(ctx);
     vkDestroyCommandPool(vk.device, pool, nullptr);
-    vkDestroyPipeline(vk.device, pipe, nullptr);
-    vkDestroyPipelineLayout(vk.device, layout, nullptr);
-    free_buffer(vk, readback);
-    free_buffer(vk, ibuf);
-    free_buffer(vk, vbuf);
-    free_image(vk, saliency);
-    free_image(vk, linear);
-    free_image(vk, depth);
+    destroy_pipeline(vk, pipe);
+    for (Buffer *b : {&readback, &views, &ibuf, &vbuf})
+        free_buffer(vk, *b);
+    free_gbuffer(vk, atlas_gb);
+    free_gbuffer(vk, frame_gb);
     vkDestroyDevice(vk.device, nullptr);
     if (vk.messenger) {
         auto destroy = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(vk.instance,

@@ -11,6 +11,17 @@
  *      original stereo camera, per pixel of the host's linear depth
  *   h  g compressed into the display's comfortable range by the operator
  *      (Lang et al. 2010 by default), weighted by the host's saliency
+ *   f  h with the original acceleration in depth restored where the viewer
+ *      would see it (VGX_CONTEXT_OPTIMIZE): a window of keyframes seconds
+ *      long, solved for minimal MID distortion in JND (Kellnhofer et al.,
+ *      "Optimizing disparity for motion in depth", 2013), upsampled to the
+ *      frame in space and time
+ *
+ * A frame with f: vgx_begin_frame(frame index) says which keyframes the
+ * host renders this frame (its scene at their times, seconds ahead: the
+ * look-ahead) into tiles of a coarse atlas, with the matrix that places
+ * each; the host draws them with its own G-buffer shaders, then records
+ * vgx_dispatch with its frame's depth, saliency, motion and ids and the atlas.
  *
  * Conventions (DESIGN.md "Units and conventions" of the vergence repository):
  * vergence in arcmin, larger = nearer; depth in metres along the view axis.
@@ -123,7 +134,19 @@ typedef enum vgx_preset {
 } vgx_preset;
 
 /* vgx_context_desc.flags */
-#define VGX_CONTEXT_SALIENCY 0x1u /* the host gives a saliency image each frame (else every pixel weighs 1) */
+#define VGX_CONTEXT_SALIENCY 0x1u /* the host gives saliency each frame and in its keyframes (else every pixel weighs 1) */
+#define VGX_CONTEXT_OPTIMIZE 0x2u /* f: the host gives motion, ids and the keyframes vgx_begin_frame asks for */
+
+/* Where the window's future keyframes come from (paper 4.5: "a prediction
+ * of future frames"). */
+typedef enum vgx_look_ahead {
+    VGX_LOOK_AHEAD_PREDICTED = 0, /* each keyframe is rendered once, when it enters the window, at its future
+                                     time: the host knows (animations, scripted motion) or predicts its scene */
+    VGX_LOOK_AHEAD_CAUSAL,        /* the host can only extrapolate from the past: at every window move it renders
+                                     the keyframe just observed and all future ones again, each a fresh
+                                     prediction. Measured in docs/method.md section 15: it keeps motion in depth
+                                     only where motion stays constant over the window's future */
+} vgx_look_ahead;
 
 typedef struct vgx_context_desc {
     uint32_t header_version;          /* VGX_HEADER_VERSION */
@@ -137,7 +160,10 @@ typedef struct vgx_context_desc {
     vgx_operator op;
     vgx_preset preset;
     double target_range_arcmin;       /* half-width of the comfortable range around the screen; 0 = the preset's */
-    double frame_seconds;             /* time between dispatches (lang-smoothed); 0 = 1/60 s */
+    double fps;                       /* frame n shows the host's scene at n / fps seconds; 0 = 60 */
+    int keyframe_stride;              /* frames between keyframes (paper 4.4); 0 = 10 */
+    double window_seconds;            /* the keyframe window (paper 4.2); 0 = 3 s, half of it ahead */
+    vgx_look_ahead look_ahead;
     uint32_t flags;                   /* VGX_CONTEXT_* */
     vgx_message_fn message;           /* NULL = stderr */
     void *message_user;
@@ -150,12 +176,50 @@ VGX_API vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context 
  * (vkDeviceWaitIdle, or its frame fences). NULL is ignored. */
 VGX_API void vgx_context_destroy(vgx_context *context);
 
-/* The comfortable range h is mapped into, arcmin (the screen's vergence +- the target range). */
-VGX_API void vgx_target_range(const vgx_context *context, double *lo_arcmin, double *hi_arcmin);
+/* What a context was made into (fixed for its life). */
+typedef struct vgx_context_info {
+    double range_lo_arcmin, range_hi_arcmin; /* the comfortable range h and f are mapped into */
+    uint32_t grid_width, grid_height, grid_stride; /* the solver's coarse grid: a sample every stride pixels */
+    int window_past, window_future;   /* keyframes of the window behind and ahead of a frame */
+    uint32_t atlas_width, atlas_height; /* the keyframe atlas (VGX_CONTEXT_OPTIMIZE; else 0) */
+    uint32_t atlas_tiles;             /* keyframes it holds: at most this many per frame */
+} vgx_context_info;
+VGX_API void vgx_get_info(const vgx_context *context, vgx_context_info *info);
 
 /* ------------------------------------------------------------------------- */
 /* Per frame                                                                 */
 /* ------------------------------------------------------------------------- */
+
+/* What frame `frame_index` needs from the host (vgx_begin_frame). */
+typedef struct vgx_frame_plan {
+    int64_t frame_index;
+    double time_s;                    /* frame_index / fps: render the frame's scene at this time */
+    double prev_key_time_s, next_key_time_s; /* the motion image's targets: the keyframes strictly before and after */
+    uint32_t keyframe_count;          /* keyframes to render into the atlas this frame (vgx_get_keyframe 0..count-1) */
+} vgx_frame_plan;
+
+/* One keyframe to render into the atlas: the host's scene and camera at
+ * time_s, with a viewport of the whole atlas (vgx_context_info's size,
+ * depth 0..1), the scissor below, and its clip coordinates multiplied by
+ * atlas_from_clip (column-major, as GLSL: clip' = atlas_from_clip * clip).
+ * Motion goes to the scene and camera at prev_time_s and next_time_s,
+ * through the same matrix, in atlas pixels. */
+typedef struct vgx_keyframe {
+    int64_t index;                    /* the keyframe: frame index * keyframe_stride */
+    double time_s, prev_time_s, next_time_s;
+    float atlas_from_clip[16];
+    VkRect2D scissor;
+} vgx_keyframe;
+
+/* Starts frame_index (contexts with VGX_CONTEXT_OPTIMIZE; without, optional:
+ * each dispatch is then the next frame). Any order of indices works: a
+ * repeated index records nothing new, a skip is caught up, a jump back or
+ * far ahead starts the window afresh. */
+VGX_API vgx_result vgx_begin_frame(vgx_context *context, int64_t frame_index, vgx_frame_plan *plan);
+VGX_API vgx_result vgx_get_keyframe(const vgx_context *context, uint32_t i, vgx_keyframe *keyframe);
+/* The host's scene changed unpredictably (a cut, a new throw): the
+ * predicted keyframes are stale; the next frame starts the window afresh. */
+VGX_API void vgx_restart(vgx_context *context);
 
 /* A host image: its handle, a 2D view of it, and the layout it is in when
  * the dispatch's commands run. The dispatch leaves it in that layout,
@@ -179,10 +243,20 @@ typedef struct vgx_rig {
     double convergence_m;             /* the distance that lands on the screen */
 } vgx_rig;
 
+/* The G-buffer images vergence reads (usage STORAGE each), for the frame
+ * (width x height) or the keyframe atlas (atlas_width x atlas_height). */
+typedef struct vgx_gbuffer {
+    vgx_image depth;                  /* R32_SFLOAT: linear depth along the view axis, metres; background = far plane */
+    vgx_image saliency;               /* R8G8B8A8_UNORM, saliency 0..1 in alpha (VGX_CONTEXT_SALIENCY) */
+    vgx_image motion;                 /* R32G32B32A32_SFLOAT: pixels to the previous keyframe's position (xy) and
+                                         to the next one's (zw); background 0 (VGX_CONTEXT_OPTIMIZE) */
+    vgx_image ids;                    /* R32_UINT: the surface's object, 0 = background (VGX_CONTEXT_OPTIMIZE) */
+} vgx_gbuffer;
+
 typedef struct vgx_dispatch_desc {
     VkCommandBuffer command_buffer;   /* recording, outside a render pass, of the context's queue family */
-    vgx_image depth;                  /* R32_SFLOAT linear depth in metres (usage STORAGE) */
-    vgx_image saliency;               /* with VGX_CONTEXT_SALIENCY: R8G8B8A8_UNORM, saliency in alpha (usage STORAGE) */
+    vgx_gbuffer frame;
+    vgx_gbuffer keyframes;            /* the atlas (VGX_CONTEXT_OPTIMIZE): its tiles rendered this frame are read */
     vgx_rig rig;
 } vgx_dispatch_desc;
 
@@ -192,6 +266,7 @@ VGX_API vgx_result vgx_dispatch(vgx_context *context, const vgx_dispatch_desc *d
 typedef enum vgx_output {
     VGX_OUTPUT_G = 0,                 /* original vergence, arcmin */
     VGX_OUTPUT_H = 1,                 /* the operator's, arcmin */
+    VGX_OUTPUT_F = 2,                 /* motion in depth restored, arcmin (VGX_CONTEXT_OPTIMIZE) */
 } vgx_output;
 
 /* An output map, R32_SFLOAT, owned by the context: after the commands of a

@@ -170,11 +170,11 @@ static int errors(void)
     CHECK(m.errors == 7 && strstr(m.last, "depth"), "%d errors, last '%s'", m.errors, m.last);
     vgx_image out;
     CHECK(vgx_get_output(c, VGX_OUTPUT_G, &out) == VGX_SUCCESS, "output");
-    dd.depth = out; /* any image will do for the checks before recording */
-    dd.depth.layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    dd.frame.depth = out; /* any image will do for the checks before recording */
+    dd.frame.depth.layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
     CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "layout");
-    CHECK(m.errors == 8 && strstr(m.last, "depth.layout"), "%d errors, last '%s'", m.errors, m.last);
-    dd.depth.layout = VK_IMAGE_LAYOUT_GENERAL;
+    CHECK(m.errors == 8 && strstr(m.last, "frame.depth.layout"), "%d errors, last '%s'", m.errors, m.last);
+    dd.frame.depth.layout = VK_IMAGE_LAYOUT_GENERAL;
     dd.rig.hfov_deg = 0;
     CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "hfov");
     CHECK(m.errors == 9 && strstr(m.last, "hfov_deg"), "%d errors, last '%s'", m.errors, m.last);
@@ -217,8 +217,9 @@ static int maps(void)
     stereo_camera cam;
     stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
                                                    .image_width = W}, &disp);
-    double lo, hi;
-    vgx_target_range(c, &lo, &hi);
+    vgx_context_info info;
+    vgx_get_info(c, &info);
+    double lo = info.range_lo_arcmin, hi = info.range_hi_arcmin;
     static float gmap[2][W * H], hmap[2][W * H];
     VkImageLayout layouts[2] = {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL};
     for (int run = 0; run < 2; run++) {
@@ -244,9 +245,9 @@ static int maps(void)
         vgx_dispatch_desc dd;
         memset(&dd, 0, sizeof dd);
         dd.command_buffer = cmd;
-        dd.depth.image = img.image;
-        dd.depth.view = img.view;
-        dd.depth.layout = layouts[run];
+        dd.frame.depth.image = img.image;
+        dd.frame.depth.view = img.view;
+        dd.frame.depth.layout = layouts[run];
         dd.rig.hfov_deg = 70;
         dd.rig.interaxial_m = 0.25;
         dd.rig.convergence_m = 6.0;

@@ -7,7 +7,6 @@
 
 #include "core/log.h"
 #include "gpu/pipeline.h"
-#include "keyframe_gpu.h"
 #include "disparity/mid_shared.h"
 #include "disparity/mid_window.h"
 #include "operator_gpu.h"
@@ -23,10 +22,10 @@
 #define GRID_MAX_Y 108
 
 struct disparity_gpu {
-    frame_ctx *fc;
+    disparity_gpu_desc desc;
+    gpu *gpu;
     original_gpu original;            /* disparity.original */
     operator_gpu *op;
-    keyframe_gpu *kf;
     solve_gpu *mid;
     upsample_gpu *ups;
     gpu_buffer store, published;
@@ -40,8 +39,9 @@ struct disparity_gpu {
     /* this frame's graph resources */
     rg_graph *graph;
     frame_resources *res;
-    rg_res depth, g, state, r_store, r_published, arena, args, ratio;
-    keyframe_gpu_atlas atlas;
+    rg_res state, r_store, r_published, arena, args, ratio;
+    disparity_gpu_atlas atlas;
+    int slot;                         /* this frame's in flight */
 
     /* timeline */
     bool started;
@@ -85,24 +85,23 @@ static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
 static void original_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    const frame_ctx *fc = d->fc;
-    VkDescriptorImageInfo src = image_of(ctx, d->depth), dst = image_of(ctx, d->g);
-    original_gpu_record(fc->gpu, &d->original, rg_ctx_cmd(ctx), fc->ubo[fc->slot].buffer, &src, &dst,
-                        fc->desc.width, fc->desc.height);
+    VkDescriptorImageInfo src = image_of(ctx, d->res->depth), dst = image_of(ctx, d->res->g);
+    original_gpu_record(d->gpu, &d->original, rg_ctx_cmd(ctx), rg_ctx_buffer(ctx, d->res->ubo), &src, &dst,
+                        d->desc.width, d->desc.height);
 }
 
 static void fit_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo g = image_of(ctx, d->res->g), c = image_of(ctx, d->res->color);
-    operator_gpu_record_fit(d->op, rg_ctx_cmd(ctx), &g, &c, d->fc->desc.width, d->fc->desc.height);
+    operator_gpu_record_fit(d->op, rg_ctx_cmd(ctx), &g, &c, d->desc.width, d->desc.height);
 }
 
 static void map_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo g = image_of(ctx, d->res->g), h = image_of(ctx, d->res->h);
-    operator_gpu_record_map(d->op, rg_ctx_cmd(ctx), &g, &h, d->fc->desc.width, d->fc->desc.height);
+    operator_gpu_record_map(d->op, rg_ctx_cmd(ctx), &g, &h, d->desc.width, d->desc.height);
 }
 
 static operator_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescriptorImageInfo *img)
@@ -111,7 +110,7 @@ static operator_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDe
     img[1] = image_of(ctx, d->atlas.color);
     img[2] = image_of(ctx, d->atlas.motion);
     img[3] = image_of(ctx, d->atlas.ids);
-    return (operator_gpu_tiles){.ubo = d->fc->ubo[d->fc->slot].buffer, .depth = &img[0], .color = &img[1],
+    return (operator_gpu_tiles){.ubo = rg_ctx_buffer(ctx, d->res->ubo), .depth = &img[0], .color = &img[1],
                           .motion = &img[2], .ids = &img[3], .tiles = (uint32_t)d->tiles, .tile_w = d->nx, .tile_h = d->ny,
                           .store = rg_ctx_buffer(ctx, d->r_store), .store_first = ring_slot(d, d->tiles_first),
                           .store_cap = (uint32_t)d->ring};
@@ -138,7 +137,7 @@ static void tiles_store_execute(const rg_context *ctx, void *user)
 static void window_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    uint32_t slot = (uint32_t)d->fc->slot;
+    uint32_t slot = (uint32_t)d->slot;
     solve_gpu_record_previous(d->mid, rg_ctx_cmd(ctx), slot, d->tail_first, d->tail_last);
     if (d->build)
         solve_gpu_record(d->mid, rg_ctx_cmd(ctx), slot, 0, 1);
@@ -147,7 +146,7 @@ static void window_execute(const rg_context *ctx, void *user)
 static void solve_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    solve_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->fc->slot, d->rec_first, d->rec_last);
+    solve_gpu_record(d->mid, rg_ctx_cmd(ctx), (uint32_t)d->slot, d->rec_first, d->rec_last);
 }
 
 static void time_execute(const rg_context *ctx, void *user)
@@ -172,14 +171,32 @@ static rg_pass compute_pass(rg_graph *g, const char *name, rg_execute_fn fn, dis
     return rg_pass_add(g, &(rg_pass_desc){.name = name, .type = RG_PASS_COMPUTE, .execute = fn, .user = d});
 }
 
-void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
+static void add_keyframes(disparity_gpu *d, rg_graph *g, const frame_resources *res)
 {
-    uint32_t w = d->fc->desc.width, h = d->fc->desc.height;
+    rg_pass p = compute_pass(g, "mid.keyframes.fit", tiles_fit_execute, d);
+    rg_use(g, p, res->ubo, RG_UNIFORM);
+    rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
+    rg_use(g, p, d->atlas.color, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ_WRITE);
+    p = compute_pass(g, "mid.keyframes.store", tiles_store_execute, d);
+    rg_use(g, p, res->ubo, RG_UNIFORM);
+    rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
+    rg_use(g, p, d->atlas.motion, RG_STORAGE_READ);
+    rg_use(g, p, d->atlas.ids, RG_STORAGE_READ);
+    rg_use(g, p, d->state, RG_STORAGE_READ);
+    rg_use(g, p, d->r_store, RG_STORAGE_READ_WRITE);
+}
+
+void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas)
+{
+    uint32_t w = d->desc.width, h = d->desc.height;
     rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
     d->res = res;
-    d->depth = res->depth;
-    d->g = res->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, w, h, 1});
-    res->h = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, w, h, 1});
+    d->atlas = atlas ? *atlas : (disparity_gpu_atlas){.color = {0}};
+    if (!res->g.id)
+        res->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, w, h, 1});
+    if (!res->h.id)
+        res->h = rg_image(g, &(rg_image_desc){"disparity.h", VK_FORMAT_R32_SFLOAT, w, h, 1});
     d->state = rg_import_buffer(g, &(rg_buffer_desc){"disparity.operator.state", operator_gpu_state_size(d->op)}, &rw);
     d->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", d->store.size}, &rw);
     d->r_published = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", d->published.size}, &rw);
@@ -192,21 +209,11 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->ubo, RG_UNIFORM);
     rg_use(g, p, res->depth, RG_STORAGE_READ);
     rg_use(g, p, res->g, RG_STORAGE_WRITE);
-    /* Step 5: the keyframe window; the keyframes entering it come first,
-     * as a frame's mapping blends with its keyframe's (lang-smoothed). */
-    keyframe_gpu_add(d->kf, g, res, &d->atlas);
-    p = compute_pass(g, "mid.keyframes.fit", tiles_fit_execute, d);
-    rg_use(g, p, res->ubo, RG_UNIFORM);
-    rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
-    rg_use(g, p, d->atlas.color, RG_STORAGE_READ);
-    rg_use(g, p, d->state, RG_STORAGE_READ_WRITE);
-    p = compute_pass(g, "mid.keyframes.store", tiles_store_execute, d);
-    rg_use(g, p, res->ubo, RG_UNIFORM);
-    rg_use(g, p, d->atlas.depth, RG_STORAGE_READ);
-    rg_use(g, p, d->atlas.motion, RG_STORAGE_READ);
-    rg_use(g, p, d->atlas.ids, RG_STORAGE_READ);
-    rg_use(g, p, d->state, RG_STORAGE_READ);
-    rg_use(g, p, d->r_store, RG_STORAGE_READ_WRITE);
+    /* Step 5: the keyframe window; the keyframes entering it (rendered into
+     * the atlas before) come first, as a frame's mapping blends with its
+     * keyframe's (lang-smoothed). */
+    if (d->desc.keyframes)
+        add_keyframes(d, g, res);
     /* Step 4: h = M(g, saliency). */
     p = compute_pass(g, "disparity.operator.fit", fit_execute, d);
     rg_use(g, p, res->g, RG_STORAGE_READ);
@@ -219,10 +226,10 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res)
     d->graph = g;
     /* Steps 6 and 7 only where f is shown or measured: a frame showing g or
      * h (the game's other modes, and their maps alone) leaves the solve out. */
-    const frame_desc *fd = &d->fc->desc;
-    if (fd->mode != FRAME_MODE_OPTIMIZED && !fd->measure && (!fd->readback || fd->maps_only))
+    if (!d->desc.f || !d->desc.keyframes)
         return;
-    res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
+    if (!res->f.id)
+        res->f = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, w, h, 1});
     /* The last window's unfinished items (frames were skipped), then the
      * new window's build. */
     p = compute_pass(g, "mid.window", window_execute, d);
@@ -261,7 +268,7 @@ static void window_begin(disparity_gpu *d, long k, bool restart)
     long prev_first = d->win_first;
     int prev_nt = d->solve.keyframes;
     d->win_first = restart ? k : (k - d->past > d->first_kf ? k - d->past : d->first_kf);
-    const frame_desc *fd = &d->fc->desc;
+    const disparity_gpu_desc *fd = &d->desc;
     d->solve = (solve_gpu_params){
         .keyframes = (int)(k + d->future - d->win_first + 1),
         .range_lo = (float)d->lo, .range_hi = (float)d->hi, .range_hull = fd->op == DISP_OPERATOR_NONE,
@@ -301,20 +308,20 @@ static void slices_plan(disparity_gpu *d)
         d->slice[++s] = n;
 }
 
-vg_status disparity_gpu_prepare(disparity_gpu *d)
+vg_status disparity_gpu_prepare(disparity_gpu *d, long index, int slot)
 {
-    const frame_times *t = &d->fc->times;
-    long k = frame_keyframe_of(t->index, d->interval);
-    int phase = (int)(t->index - k * d->interval);
+    d->slot = slot;
+    long k = frame_keyframe_of(index, d->interval);
+    int phase = (int)(index - k * d->interval);
     d->build = false;
     d->rec_first = d->rec_last = 0;
     d->tail_first = d->tail_last = 0;
     d->tiles = 0;
-    if (d->started && t->index == d->last_index) {
+    if (d->started && index == d->last_index) {
         /* The same frame again (a pause that keeps drawing, a display faster
          * than the frame rate, a redraw): its work was recorded once, and
          * nothing it reads has changed since, so f is the same. */
-    } else if (!d->started || t->index < d->last_index || k > d->cur_k + 1) {
+    } else if (!d->started || index < d->last_index || k > d->cur_k + 1) {
         /* No history, or a jump back or past the window (a seek, a replay
          * restart): the window starts here, and the frame waits for its
          * whole solve (once). */
@@ -360,54 +367,81 @@ vg_status disparity_gpu_prepare(disparity_gpu *d)
         d->rec_last = d->slice[phase + 1] > d->done ? d->slice[phase + 1] : d->done;
         d->done = d->rec_last;
     }
-    d->last_index = t->index;
-    /* lang-smoothed: h from keyframe k's mapping and this frame alone. */
-    operator_gpu_frame_anchor(d->op, ring_slot(d, k), phase);
+    d->last_index = index;
+    /* lang-smoothed: h from keyframe k's mapping and this frame alone
+     * (without keyframes, from the last frame's). */
+    if (d->desc.keyframes)
+        operator_gpu_frame_anchor(d->op, ring_slot(d, k), phase);
+    else
+        d->tiles = 0;
     if (d->tiles > 0)
         d->store_hi = d->tiles_first + d->tiles - 1;
     /* A finished solve of interval k publishes keyframes k + 2 on (its first
      * window: k on); later windows publish from k + 3: k + 2 is final. */
     if (d->done >= solve_gpu_item_count(d->mid))
         d->final_hi = d->cur_k + 2;
-    keyframe_gpu_prepare(d->kf, d->tiles_first, d->tiles);
-    /* The persistent buffers the graph imported (bound once it is compiled). */
-    rg_bind_buffer(d->graph, d->state, operator_gpu_state(d->op));
-    rg_bind_buffer(d->graph, d->r_store, d->store.buffer);
-    rg_bind_buffer(d->graph, d->r_published, d->published.buffer);
-    rg_bind_buffer(d->graph, d->arena, solve_gpu_arena(d->mid));
-    rg_bind_buffer(d->graph, d->args, solve_gpu_args(d->mid));
+    if (d->graph)
+        disparity_gpu_bind(d, d->graph);
     /* Where this frame is between keyframes k and k + 1 (Fig. 4). */
     d->up = (upsample_gpu_frame){
-        .width = d->fc->desc.width, .height = d->fc->desc.height, .stride = d->stride,
+        .width = d->desc.width, .height = d->desc.height, .stride = d->stride,
         .tau = (float)phase / (float)d->interval, .at_key = phase == 0, .has1 = true,
         .slot0 = ring_slot(d, k), .slot1 = ring_slot(d, k + 1), .slots = (uint32_t)d->ring,
-        .span = (float)(d->fc->desc.keyframe_stride / d->fc->desc.fps),
-        .depth_only = d->fc->desc.temporal_depth_only,
+        .span = (float)(d->desc.keyframe_stride / d->desc.fps),
+        .depth_only = d->desc.temporal_depth_only,
     };
     return VG_OK;
 }
 
+void disparity_gpu_bind(disparity_gpu *d, rg_graph *g)
+{
+    d->graph = g;
+    rg_bind_buffer(g, d->state, operator_gpu_state(d->op));
+    rg_bind_buffer(g, d->r_store, d->store.buffer);
+    rg_bind_buffer(g, d->r_published, d->published.buffer);
+    rg_bind_buffer(g, d->arena, solve_gpu_arena(d->mid));
+    rg_bind_buffer(g, d->args, solve_gpu_args(d->mid));
+}
+
 void disparity_gpu_restart(disparity_gpu *d) { d->started = false; }
+
+void disparity_gpu_atlas_matrix(const disparity_gpu *d, int tile, float m[16])
+{
+    double w = d->desc.width, h = d->desc.height, s = d->stride, half = floor(s / 2.0) + 0.5;
+    double nx = d->nx, ny = d->ny, rows = (double)d->ny * (d->future + 1);
+    memset(m, 0, 16 * sizeof(float));
+    m[0] = (float)(w / (nx * s));
+    m[5] = (float)(h / (s * rows));
+    m[10] = m[15] = 1.0f;
+    m[12] = (float)(2.0 / nx * ((w / 2.0 - half) / s + 0.5) - 1.0);
+    m[13] = (float)(2.0 / rows * ((h / 2.0 - half) / s + 0.5 + tile * ny) - 1.0);
+}
+
+void disparity_gpu_keyframes(const disparity_gpu *d, long *first, int *count)
+{
+    *first = d->tiles_first;
+    *count = d->tiles;
+}
 
 /* ------------------------------------------------------------------------- */
 /* Lifetime                                                                  */
 /* ------------------------------------------------------------------------- */
 
-vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
+vg_status disparity_gpu_create(const disparity_gpu_desc *desc, disparity_gpu **out)
 {
     *out = NULL;
-    const frame_desc *fd = &fc->desc; /* defaults resolved by the frame */
+    const disparity_gpu_desc *fd = desc;
     disparity_gpu *d = calloc(1, sizeof *d);
     if (!d)
         return VG_ERR_NOMEM;
-    d->fc = fc;
-    gpu *g = fc->gpu;
+    d->desc = *desc;
+    gpu *g = d->gpu = desc->gpu;
     uint32_t s = d->stride = disparity_gpu_grid_stride(fd->width, fd->height, fd->coarse_stride);
     d->nx = (fd->width + s - 1) / s;
     d->ny = (fd->height + s - 1) / s;
     d->ns = d->nx * d->ny;
     d->interval = fd->keyframe_stride;
-    d->causal = fd->look_ahead == FRAME_LOOK_AHEAD_CAUSAL;
+    d->causal = fd->causal;
     mid_window_split(fd->window_seconds, fd->keyframe_stride / fd->fps, fd->window_future, &d->past, &d->future);
     if (d->past + d->future + 1 > (int)MID_MAX_KEYFRAMES) {
         vg_error("a %.1f s window is %d keyframes (at most %u)", fd->window_seconds, d->past + d->future + 1,
@@ -422,15 +456,12 @@ vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out)
         st = original_gpu_create(g, &d->original);
     if (st == VG_OK)
         st = operator_gpu_create(g, &(operator_gpu_desc){
-            .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fc->display.screen_vergence,
+            .op = {.kind = fd->op, .preset = fd->op_preset, .screen_vergence = fd->screen_vergence,
                    .range = fd->target_range, .frame_seconds = 1.0 / fd->fps},
             .keyframe_seconds = fd->keyframe_stride / fd->fps, .stride = s,
-            .max_tiles = (uint32_t)d->future + 1, .ring = (uint32_t)d->ring}, &d->op);
-    if (st == VG_OK) {
+            .max_tiles = (uint32_t)d->future + 1, .ring = (uint32_t)d->ring, .no_saliency = fd->no_saliency}, &d->op);
+    if (st == VG_OK)
         operator_gpu_range(d->op, &d->lo, &d->hi);
-        st = keyframe_gpu_create(fc, &(keyframe_gpu_desc){.nx = d->nx, .ny = d->ny, .stride = s,
-                                              .max_tiles = (uint32_t)d->future + 1}, &d->kf);
-    }
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.store",
@@ -460,10 +491,9 @@ void disparity_gpu_destroy(disparity_gpu *d)
 {
     if (!d)
         return;
-    gpu *g = d->fc->gpu;
+    gpu *g = d->gpu;
     upsample_gpu_destroy(d->ups);
     solve_gpu_destroy(d->mid);
-    keyframe_gpu_destroy(d->kf);
     operator_gpu_destroy(d->op);
     gpu_buffer_destroy(g, &d->store);
     gpu_buffer_destroy(g, &d->published);
@@ -475,7 +505,7 @@ void disparity_gpu_destroy(disparity_gpu *d)
 void disparity_gpu_get_info(const disparity_gpu *d, disparity_gpu_info *info)
 {
     *info = (disparity_gpu_info){.stride = d->stride, .nx = d->nx, .ny = d->ny, .past = d->past,
-                                 .future = d->future, .range_lo = d->lo, .range_hi = d->hi,
+                                 .future = d->future, .max_tiles = (uint32_t)d->future + 1, .range_lo = d->lo, .range_hi = d->hi,
                                  .items = solve_gpu_item_count(d->mid)};
 }
 

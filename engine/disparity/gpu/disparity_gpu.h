@@ -4,37 +4,84 @@
  *   disparity.original      g from the G-buffer's linear depth (stereo rig + display)
  *   disparity.operator.fit  the operator's mapping from the frame's coarse samples
  *   disparity.operator      h = M(g, saliency) per pixel
- *   mid.keyframes           the keyframe entering the window, rendered at coarse
- *                           resolution at its (future) time
+ *   (mid.keyframes)         the keyframe entering the window, rendered by the
+ *                           caller at coarse resolution at its (future) time
  *   mid.keyframes.fit/store its own mapping; g, h, depth, flows into the store
  *   mid.window              when the window moves: links, CSR, targets, chains
  *   mid.solve               this frame's share of the window's solve (warm start,
  *                           amortised over the keyframe interval), then publish
  *   mid.upsample.time/space f for this frame from the published keyframe ratios
  *
- * Reads res->depth, color (saliency), motion; fills res->g, h, f (R32F, arcmin).
- * The window (paper 4.5: "previous frames combined with a prediction of future
+ * Reads res->depth, color (saliency), motion, ids and the keyframes the
+ * caller renders into an atlas (keyframe_gpu in the frame, the host through
+ * the SDK); fills res->g, h, f (R32F, arcmin). The window (paper 4.5: "previous frames combined with a prediction of future
  * frames") holds keyframes from history and predicted ones; docs/method.md
  * "GPU passes" has the timeline. */
 #pragma once
+#include "disparity/mid_solver.h"
 #include "render/frame_ctx.h"
 
 typedef struct disparity_gpu disparity_gpu;
 
-/* fc->desc has its defaults resolved (the frame does it). */
-vg_status disparity_gpu_create(frame_ctx *fc, disparity_gpu **out);
+/* What the pipeline is made for; zero fields are not defaults here: the
+ * frame (and the SDK) resolve them first. */
+typedef struct disparity_gpu_desc {
+    gpu *gpu;
+    uint32_t width, height;      /* the frame */
+    double fps;
+    int keyframe_stride;         /* frames between keyframes */
+    int coarse_stride;           /* the solver's grid (disparity_gpu_grid_stride widens it) */
+    double window_seconds, window_future;
+    disp_operator_kind op;
+    disp_operator_preset op_preset;
+    double target_range;         /* arcmin, 0 = the preset's */
+    double screen_vergence;      /* the display's, arcmin */
+    bool no_saliency;            /* every pixel weighs 1 in the operator (no saliency input) */
+    mid_solver_kind solver;
+    int solver_iterations;
+    bool causal;                 /* every future keyframe is given again at each window move */
+    bool temporal_depth_only;
+    bool keyframes;              /* the caller renders the window's keyframes (disparity_gpu_keyframes) */
+    bool f;                      /* steps 6 and 7 (needs keyframes): the window, the solve and f */
+    bool readback;               /* the store and the published ratios host-visible (keyframe_read) */
+} disparity_gpu_desc;
+
+/* The keyframes the frame renders into the atlas (docs/method.md "GPU
+ * passes"): max_tiles tiles of nx x ny stacked vertically, in time order;
+ * tile m holds keyframe first + m at its time (a future one: a prediction).
+ * Colour (RGBA8, saliency in alpha), linear depth (R32F), instance ids
+ * (R32UI) and motion to the neighbouring keyframes (RGBA32F, atlas pixels),
+ * each a point sample of the full frame (keyframe_gpu's atlas matrix). */
+typedef struct disparity_gpu_atlas {
+    rg_res color, depth, ids, motion;
+} disparity_gpu_atlas;
+
+vg_status disparity_gpu_create(const disparity_gpu_desc *desc, disparity_gpu **out);
 void disparity_gpu_destroy(disparity_gpu *d);
-void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res);
-/* Per-frame CPU work before the frame is recorded (frame_ctx holds the
- * slot, times and cameras of this frame): which keyframes to render, which
- * part of the solve runs, where the frame is between its keyframes.
+/* Reads res->ubo (rig, display), depth, color (saliency), motion, ids and
+ * (desc.keyframes) the atlas; writes res->g, h and (desc.f) f: made here as
+ * transient images unless the caller set them (imported). */
+void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas);
+/* Binds the pass's persistent buffers to the graph it was added to (prepare
+ * does it each frame; again after the caller compiled a new graph). */
+void disparity_gpu_bind(disparity_gpu *d, rg_graph *g);
+/* Per-frame CPU work before frame `index` is recorded into frame-in-flight
+ * `slot`: which keyframes to render, which part of the solve runs, where
+ * the frame is between its keyframes.
  *
  * Any sequence of frame indices gives the f of rendering every index: the
  * solve's work due in frames that were skipped runs in the next one that is
  * rendered (a window moves on only once its solve is finished), an index
  * rendered again records nothing, and an index before the last one or past
  * the window starts the window afresh (docs/method.md "GPU passes"). */
-vg_status disparity_gpu_prepare(disparity_gpu *d);
+vg_status disparity_gpu_prepare(disparity_gpu *d, long index, int slot);
+/* After prepare: the keyframes this frame renders into the atlas (count 0: none). */
+void disparity_gpu_keyframes(const disparity_gpu *d, long *first, int *count);
+/* Clip space of the full frame to the atlas's tile `tile` (column-major,
+ * clip' = m clip): the centre of coarse pixel q lands where full-resolution
+ * sample q s + s/2 has its centre (disp_grid), so a coarse keyframe is a
+ * point sample of the frame it predicts. */
+void disparity_gpu_atlas_matrix(const disparity_gpu *d, int tile, float m[16]);
 /* The scene's future changed (the game threw a new ball): the predicted
  * keyframes are stale, so the next frame starts the window afresh. */
 void disparity_gpu_restart(disparity_gpu *d);
@@ -49,6 +96,7 @@ uint32_t disparity_gpu_grid_stride(uint32_t width, uint32_t height, int coarse_s
 typedef struct disparity_gpu_info {
     uint32_t stride, nx, ny;      /* coarse grid */
     int past, future;             /* keyframes of the window behind and ahead of the frame */
+    uint32_t max_tiles;           /* keyframes rendered in one frame at most: the atlas's tiles */
     double range_lo, range_hi;    /* target range, arcmin */
     int items;                    /* steps of the current window's solve */
 } disparity_gpu_info;

@@ -84,28 +84,13 @@ void keyframe_gpu_destroy(keyframe_gpu *k)
 /* Per frame                                                                 */
 /* ------------------------------------------------------------------------- */
 
-/* Clip space of the full frame to the atlas: the centre of coarse pixel q of
- * tile m lands where full-resolution sample X(q) = q s + s/2 has its centre
- * (disp_grid), so a coarse keyframe is a point sample of the frame it
- * predicts; clip' = A clip. */
-static void atlas_matrix(const keyframe_gpu *k, int tile, mat4 a)
-{
-    double w = k->fc->desc.width, h = k->fc->desc.height, s = k->d.stride, half = floor(s / 2.0) + 0.5;
-    double nx = k->d.nx, ny = k->d.ny, rows = (double)k->d.ny * k->d.max_tiles;
-    glm_mat4_identity(a);
-    a[0][0] = (float)(w / (nx * s));
-    a[3][0] = (float)(2.0 / nx * ((w / 2.0 - half) / s + 0.5) - 1.0);
-    a[1][1] = (float)(h / (s * rows));
-    a[3][1] = (float)(2.0 / rows * ((h / 2.0 - half) / s + 0.5 + tile * ny) - 1.0);
-}
-
 static void tile_ubo(keyframe_gpu *k, int tile, const vg_camera *cam, const vg_camera *prev, const vg_camera *next,
                      vg_frame_ubo *u)
 {
     frame_ctx *fc = k->fc;
     memcpy(u, fc->ubo[fc->slot].mapped, sizeof *u); /* light, sky, rig, display of this frame */
     mat4 a, vp, out, inv;
-    atlas_matrix(k, tile, a);
+    disparity_gpu_atlas_matrix(k->d.disparity, tile, (float *)a);
     const vg_camera *cams[3] = {cam, prev, next};
     float *dst[3] = {u->view_proj.m, u->view_proj_prev.m, u->view_proj_next.m};
     for (int i = 0; i < 3; i++) {
@@ -197,7 +182,7 @@ static void keyframes_execute(const rg_context *ctx, void *user)
     }
 }
 
-void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, keyframe_gpu_atlas *a)
+void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, disparity_gpu_atlas *a)
 {
     uint32_t w = k->d.nx, h = k->d.ny * k->d.max_tiles;
     k->graph = g;
@@ -206,7 +191,7 @@ void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, 
     k->r_ubo = rg_import_buffer(g, &(rg_buffer_desc){"mid.keyframes.ubo", k->ubo[0].size},
                                 &(rg_import_desc){.initial = RG_UNIFORM});
     gbuffer_targets t = gbuffer_gpu_targets(g, "mid.keyframes", w, h);
-    a->color = t.color, a->depth = t.depth, a->ids = t.ids, a->motion = t.motion, a->zbuffer = t.zbuffer;
+    a->color = t.color, a->depth = t.depth, a->ids = t.ids, a->motion = t.motion;
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "mid.keyframes", .type = RG_PASS_GRAPHICS,
                                                .execute = keyframes_execute, .user = k});
     rg_use(g, p, k->r_ubo, RG_UNIFORM);

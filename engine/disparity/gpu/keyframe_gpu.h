@@ -11,24 +11,22 @@
 #pragma once
 #include <stdint.h>
 
+#include "disparity_gpu.h"
 #include "render/frame_ctx.h"
 
 typedef struct keyframe_gpu keyframe_gpu;
 
 typedef struct keyframe_gpu_desc {
+    const disparity_gpu *disparity; /* whose atlas this renders */
     uint32_t nx, ny, stride;   /* coarse grid of the full-resolution frame */
     uint32_t max_tiles;        /* keyframes rendered in one frame */
 } keyframe_gpu_desc;
 
-/* The atlas images (max_tiles tiles of nx x ny stacked vertically). */
-typedef struct keyframe_gpu_atlas {
-    rg_res color, depth, ids, motion, zbuffer;
-} keyframe_gpu_atlas;
-
 vg_status keyframe_gpu_create(frame_ctx *fc, const keyframe_gpu_desc *desc, keyframe_gpu **out);
 void keyframe_gpu_destroy(keyframe_gpu *k);
-/* Adds "mid.keyframes"; fills the atlas resources. */
-void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, keyframe_gpu_atlas *atlas);
+/* Adds "mid.keyframes": the frame's renderer of the atlas disparity_gpu
+ * reads (a host of the SDK draws it with its own); fills the atlas. */
+void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, disparity_gpu_atlas *atlas);
 /* This frame renders keyframes first .. first + count - 1 (count 0: none):
  * evaluates the scene at their times and fills the slot's streams. */
 void keyframe_gpu_prepare(keyframe_gpu *k, long first, int count);

@@ -332,13 +332,13 @@ static vg_status pipelines_create(solve_gpu *m)
     VK_TRY(vkCreateDescriptorSetLayout(g->device, &(VkDescriptorSetLayoutCreateInfo){
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
         .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
-        .bindingCount = MID_B_COUNT, .pBindings = bindings}, NULL, &m->set_layout));
+        .bindingCount = MID_B_COUNT, .pBindings = bindings}, g->alloc, &m->set_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, m->set_layout, "mid set layout");
     VK_TRY(vkCreatePipelineLayout(g->device, &(VkPipelineLayoutCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, .setLayoutCount = 1, .pSetLayouts = &m->set_layout,
         .pushConstantRangeCount = 1,
         .pPushConstantRanges = &(VkPushConstantRange){VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(mid_push)}},
-        NULL, &m->layout));
+        g->alloc, &m->layout));
     GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE_LAYOUT, m->layout, "mid layout");
     static const struct {
         const uint32_t *code;
