@@ -13,11 +13,6 @@ layout(set = 1, binding = 0) uniform sampler2D textures[VG_MAX_TEXTURES];
 
 #ifdef EYE_MEASURE
 #include "cascade.glsl"
-#else
-vec2 centre_pixel(vec4 clip)
-{
-    return (clip.xy / clip.w * 0.5 + 0.5) * u.viewport.xy;
-}
 #endif
 #include "shade.glsl"
 
@@ -33,7 +28,7 @@ layout(location = 1) out vec4 o_aux;
 
 void main()
 {
-    vec2 centre = centre_pixel(e_centre_clip);
+    vec2 centre = vgx_centre_pixel(e_centre_clip);
     vec3 shaded = shade_surface(e_world, e_normal, gl_FrontFacing, surface_base_color(e_color, e_uv));
     o_color = vec4(shaded, 1.0);
     float side = (d.flags & VG_DRAW_RIGHT_EYE) != 0u ? 1.0 : -1.0;
@@ -42,7 +37,7 @@ void main()
     float error = 0.0;
 #ifdef EYE_MEASURE
     if (u.warp2.z > 0.0)
-        error = achieved - px_from_vergence(cascade(centre, e_centre_clip.w).x);
+        error = achieved - vgx_px_from_vergence(vgx_cascade(centre, e_centre_clip.w).x);
 #endif
     float stage = 0.0, best = 0.0;
     for (int i = 0; i < 4; i++)

@@ -18,7 +18,7 @@ void main()
     ivec2 size = textureSize(depth_map, 0);
     ivec2 p = ivec2(gl_VertexIndex % size.x, gl_VertexIndex / size.x);
     float z = texelFetch(depth_map, p, 0).r;
-    float disparity_px = px_from_vergence(texelFetch(target_map, p, 0).r);
+    float disparity_px = vgx_px_from_vergence(texelFetch(target_map, p, 0).r);
     float side = (d.flags & VG_DRAW_RIGHT_EYE) != 0u ? 1.0 : -1.0;
     vec2 px = vec2(p) + 0.5 + vec2(side * 0.5 * disparity_px, 0.0);
     gl_Position = vec4(px * u.viewport.zw * 2.0 - 1.0, clamp(z / u.camera_pos.w, 0.0, 1.0), 1.0);

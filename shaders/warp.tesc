@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 // warp.stereo tessellation control: the edge levels warp.classify decided
-// for this triangle (tess_levels.glsl), which warp.compact put in draw order.
+// for this triangle (vgx_edge_level, include/vergence/warp.glsl), which warp.compact put in draw order.
 // Deciding them here again would sample every edge once per eye, on
 // lavapipe's single thread of vertex processing.
 #include "shared.h"

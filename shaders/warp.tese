@@ -21,49 +21,16 @@ layout(location = 3) out vec4 e_color;
 layout(location = 4) out vec4 e_centre_clip;
 layout(location = 5) out vec4 e_stage;
 
-// A point on an edge of the patch comes from that edge alone: its two
-// endpoints in the canonical order of tess_levels.glsl (the order the level
-// was decided in) and the exact fraction k / level of equal spacing. The
-// triangle on the other side of the edge computes the same bits, so it
-// displaces the same vertex by the same disparity: the warp is watertight by
-// construction, whatever the level and the target. (From barycentric
-// weights the two triangles sum the endpoints in different orders, and the
-// last bits differ; where the cascade steps between depth taps, a last bit
-// can step the disparity.)
-vec3 edge_point(vec3 a, vec3 b, float weight_b, float level)
-{
-    float k = round(weight_b * level);
-    if (k <= 0.0)
-        return a;
-    if (k >= level)
-        return b;
-    if (a.x > b.x || (a.x == b.x && (a.y > b.y || (a.y == b.y && a.z > b.z)))) {
-        vec3 t = a;
-        a = b;
-        b = t;
-        k = level - k;
-    }
-    precise vec3 p = a + (b - a) * (k / level);
-    return p;
-}
-
 void main()
 {
     vec3 b = gl_TessCoord;
     // gl_TessLevelOuter[i] is the edge opposite vertex i (warp.classify).
-    precise vec3 world;
-    if (b.x == 0.0)
-        world = edge_point(tc_pos[1], tc_pos[2], b.z, gl_TessLevelOuter[0]);
-    else if (b.y == 0.0)
-        world = edge_point(tc_pos[2], tc_pos[0], b.x, gl_TessLevelOuter[1]);
-    else if (b.z == 0.0)
-        world = edge_point(tc_pos[0], tc_pos[1], b.y, gl_TessLevelOuter[2]);
-    else
-        world = b.x * tc_pos[0] + b.y * tc_pos[1] + b.z * tc_pos[2];
+    precise vec3 world = vgx_tess_point(tc_pos[0], tc_pos[1], tc_pos[2], b, gl_TessLevelOuter[0],
+                                        gl_TessLevelOuter[1], gl_TessLevelOuter[2]);
     e_world = world;
     e_normal = b.x * tc_normal[0] + b.y * tc_normal[1] + b.z * tc_normal[2];
     e_uv = b.x * tc_uv[0] + b.y * tc_uv[1] + b.z * tc_uv[2];
     e_color = b.x * tc_color[0] + b.y * tc_color[1] + b.z * tc_color[2];
-    vec4 clip = warp_vertex(world, (d.flags & VG_DRAW_RIGHT_EYE) != 0u, e_centre_clip, e_stage);
+    vec4 clip = vgx_warp_vertex(world, (d.flags & VG_DRAW_RIGHT_EYE) != 0u, e_centre_clip, e_stage);
     gl_Position = clip;
 }

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // warp.classify, step 3 of 3: each scene triangle is culled, flat (no edge
 // needs subdivision: a plain vertex shader draws it) or tessellated; the
-// same decision as the tessellation control shader (tess_levels.glsl),
+// same decision as the tessellation control shader (vgx_edge_level, include/vergence/warp.glsl),
 // which takes the levels decided here (warp.compact puts them in draw
 // order). The edges' levels come from warp_edges, the culling from
 // warp_cull; this step only gathers them and counts each chunk's kinds.

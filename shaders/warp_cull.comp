@@ -1,14 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // warp.classify, step 1 of 3: which triangles the eyes may see (frustum
-// culling, as tess_levels.glsl's outside). kinds = 1 visible, 0 culled;
+// culling, as vgx_patch_outside). kinds = 1 visible, 0 culled;
 // warp_edges then levels only the edges a visible triangle uses. No shared
 // memory and no barrier (lavapipe runs a kernel with a barrier as coroutines).
 #define VG_FRAME_STORAGE
 #include "common.glsl"
 #include "stereo.glsl"
 #include "cascade.glsl"
-#include "tess_levels.glsl"
 #include "classify.glsl"
 
 layout(local_size_x = 256) in;
@@ -28,6 +27,6 @@ void main()
     uint tri = ch.first_triangle + t, first = inst.first_index + 3u * tri;
     vec3 p0 = position(inst.first_vertex + indices[first]), p1 = position(inst.first_vertex + indices[first + 1u]),
          p2 = position(inst.first_vertex + indices[first + 2u]);
-    bool seen = !outside(u.view_proj * vec4(p0, 1.0), u.view_proj * vec4(p1, 1.0), u.view_proj * vec4(p2, 1.0));
+    bool seen = !vgx_patch_outside(u.view_proj * vec4(p0, 1.0), u.view_proj * vec4(p1, 1.0), u.view_proj * vec4(p2, 1.0));
     kinds[inst.first_index / 3u + tri] = seen ? 1u : 0u;
 }

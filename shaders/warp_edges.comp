@@ -8,7 +8,6 @@
 #include "common.glsl"
 #include "stereo.glsl"
 #include "cascade.glsl"
-#include "tess_levels.glsl"
 #include "classify.glsl"
 
 layout(local_size_x = 64) in;
@@ -25,5 +24,5 @@ void main()
         return;
     vg_warp_edge ed = edges[e];
     bool needed = ed.t0 == VG_EDGE_ALWAYS || kinds[ed.t0] != 0u || (ed.t1 != VG_EDGE_NONE && kinds[ed.t1] != 0u);
-    edge_levels[e] = needed ? uint(edge_level(position(ed.v0), position(ed.v1))) : 1u;
+    edge_levels[e] = needed ? uint(vgx_edge_level(position(ed.v0), position(ed.v1))) : 1u;
 }

@@ -25,5 +25,5 @@ void main()
     e_normal = in_normal;
     e_uv = in_uv;
     e_color = in_color;
-    gl_Position = warp_vertex(in_pos, (d.flags & VG_DRAW_RIGHT_EYE) != 0u, e_centre_clip, e_stage);
+    gl_Position = vgx_warp_vertex(in_pos, (d.flags & VG_DRAW_RIGHT_EYE) != 0u, e_centre_clip, e_stage);
 }

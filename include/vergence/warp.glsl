@@ -1,0 +1,390 @@
+// vergence — the stereo warp for a host's own shaders (paper 4.6; docs/sdk.md
+// "The warp"). The stereo pair is the centre view with every vertex moved
+// horizontally by half the disparity the target map (f) asks for at it: a
+// host tessellates its geometry, displaces each vertex with
+// vgx_warp_vertex in its tessellation evaluation (or vertex) shader, and
+// draws each eye. The cascade finds a vertex's target (paper Fig. 5):
+//   1 direct fetch    the depth map at the vertex's centre-view pixel holds
+//                     this surface: depth-aware bilinear of the target map
+//   2 neighbourhood   the nearest depth in the 3x3 pixels around it
+//   3 Halton          64 samples of the 2D Halton sequence, radius r^2 R
+//   4 global curve    depth -> vergence, when nothing nearby matches
+//
+// Bindings, in set VGX_WARP_SET (define it before including; the SDK fills
+// them: vgx_get_warp, vergence.h):
+//   VGX_WARP_BINDING_CONSTANTS (0)  uniform block, std140: the centre view's
+//                                   view-projection, viewport, rig, display
+//                                   and the warp's settings
+//   VGX_WARP_BINDING_DEPTH (1)      sampler2D: the centre view's linear depth
+//   VGX_WARP_BINDING_TARGET (2)     sampler2D: the target vergence (f), arcmin
+//   VGX_WARP_BINDING_CURVE (3)      storage buffer, std430: the global curve
+// (the samplers are read with texelFetch only). An includer with its own
+// constants defines VGX_CONSTANTS (an instance with the members below) and
+// the binding numbers; vergence's engine does.
+#ifndef VERGENCE_WARP_GLSL
+#define VERGENCE_WARP_GLSL
+
+#ifndef VGX_WARP_BINDING_CONSTANTS
+#define VGX_WARP_BINDING_CONSTANTS 0
+#endif
+#ifndef VGX_WARP_BINDING_DEPTH
+#define VGX_WARP_BINDING_DEPTH 1
+#endif
+#ifndef VGX_WARP_BINDING_TARGET
+#define VGX_WARP_BINDING_TARGET 2
+#endif
+#ifndef VGX_WARP_BINDING_CURVE
+#define VGX_WARP_BINDING_CURVE 3
+#endif
+
+#ifndef VGX_CONSTANTS
+layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_CONSTANTS, std140) uniform VgxWarpConstants {
+    mat4 view_proj;   // world -> centre-view clip (Vulkan: y down, depth 0..1)
+    vec4 viewport;    // width, height, 1 / width, 1 / height: the maps' pixels
+    vec4 rig;         // the original rig: gain (image px), convergence (m), interaxial (m), 0
+    vec4 display;     // interocular distance (m), viewing distance (m), metres per image pixel, screen vergence
+    vec4 warp;        // tessellation: edge length (px, 0 = error-driven), error tolerance (px);
+                      // cascade: relative depth difference of one surface, Halton radius (px)
+    vec4 warp2;       // largest tessellation level, 0, 0, 0
+} vgx_constants;
+#define VGX_CONSTANTS vgx_constants
+#endif
+
+#include "display.glsl"
+
+// Cascade stages (vgx_cascade's y, vgx_warp_vertex's one-hot).
+#define VGX_STAGE_DIRECT 1
+#define VGX_STAGE_NEIGHBORHOOD 2
+#define VGX_STAGE_HALTON 3
+#define VGX_STAGE_CURVE 4
+
+// The global depth -> vergence curve: bins uniform in inverse depth, each
+// the centroid of its pairs (mean inverse depth, mean vergence); the curve is
+// linear in inverse depth between consecutive centroids.
+#define VGX_CURVE_BINS 256
+layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_DEPTH) uniform sampler2D vgx_depth_map;
+layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_TARGET) uniform sampler2D vgx_target_map;
+layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_CURVE, std430) readonly buffer VgxCurveBlock {
+    float inv_depth_near; // 1 / the smallest depth covered
+    float inv_depth_far;  // 1 / the largest
+    uint valid;           // 0: no pairs were seen
+    uint pad;
+    float inv_depth[VGX_CURVE_BINS];
+    float vergence[VGX_CURVE_BINS];
+} vgx_curve;
+
+bool vgx_same_surface(float map_z, float z)
+{
+    return abs(map_z - z) < VGX_CONSTANTS.warp.z * z;
+}
+
+// Linear in inverse depth between consecutive bin centroids, and continued
+// linearly past the covered range (vertices off screen or nearer than any
+// pixel): the original g is affine in 1/z, so the continuation is exact for it.
+const int VGX_CURVE_REACH = 16; // bins between the two points of an end slope
+
+float vgx_curve_between(int a, int b, float q)
+{
+    float dq = vgx_curve.inv_depth[b] - vgx_curve.inv_depth[a];
+    float t = abs(dq) > 1e-12 ? (q - vgx_curve.inv_depth[a]) / dq : 0.0;
+    return mix(vgx_curve.vergence[a], vgx_curve.vergence[b], t);
+}
+
+// The segment of the curve that holds inverse depth q: (first bin, second bin).
+ivec2 vgx_curve_segment(float q)
+{
+    const int last = VGX_CURVE_BINS - 1;
+    if (q <= vgx_curve.inv_depth[0])
+        return ivec2(0, VGX_CURVE_REACH);
+    if (q >= vgx_curve.inv_depth[last])
+        return ivec2(last - VGX_CURVE_REACH, last);
+    float span = vgx_curve.inv_depth_near - vgx_curve.inv_depth_far;
+    int i = clamp(int((q - vgx_curve.inv_depth_far) / max(span, 1e-12) * float(VGX_CURVE_BINS)), 0, last);
+    // The centroid of bin i may lie on either side of q.
+    if (q < vgx_curve.inv_depth[i])
+        i = max(i - 1, 0);
+    while (i < last - 1 && q > vgx_curve.inv_depth[i + 1])
+        i++;
+    return ivec2(i, i + 1);
+}
+
+float vgx_curve_vergence(float z)
+{
+    float q = 1.0 / max(z, 1e-6);
+    ivec2 s = vgx_curve_segment(q);
+    return vgx_curve_between(s.x, s.y, q);
+}
+
+// d vergence / d (1/z) of the curve around depth z.
+float vgx_curve_slope(float z)
+{
+    ivec2 s = vgx_curve_segment(1.0 / max(z, 1e-6));
+    float dq = vgx_curve.inv_depth[s.y] - vgx_curve.inv_depth[s.x];
+    return abs(dq) > 1e-12 ? (vgx_curve.vergence[s.y] - vgx_curve.vergence[s.x]) / dq : 0.0;
+}
+
+// d(z) * z in image pixels for points nearer than anything the depth map
+// holds, including points behind the camera: the curve's near end continued
+// linearly in inverse depth, d = d0 + s (1/z - q0), times z. Affine in z, so
+// it stays finite through z = 0, and exact for the original g (affine in 1/z).
+float vgx_near_disparity_times_depth(float z)
+{
+    const int last = VGX_CURVE_BINS - 1;
+    float q0 = vgx_curve.inv_depth[last], q1 = vgx_curve.inv_depth[last - VGX_CURVE_REACH];
+    float d0 = vgx_px_from_vergence(vgx_curve.vergence[last]), d1 = vgx_px_from_vergence(vgx_curve.vergence[last - VGX_CURVE_REACH]);
+    float slope = (d0 - d1) / max(q0 - q1, 1e-12);
+    return d0 * z + slope * (1.0 - q0 * z);
+}
+
+float vgx_radical_inverse(uint i, uint base)
+{
+    float inv = 1.0 / float(base), f = inv, r = 0.0;
+    while (i > 0u) {
+        r += f * float(i % base);
+        i /= base;
+        f *= inv;
+    }
+    return r;
+}
+
+float vgx_carried(ivec2 q, float z)
+{
+    return texelFetch(vgx_target_map, q, 0).r + vgx_curve_vergence(z) - vgx_curve_vergence(texelFetch(vgx_depth_map, q, 0).r);
+}
+
+// x: vergence (arcmin), y: stage (VGX_STAGE_*). Without `halton` a point the
+// 3x3 neighbourhood does not resolve goes straight to the vgx_curve.
+vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
+{
+    ivec2 size = textureSize(vgx_depth_map, 0);
+    ivec2 p = clamp(ivec2(floor(px)), ivec2(0), size - 1);
+    if (vgx_same_surface(texelFetch(vgx_depth_map, p, 0).r, z)) {
+        // Depth-aware bilinear: only taps of this surface, each vgx_carried to
+        // this point's depth along the curve's local slope (a tap within
+        // epsilon may still sit a few centimetres in front or behind, e.g. a
+        // window in a wall).
+        vec2 t = px - 0.5;
+        ivec2 b = ivec2(floor(t));
+        vec2 fr = t - vec2(b);
+        float slope = vgx_curve_slope(z), q = 1.0 / z, wsum = 0.0, vsum = 0.0;
+        for (int k = 0; k < 4; k++) {
+            ivec2 o = ivec2(k & 1, k >> 1);
+            ivec2 tap = clamp(b + o, ivec2(0), size - 1);
+            float w = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
+            float zq = texelFetch(vgx_depth_map, tap, 0).r;
+            if (w > 0.0 && vgx_same_surface(zq, z)) {
+                wsum += w;
+                vsum += w * (texelFetch(vgx_target_map, tap, 0).r + slope * (q - 1.0 / zq));
+            }
+        }
+        float direct = wsum > 0.0 ? vsum / wsum : vgx_carried(p, z);
+        return vec2(direct, float(VGX_STAGE_DIRECT));
+    }
+    float best = 1e30;
+    ivec2 best_q = p;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+            float diff = abs(texelFetch(vgx_depth_map, q, 0).r - z);
+            if (diff < best) {
+                best = diff;
+                best_q = q;
+            }
+        }
+    // A nearby pixel of the same surface sits at a slightly different depth:
+    // carry its vergence over to this depth along the global curve's slope.
+    if (best < VGX_CONSTANTS.warp.z * z)
+        return vec2(vgx_carried(best_q, z), float(VGX_STAGE_NEIGHBORHOOD));
+    if (!halton)
+        return vec2(vgx_curve_vergence(z), float(VGX_STAGE_CURVE));
+    for (uint i = 1u; i <= 64u; i++) {
+        float r = vgx_radical_inverse(i, 2u), a = vgx_radical_inverse(i, 3u);
+        vec2 s = px + r * r * VGX_CONSTANTS.warp.w * vec2(cos(6.2831853 * a), sin(6.2831853 * a));
+        ivec2 q = clamp(ivec2(floor(s)), ivec2(0), size - 1);
+        float diff = abs(texelFetch(vgx_depth_map, q, 0).r - z);
+        if (diff < best) {
+            best = diff;
+            best_q = q;
+        }
+    }
+    if (best < VGX_CONSTANTS.warp.z * z)
+        return vec2(vgx_carried(best_q, z), float(VGX_STAGE_HALTON));
+    return vec2(vgx_curve_vergence(z), float(VGX_STAGE_CURVE));
+}
+
+vec2 vgx_cascade(vec2 px, float z) { return vgx_cascade_stages(px, z, true); }
+
+// The warp of one vertex (paper 4.6): the centre-view clip position moved
+// horizontally by half the cascade's disparity, away from the other eye.
+// NDC spans 2 over W pixels, so x moves by side * d / W * w. `precise`: the
+// vertex shader of flat triangles and the tessellation evaluation shader run
+// this on the same corners, and must give the same bits (no contraction
+// into fused multiply-adds in one stage and not the other).
+vec4 vgx_warp_vertex(vec3 world, bool right_eye, out vec4 centre_clip, out vec4 stage_one_hot)
+{
+    precise vec4 clip = VGX_CONSTANTS.view_proj * vec4(world, 1.0);
+    centre_clip = clip;
+    stage_one_hot = vec4(0.0);
+    precise float d_times_w;
+    if (clip.w * vgx_curve.inv_depth_near > 1.0) {
+        vec2 c = vgx_cascade(vgx_centre_pixel(clip), clip.w);
+        d_times_w = vgx_px_from_vergence(c.x) * clip.w;
+        stage_one_hot[int(c.y) - 1] = 1.0;
+    } else {
+        // Nearer than every pixel, or behind the camera: only the curve knows.
+        d_times_w = vgx_near_disparity_times_depth(clip.w);
+        stage_one_hot[VGX_STAGE_CURVE - 1] = 1.0;
+    }
+    clip.x += (right_eye ? 1.0 : -1.0) * d_times_w * VGX_CONSTANTS.viewport.z;
+    return clip;
+}
+
+float vgx_target_px(vec3 world, out bool seen)
+{
+    vec4 c = VGX_CONSTANTS.view_proj * vec4(world, 1.0);
+    seen = false;
+    if (c.w * vgx_curve.inv_depth_near <= 1.0)
+        return vgx_near_disparity_times_depth(c.w) / max(c.w, 1e-6);
+    vec2 px = vgx_centre_pixel(c);
+    ivec2 p = ivec2(floor(px)), size = textureSize(vgx_depth_map, 0);
+    vec2 v = vgx_cascade_stages(px, c.w, false);
+    seen = all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, size)) && v.y < float(VGX_STAGE_CURVE);
+    return vgx_px_from_vergence(v.x);
+}
+
+// Samples along a long edge for the error-driven level. Keep the arrays
+// small: with 49 samples lavapipe drew long garbage triangles (silently).
+const int VGX_EDGE_SAMPLES = 24;
+
+float vgx_edge_level(vec3 a, vec3 b)
+{
+    // The same edge seen from both of its triangles must get the same level
+    // (no cracks): evaluate it in a canonical endpoint order.
+    if (a.x > b.x || (a.x == b.x && (a.y > b.y || (a.y == b.y && a.z > b.z)))) {
+        vec3 t = a;
+        a = b;
+        b = t;
+    }
+    vec4 ca = VGX_CONSTANTS.view_proj * vec4(a, 1.0), cb = VGX_CONSTANTS.view_proj * vec4(b, 1.0);
+    float near_w = 1e-3;
+    if (ca.w < near_w && cb.w < near_w)
+        return 1.0;
+    // Measure the part in front of the camera (clip space is linear in world space).
+    if (ca.w < near_w) {
+        float k = (near_w - ca.w) / (cb.w - ca.w);
+        ca = mix(ca, cb, k);
+        a = mix(a, b, k);
+    }
+    if (cb.w < near_w) {
+        float k = (near_w - cb.w) / (ca.w - cb.w);
+        cb = mix(cb, ca, k);
+        b = mix(b, a, k);
+    }
+    float len = distance(vgx_centre_pixel(ca), vgx_centre_pixel(cb));
+    if (len <= 1.0)
+        return 1.0; /* a pixel or less: nothing to gain */
+    float max_level = min(ceil(len), VGX_CONSTANTS.warp2.x);
+    if (VGX_CONSTANTS.warp.x > 0.0)
+        return clamp(ceil(len / VGX_CONSTANTS.warp.x), 1.0, VGX_CONSTANTS.warp2.x);
+    // Error-driven: between its vertices the warp interpolates disparity
+    // linearly in screen space (perspective-correct interpolation of d w
+    // over w). The target need not be smooth at any scale the mesh knows
+    // (operator kinks, the solver's coarse grid), so sample the edge about
+    // every two pixels (at most VGX_EDGE_SAMPLES) and take the fewest equal
+    // segments whose vertices, interpolated, stay within the tolerance at
+    // every sample inside them; m is a multiple of every level tried, so
+    // segment ends are samples. An edge no level fits gets the 1-pixel level.
+    int m = len <= 12.0 ? 6 : len <= 24.0 ? 12 : VGX_EDGE_SAMPLES;
+    float d[VGX_EDGE_SAMPLES + 1];
+    uint seen = 0u; /* bit i: sample i is on a surface the warp measures */
+    for (int i = 0; i <= m; i++) {
+        bool s;
+        d[i] = vgx_target_px(mix(a, b, float(i) / float(m)), s);
+        seen |= s ? 1u << i : 0u;
+    }
+    const int LEVELS[7] = int[7](1, 2, 3, 4, 6, 8, 12);
+    float level = 1.0, err = 0.0;
+    for (int k = 0; k < 7; k++) {
+        int l = LEVELS[k], step = m / l;
+        if (float(l) >= max_level || step < 2)
+            break;
+        if (m % l != 0)
+            continue;
+        level = float(l);
+        err = 0.0;
+        for (int i = 0; i < m; i += step) {
+            float w0 = mix(ca.w, cb.w, float(i) / float(m)), w1 = mix(ca.w, cb.w, float(i + step) / float(m));
+            for (int j = 1; j < step; j++) {
+                float t = float(j) / float(step);
+                float s = t * w1 / mix(w0, w1, t); /* screen-space parameter of 3D t */
+                if ((seen & (1u << (i + j))) != 0u)
+                    err = max(err, abs(d[i + j] - mix(d[i], d[i + step], s)));
+            }
+        }
+        if (err <= VGX_CONSTANTS.warp.y)
+            return level;
+    }
+    // No level fits: past the sampling the error falls about linearly with
+    // the segment length (the targets bend sharply: operator kinks).
+    return clamp(ceil(level * err / VGX_CONSTANTS.warp.y), level + 1.0, max_level);
+}
+
+bool vgx_patch_outside(vec4 c0, vec4 c1, vec4 c2)
+{
+    // Keep a margin for the horizontal eye shift.
+    float m = 1.3;
+    if (c0.w <= 0.0 && c1.w <= 0.0 && c2.w <= 0.0) return true;
+    if (c0.x > m * c0.w && c1.x > m * c1.w && c2.x > m * c2.w) return true;
+    if (c0.x < -m * c0.w && c1.x < -m * c1.w && c2.x < -m * c2.w) return true;
+    if (c0.y > c0.w && c1.y > c1.w && c2.y > c2.w) return true;
+    if (c0.y < -c0.w && c1.y < -c1.w && c2.y < -c2.w) return true;
+    return false;
+}
+
+
+// A point on an edge of the patch comes from that edge alone: its two
+// endpoints in the canonical order of tess_levels.glsl (the order the level
+// was decided in) and the exact fraction k / level of equal spacing. The
+// triangle on the other side of the edge computes the same bits, so it
+// displaces the same vertex by the same disparity: the warp is watertight by
+// construction, whatever the level and the target. (From barycentric
+// weights the two triangles sum the endpoints in different orders, and the
+// last bits differ; where the cascade steps between depth taps, a last bit
+// can step the disparity.)
+vec3 vgx_edge_point(vec3 a, vec3 b, float weight_b, float level)
+{
+    float k = round(weight_b * level);
+    if (k <= 0.0)
+        return a;
+    if (k >= level)
+        return b;
+    if (a.x > b.x || (a.x == b.x && (a.y > b.y || (a.y == b.y && a.z > b.z)))) {
+        vec3 t = a;
+        a = b;
+        b = t;
+        k = level - k;
+    }
+    precise vec3 p = a + (b - a) * (k / level);
+    return p;
+}
+
+
+// The point of a tessellated triangle p0 p1 p2 at barycentric b
+// (gl_TessCoord, equal_spacing) with the outer levels the control shader
+// set (outer[i] is the edge opposite vertex i, as vgx_edge_level gave it):
+// on an edge, from that edge alone, so neighbouring patches agree bit for bit.
+vec3 vgx_tess_point(vec3 p0, vec3 p1, vec3 p2, vec3 b, float outer0, float outer1, float outer2)
+{
+    precise vec3 world;
+    if (b.x == 0.0)
+        world = vgx_edge_point(p1, p2, b.z, outer0);
+    else if (b.y == 0.0)
+        world = vgx_edge_point(p2, p0, b.x, outer1);
+    else if (b.z == 0.0)
+        world = vgx_edge_point(p0, p1, b.y, outer2);
+    else
+        world = b.x * p0 + b.y * p1 + b.z * p2;
+    return world;
+}
+
+#endif
