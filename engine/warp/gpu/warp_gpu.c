@@ -1,6 +1,8 @@
 /* vergence — stereo pair passes: curve, warp, two cameras, image warping. */
 #include "warp_gpu.h"
 
+#include "curve_gpu.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,9 +14,6 @@
 #include "shared.h"
 
 #include "cameras_vert.h"
-#include "curve_bins_comp.h"
-#include "curve_range_comp.h"
-#include "curve_resolve_comp.h"
 #include "eye_frag.h"
 #include "eye_measure_frag.h"
 #include "eye_sky_frag.h"
@@ -30,13 +29,6 @@
 #include "warp_fill_comp.h"
 #include "warp_flat_vert.h"
 #include "warp_vert.h"
-
-#define CURVE_TILE 64 /* = curve.glsl */
-
-typedef struct curve_push {
-    float far_depth;
-    uint32_t tiles_x, tiles_y, stage; /* range: 0 per tile, 1 over the tiles */
-} curve_push;
 
 /* What one eye pass draws. */
 typedef enum eye_kind { EYE_WARP, EYE_CAMERAS, EYE_IMAGEWARP } eye_kind;
@@ -59,8 +51,7 @@ struct warp_gpu {
     gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
     uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
-    gpu_compute_kit curve;       /* K_RANGE, K_BINS, K_RESOLVE */
-    uint32_t tiles_x, tiles_y;
+    curve_gpu *curve;            /* warp.curve */
     uint32_t patches_per_draw;
     eye_pass eyes[6];
     struct fill_pass {
@@ -69,75 +60,13 @@ struct warp_gpu {
     } fills[2];
     /* this frame's graph resources */
     frame_resources *res;
-    rg_res target, tiles_count, tiles_sum, tiles_offset;
+    rg_res target;
     rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts, edge_levels;
 };
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
-enum { K_RANGE, K_BINS, K_RESOLVE };  /* kernels of the curve kit */
 enum { K_CULL, K_EDGES, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
-
-/* ------------------------------------------------------------------------- */
-/* Curve                                                                     */
-/* ------------------------------------------------------------------------- */
-
-static void bind_curve(const warp_gpu *w, const rg_context *ctx, uint32_t kernel, uint32_t stage)
-{
-    bool images = kernel != K_RESOLVE; /* the resolve pass reads no images */
-    const frame_resources *r = w->res;
-    VkDescriptorImageInfo depth = {.imageView = rg_ctx_view(ctx, r->depth), .imageLayout = rg_ctx_layout(ctx, r->depth)};
-    VkDescriptorImageInfo target = {.imageView = rg_ctx_view(ctx, w->target), .imageLayout = rg_ctx_layout(ctx, w->target)};
-    VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
-    VkDescriptorBufferInfo count = {rg_ctx_buffer(ctx, w->tiles_count), 0, VK_WHOLE_SIZE};
-    VkDescriptorBufferInfo sum = {rg_ctx_buffer(ctx, w->tiles_sum), 0, VK_WHOLE_SIZE};
-    VkDescriptorBufferInfo offset = {rg_ctx_buffer(ctx, w->tiles_offset), 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet wr[6] = {
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 0, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &depth},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, .pImageInfo = &target},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 2, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &curve},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 3, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &count},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 4, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &sum},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 5, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &offset},
-    };
-    curve_push pc = {w->fc->cam.zfar, w->tiles_x, w->tiles_y, stage};
-    gpu_compute_kit_bind(w->fc->gpu, rg_ctx_cmd(ctx), &w->curve, kernel, images ? wr : wr + 2, images ? 6 : 4, &pc);
-}
-
-/* The inverse-depth range in two steps: each 64x64 tile's into
- * tile_count (the bins pass overwrites it next), then one workgroup over
- * the tiles. One workgroup over every pixel took 2.4 ms at 1920x1080 on an
- * H200 and ran on one core of lavapipe. */
-static void curve_range_execute(const rg_context *ctx, void *user)
-{
-    warp_gpu *w = user;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    bind_curve(w, ctx, K_RANGE, 0);
-    vkCmdDispatch(cmd, w->tiles_x, w->tiles_y, 1);
-    gpu_compute_barrier(cmd);
-    bind_curve(w, ctx, K_RANGE, 1);
-    vkCmdDispatch(cmd, 1, 1, 1);
-}
-
-static void curve_bins_execute(const rg_context *ctx, void *user)
-{
-    warp_gpu *w = user;
-    bind_curve(w, ctx, K_BINS, 0);
-    vkCmdDispatch(rg_ctx_cmd(ctx), w->tiles_x, w->tiles_y, 1);
-}
-
-static void curve_resolve_execute(const rg_context *ctx, void *user)
-{
-    warp_gpu *w = user;
-    bind_curve(w, ctx, K_RESOLVE, 0);
-    vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
-}
 
 /* ------------------------------------------------------------------------- */
 /* Classify                                                                  */
@@ -420,30 +349,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
                                       &(rg_import_desc){.initial = RG_STORAGE_READ});
     } else {
         res->curve = rg_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)});
-        uint64_t tiles = (uint64_t)w->tiles_x * w->tiles_y * VG_CURVE_BINS * sizeof(uint32_t);
-        w->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
-        w->tiles_sum = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_sum", tiles});
-        w->tiles_offset = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_offset", tiles});
-        rg_pass range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range", .type = RG_PASS_COMPUTE,
-                                                       .execute = curve_range_execute, .user = w});
-        rg_use(g, range, res->depth, RG_STORAGE_READ);
-        rg_use(g, range, target, RG_STORAGE_READ);
-        rg_use(g, range, res->curve, RG_STORAGE_WRITE);
-        rg_use(g, range, w->tiles_count, RG_STORAGE_WRITE); /* then read back in the pass */
-        rg_pass bins = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.bins", .type = RG_PASS_COMPUTE,
-                                                      .execute = curve_bins_execute, .user = w});
-        rg_use(g, bins, res->depth, RG_STORAGE_READ);
-        rg_use(g, bins, target, RG_STORAGE_READ);
-        rg_use(g, bins, res->curve, RG_STORAGE_READ);
-        rg_use(g, bins, w->tiles_count, RG_STORAGE_WRITE);
-        rg_use(g, bins, w->tiles_sum, RG_STORAGE_WRITE);
-        rg_use(g, bins, w->tiles_offset, RG_STORAGE_WRITE);
-        rg_pass resolve = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.resolve", .type = RG_PASS_COMPUTE,
-                                                         .execute = curve_resolve_execute, .user = w});
-        rg_use(g, resolve, w->tiles_count, RG_STORAGE_READ);
-        rg_use(g, resolve, w->tiles_sum, RG_STORAGE_READ);
-        rg_use(g, resolve, w->tiles_offset, RG_STORAGE_READ);
-        rg_use(g, resolve, res->curve, RG_STORAGE_READ_WRITE);
+        curve_gpu_add(w->curve, g, res->depth, target, res->curve);
     }
 
     if (d->stereo == FRAME_STEREO_WARP) {
@@ -610,15 +516,8 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
             .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL, /* the sky splats at depth 1 */
             .color_formats = k_eye_formats, .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT}, &w->imagewarp);
 
-    static const VkDescriptorType types[6] = {
-        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     if (st == VG_OK)
-        st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "warp.curve", .types = types, .count = 6, .push_size = sizeof(curve_push),
-            .kernels = {[K_RANGE] = GPU_KERNEL(spv_curve_range_comp, "warp.curve.range"),
-                        [K_BINS] = GPU_KERNEL(spv_curve_bins_comp, "warp.curve.bins"),
-                        [K_RESOLVE] = GPU_KERNEL(spv_curve_resolve_comp, "warp.curve.resolve")}}, &w->curve);
+        st = curve_gpu_create(g, fc->desc.width, fc->desc.height, &w->curve);
     /* warp.classify: the scene bindings of set 0 plus its own buffers; the
      * frame constants as a storage buffer (shaders/common.glsl,
      * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
@@ -761,6 +660,8 @@ static vg_status create_instance_table(warp_gpu *w)
 
 void warp_gpu_bind(warp_gpu *w, rg_graph *g)
 {
+    /* The background the curve leaves out: this frame's far plane. */
+    curve_gpu_set_background(w->curve, w->fc->cam.zfar);
     if (w->baked.buffer)
         rg_bind_buffer(g, w->res->curve, w->baked.buffer);
 }
@@ -777,8 +678,6 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
     if (!w)
         return VG_ERR_NOMEM;
     w->fc = fc;
-    w->tiles_x = (fc->desc.width + CURVE_TILE - 1) / CURVE_TILE;
-    w->tiles_y = (fc->desc.height + CURVE_TILE - 1) / CURVE_TILE;
     /* lavapipe corrupts draws tessellated into more than 65,535 vertices; a
      * level-L triangle patch makes about 0.8 (L + 1)^2 of them there. */
     uint32_t level = fc->desc.max_tess_level;
@@ -813,7 +712,7 @@ void warp_gpu_destroy(warp_gpu *w)
     if (!w)
         return;
     gpu_pipelines_destroy(w->fc->gpu, (VkPipeline[]){w->warp, w->warp_flat, w->cameras, w->imagewarp, w->sky}, 5);
-    gpu_compute_kit_destroy(w->fc->gpu, &w->curve);
+    curve_gpu_destroy(w->curve);
     gpu_compute_kit_destroy(w->fc->gpu, &w->classify);
     gpu_compute_kit_destroy(w->fc->gpu, &w->fill);
     gpu_buffer_destroy(w->fc->gpu, &w->instances);

@@ -16,7 +16,8 @@ typedef struct warp_gpu warp_gpu;
 vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out);
 void warp_gpu_destroy(warp_gpu *w);
 void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target);
-/* Binds the module's imported resources (a baked curve) after compiling. */
+/* Each frame before recording: binds the module's imported resources (a
+ * baked curve) and takes the frame's camera (the curve's background). */
 void warp_gpu_bind(warp_gpu *w, rg_graph *g);
 
 /* Eye attachments. */
