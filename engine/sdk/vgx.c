@@ -13,12 +13,19 @@
 #include "disparity/mid_shared.h"
 #include "disparity/mid_window.h"
 #include "graph/graph.h"
+#include "warp/gpu/curve_gpu.h"
 #include "shared.h"
 #include "stereo/stereo_display.h"
 
 #define VGX_LIBRARY_VERSION VGX_MAKE_VERSION(VERGENCE_VERSION_MAJOR, VERGENCE_VERSION_MINOR, VERGENCE_VERSION_PATCH)
 
 #define VGX_INPUTS 8 /* frame depth, saliency, motion, ids; the atlas's four */
+
+/* include/vergence/warp.glsl's VgxWarpConstants (std140). */
+typedef struct warp_constants {
+    float view_proj[16];
+    float viewport[4], rig[4], display[4], warp[4], warp2[4];
+} warp_constants;
 
 struct vgx_context {
     vgx_context_desc desc;
@@ -32,9 +39,17 @@ struct vgx_context {
     gpu_image blank[2];               /* where the host gives no saliency: the frame's and the atlas's */
     bool initialised;                 /* the context's images were moved to their steady layouts */
 
-    /* The graph for the host's current input layouts. */
+    /* The warp (VGX_CONTEXT_WARP). */
+    curve_gpu *curve;
+    gpu_buffer warp_ubo, curve_buf;
+    warp_constants warp;
+    int warp_map;                     /* the output it reads (VGX_OUTPUT_*) */
+
+    /* The graph for the host's current input layouts and warp map. */
     rg_graph *graph;
     VkImageLayout layouts[VGX_INPUTS];
+    int graph_warp_map;
+    rg_res r_warp_ubo, r_curve;
     rg_res inputs[VGX_INPUTS];
     frame_resources res;
     vg_frame_ubo constants;
@@ -160,7 +175,16 @@ static vg_status check_desc(const vgx_context_desc *d)
                  "(%g, 0 to 60) is out of range", d->fps, d->keyframe_stride, d->window_seconds);
         return VG_ERR_ARG;
     }
-    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE;
+    const vgx_warp_settings *w = &d->warp;
+    if (!(w->tess_px >= 0 && w->tess_px <= 1024) || !(w->tess_error_px >= 0 && w->tess_error_px <= 1024) ||
+        w->max_tess_level > 64 || !(w->depth_epsilon >= 0 && w->depth_epsilon < 1) ||
+        !(w->halton_radius_px >= 0 && w->halton_radius_px <= 4096)) {
+        vg_error("vgx_context_desc.warp: tess_px (%g) and tess_error_px (%g) in [0, 1024], max_tess_level (%u) at "
+                 "most 64, depth_epsilon (%g) in [0, 1), halton_radius_px (%g) in [0, 4096]", w->tess_px,
+                 w->tess_error_px, w->max_tess_level, w->depth_epsilon, w->halton_radius_px);
+        return VG_ERR_ARG;
+    }
+    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP;
     if (d->flags & ~known) {
         vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
         return VG_ERR_ARG;
@@ -208,6 +232,18 @@ static vg_status create(vgx_context *c)
                                                         .usage = VK_IMAGE_USAGE_STORAGE_BIT |
                                                                  VK_IMAGE_USAGE_SAMPLED_BIT |
                                                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT}, &c->out[i]);
+    c->warp_map = optimize ? VGX_OUTPUT_F : VGX_OUTPUT_H; /* the default warp map (vgx_get_warp) */
+    if (st == VG_OK && (d->flags & VGX_CONTEXT_WARP)) {
+        st = curve_gpu_create(c->gpu, d->width, d->height, &c->curve);
+        if (st == VG_OK)
+            st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx warp constants", .size = sizeof(warp_constants),
+                                                              .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT}, &c->warp_ubo);
+        if (st == VG_OK)
+            st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx warp curve", .size = sizeof(vg_curve),
+                                                              .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
+                                   &c->curve_buf);
+    }
     for (int i = 0; i < (optimize ? 2 : 1) && st == VG_OK && !(d->flags & VGX_CONTEXT_SALIENCY); i++)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = "vgx no saliency", .format = VK_FORMAT_R8G8B8A8_UNORM,
                                                         .width = i ? c->atlas_w : d->width,
@@ -257,6 +293,9 @@ void vgx_context_destroy(vgx_context *c)
         for (int i = 0; i < 2; i++)
             gpu_image_destroy(c->gpu, &c->blank[i]);
         gpu_buffer_destroy(c->gpu, &c->ubo);
+        gpu_buffer_destroy(c->gpu, &c->warp_ubo);
+        gpu_buffer_destroy(c->gpu, &c->curve_buf);
+        curve_gpu_destroy(c->curve);
         disparity_gpu_destroy(c->d);
         gpu_destroy(c->gpu);
     }
@@ -366,6 +405,8 @@ static void constants_execute(const rg_context *ctx, void *user)
 {
     vgx_context *c = user;
     vkCmdUpdateBuffer(rg_ctx_cmd(ctx), c->ubo.buffer, 0, sizeof c->constants, &c->constants);
+    if (c->curve)
+        vkCmdUpdateBuffer(rg_ctx_cmd(ctx), c->warp_ubo.buffer, 0, sizeof c->warp, &c->warp);
 }
 
 /* The inputs in a fixed order: the frame's G-buffer, then the atlas's. */
@@ -398,7 +439,7 @@ static bool input_used(const vgx_context *c, int i)
     return kind == 0 || (kind == 1 ? saliency : optimize);
 }
 
-static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS])
+static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS], int warp_map)
 {
     rg_destroy(c->graph);
     rg_graph *g = c->graph = rg_create();
@@ -429,9 +470,20 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
         *maps[i] = rg_import_image(g, &(rg_image_desc){names[i], VK_FORMAT_R32_SFLOAT, c->desc.width,
                                                        c->desc.height, 1}, &out);
 
+    if (c->curve) {
+        c->r_warp_ubo = rg_import_buffer(g, &(rg_buffer_desc){"vgx.warp.constants", sizeof(warp_constants)},
+                                         &(rg_import_desc){RG_UNIFORM, RG_UNIFORM});
+        c->r_curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)},
+                                      &(rg_import_desc){RG_STORAGE_READ, RG_STORAGE_READ});
+    }
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){"vgx.constants", RG_PASS_TRANSFER, constants_execute, c, false});
     rg_use(g, p, res->ubo, RG_TRANSFER_DST);
+    if (c->curve)
+        rg_use(g, p, c->r_warp_ubo, RG_TRANSFER_DST);
     disparity_gpu_add(c->d, g, res, optimize ? &atlas : NULL);
+    /* The warp's global curve, of the map it reads. */
+    if (c->curve)
+        curve_gpu_add(c->curve, g, res->depth, *maps[warp_map], c->r_curve);
     vg_status st = rg_compile(g);
     if (st == VG_OK)
         st = rg_realize(g, c->gpu);
@@ -440,8 +492,13 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     rg_bind_buffer(g, res->ubo, c->ubo.buffer);
     for (int i = 0; i < (optimize ? 3 : 2); i++)
         rg_bind_image(g, *maps[i], c->out[i].image, c->out[i].view);
+    if (c->curve) {
+        rg_bind_buffer(g, c->r_warp_ubo, c->warp_ubo.buffer);
+        rg_bind_buffer(g, c->r_curve, c->curve_buf.buffer);
+    }
     disparity_gpu_bind(c->d, g);
     memcpy(c->layouts, layouts, sizeof c->layouts);
+    c->graph_warp_map = warp_map;
     return VG_OK;
 }
 
@@ -485,6 +542,27 @@ static vg_status check_image(const char *gbuffer, const char *name, const vgx_im
         return VG_ERR_ARG;
     }
     return VG_OK;
+}
+
+static void fill_warp(vgx_context *c, const vgx_dispatch_desc *d)
+{
+    const vgx_warp_settings *s = &c->desc.warp;
+    warp_constants *w = &c->warp;
+    memcpy(w->view_proj, d->view_proj, sizeof w->view_proj);
+    memcpy(w->viewport, c->constants.viewport.v, 16);
+    memcpy(w->rig, c->constants.rig.v, 16);
+    memcpy(w->display, c->constants.display.v, 16);
+    /* The engine's defaults (frame.c resolve_defaults). */
+    double tess_error = s->tess_px <= 0 && s->tess_error_px <= 0 ? 0.025 : s->tess_error_px;
+    uint32_t level = s->max_tess_level ? s->max_tess_level : s->tess_px > 0 ? 64 : 32;
+    if (level > c->gpu->props.limits.maxTessellationGenerationLevel)
+        level = c->gpu->props.limits.maxTessellationGenerationLevel;
+    w->warp[0] = (float)s->tess_px;
+    w->warp[1] = (float)tess_error;
+    w->warp[2] = (float)(s->depth_epsilon > 0 ? s->depth_epsilon : 0.01);
+    w->warp[3] = (float)(s->halton_radius_px > 0 ? s->halton_radius_px : 24);
+    w->warp2[0] = (float)level;
+    curve_gpu_set_background(c->curve, d->background_depth_m);
 }
 
 static void fill_constants(vgx_context *c, const vgx_rig *rig)
@@ -537,8 +615,23 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
         if (st != VG_OK)
             return st;
     }
-    if (!c->graph || memcmp(c->layouts, layouts, sizeof layouts) != 0) {
-        vg_status st = build_graph(c, layouts);
+    int warp_map = d->warp_map == VGX_WARP_MAP_G ? VGX_OUTPUT_G : d->warp_map == VGX_WARP_MAP_H ? VGX_OUTPUT_H
+                   : d->warp_map == VGX_WARP_MAP_F || optimize                               ? VGX_OUTPUT_F
+                                                                                             : VGX_OUTPUT_H;
+    if (c->curve) {
+        bool finite = true;
+        for (int i = 0; i < 16; i++)
+            finite = finite && isfinite(d->view_proj[i]);
+        if (!finite || !(d->background_depth_m > 0) || (unsigned)d->warp_map > VGX_WARP_MAP_F ||
+            (warp_map == VGX_OUTPUT_F && !optimize)) {
+            vg_error("vgx_dispatch_desc: the warp needs a finite view_proj, a positive background_depth_m (%g) and "
+                     "a warp_map the context makes (%d; f needs VGX_CONTEXT_OPTIMIZE)", d->background_depth_m,
+                     (int)d->warp_map);
+            return VG_ERR_ARG;
+        }
+    }
+    if (!c->graph || memcmp(c->layouts, layouts, sizeof layouts) != 0 || warp_map != c->graph_warp_map) {
+        vg_status st = build_graph(c, layouts, warp_map);
         if (st != VG_OK)
             return st;
     }
@@ -549,6 +642,10 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
             rg_bind_image(c->graph, c->inputs[i], c->blank[i / 4].image, c->blank[i / 4].view);
     }
     fill_constants(c, &d->rig);
+    if (c->curve) {
+        fill_warp(c, d);
+        c->warp_map = warp_map;
+    }
 
     VkCommandBuffer cmd = d->command_buffer;
     if (!c->initialised) {
@@ -567,6 +664,28 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
         rg_execute_pass(c->graph, cmd, o);
     c->planned = false;
     return VG_OK;
+}
+
+vgx_result vgx_get_warp(const vgx_context *c, vgx_warp *out)
+{
+    if (!c || !out || !c->curve)
+        return VGX_ERROR_INVALID_ARGUMENT;
+    const gpu_image *t = &c->out[c->warp_map];
+    *out = (vgx_warp){.constants = c->warp_ubo.buffer, .constants_size = sizeof(warp_constants),
+                      .target = {t->image, t->view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+                      .curve = c->curve_buf.buffer, .curve_size = sizeof(vg_curve)};
+    return VGX_SUCCESS;
+}
+
+void vgx_warp_bindings(VkShaderStageFlags stages, VkDescriptorSetLayoutBinding b[4])
+{
+    static const VkDescriptorType types[4] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                                              VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                              VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                              VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+    for (uint32_t i = 0; i < 4; i++)
+        b[i] = (VkDescriptorSetLayoutBinding){.binding = i, .descriptorType = types[i], .descriptorCount = 1,
+                                              .stageFlags = stages};
 }
 
 vgx_result vgx_dispatch(vgx_context *c, const vgx_dispatch_desc *desc)

@@ -31,6 +31,10 @@
 #include <tiny_gltf.h>
 #include <vergence/vergence.h>
 
+#include "host_eye_frag.h"
+#include "host_eye_tesc.h"
+#include "host_eye_tese.h"
+#include "host_eye_vert.h"
 #include "host_gbuffer_frag.h"
 #include "host_gbuffer_vert.h"
 
@@ -191,6 +195,7 @@ struct Draw {
     uint32_t first_index, index_count;
     float saliency;
     uint32_t id; // 1-based, one per node and primitive: the same surface has the same id at any time
+    float color[4]; // the material's base colour factor (linear)
 };
 
 // The scene's draws (fixed) and, at a time, its world-space vertices and camera.
@@ -246,7 +251,12 @@ void visit(const tinygltf::Model &m, const std::vector<Node> &nodes, int index, 
             }
             if (!scene)
                 continue;
-            Draw d{(uint32_t)scene->indices.size(), 0, saliency, (uint32_t)scene->draws.size() + 1};
+            Draw d{(uint32_t)scene->indices.size(), 0, saliency, (uint32_t)scene->draws.size() + 1, {0.8f, 0.8f, 0.8f, 1}};
+            if (pr.material >= 0 && pr.material < (int)m.materials.size()) {
+                const std::vector<double> &f = m.materials[pr.material].pbrMetallicRoughness.baseColorFactor;
+                for (size_t k = 0; k < f.size() && k < 4; k++)
+                    d.color[k] = (float)f[k];
+            }
             if (pr.indices < 0 || pr.indices >= (int)m.accessors.size()) {
                 for (uint32_t i = 0; i < vcount; i++)
                     scene->indices.push_back(base + i);
@@ -476,6 +486,7 @@ void create_vk(Vk &vk, bool validate)
     VkPhysicalDeviceFeatures2 f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     f.pNext = &f12;
     f.features.shaderStorageImageWriteWithoutFormat = f.features.drawIndirectFirstInstance = VK_TRUE;
+    f.features.tessellationShader = VK_TRUE; // this renderer's eyes: vergence's warp tessellates
     float prio = 1.0f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qi.queueFamilyIndex = vk.family;
@@ -731,7 +742,8 @@ GBuffer make_gbuffer(const Vk &vk, uint32_t w, uint32_t h)
     for (int i = 0; i < 4; i++)
         g.images[i] = make_image(vk, GBUFFER_FORMATS[i], w, h,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                                     VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT); // sampled: the warp reads the frame's depth
     g.zbuffer = make_image(vk, VK_FORMAT_D32_SFLOAT, w, h, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                            VK_IMAGE_ASPECT_DEPTH_BIT);
     return g;
@@ -856,6 +868,236 @@ void set_render(const Scene &scene, uint32_t W, uint32_t H, uint32_t slot, doubl
     std::memcpy((char *)views.mapped + slot * VIEW_STRIDE, &v, sizeof v);
 }
 
+// ---------------------------------------------------------------------------
+// The stereo pair: this renderer's geometry, tessellated and warped by
+// vergence's GLSL (include/vergence/warp.glsl), once per eye.
+// ---------------------------------------------------------------------------
+
+struct EyePush {
+    float color[4];
+    uint32_t right_eye;
+};
+
+const VkFormat EYE_FORMATS[2] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32_SFLOAT}; // colour, centre-view x
+
+struct EyePipeline {
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout layout;
+    VkPipeline pipe;
+    VkDescriptorPool pool;
+    VkDescriptorSet set;
+    VkSampler sampler;
+};
+
+EyePipeline create_eye_pipeline(const Vk &vk, const vgx_warp &warp, VkImageView depth_view)
+{
+    EyePipeline p;
+    const VkShaderStageFlags stages = VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
+                                      VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    VkDescriptorSetLayoutBinding bindings[4];
+    vgx_warp_bindings(stages, bindings); // what warp.glsl reads, in our set 0
+    VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    sl.bindingCount = 4, sl.pBindings = bindings;
+    CHECK(vkCreateDescriptorSetLayout(vk.device, &sl, nullptr, &p.set_layout));
+    VkPushConstantRange range{VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                              sizeof(EyePush)};
+    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    li.setLayoutCount = 1, li.pSetLayouts = &p.set_layout;
+    li.pushConstantRangeCount = 1, li.pPushConstantRanges = &range;
+    CHECK(vkCreatePipelineLayout(vk.device, &li, nullptr, &p.layout));
+    VkDescriptorPoolSize ps[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
+                                  {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
+    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pi.maxSets = 1, pi.poolSizeCount = 3, pi.pPoolSizes = ps;
+    CHECK(vkCreateDescriptorPool(vk.device, &pi, nullptr, &p.pool));
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = p.pool, ai.descriptorSetCount = 1, ai.pSetLayouts = &p.set_layout;
+    CHECK(vkAllocateDescriptorSets(vk.device, &ai, &p.set));
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    CHECK(vkCreateSampler(vk.device, &si, nullptr, &p.sampler));
+    // The handles vergence gives stay the same for the context's life: write once.
+    VkDescriptorBufferInfo constants{warp.constants, 0, warp.constants_size}, curve{warp.curve, 0, warp.curve_size};
+    VkDescriptorImageInfo depth{p.sampler, depth_view, VK_IMAGE_LAYOUT_GENERAL};
+    VkDescriptorImageInfo target{p.sampler, warp.target.view, warp.target.layout};
+    VkWriteDescriptorSet w[4];
+    for (uint32_t i = 0; i < 4; i++) {
+        w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        w[i].dstSet = p.set, w[i].dstBinding = i, w[i].descriptorCount = 1;
+        w[i].descriptorType = bindings[i].descriptorType;
+    }
+    w[0].pBufferInfo = &constants, w[1].pImageInfo = &depth, w[2].pImageInfo = &target, w[3].pBufferInfo = &curve;
+    vkUpdateDescriptorSets(vk.device, 4, w, 0, nullptr);
+
+    VkShaderModule mods[4] = {shader(vk, host_eye_vert, sizeof host_eye_vert),
+                              shader(vk, host_eye_tesc, sizeof host_eye_tesc),
+                              shader(vk, host_eye_tese, sizeof host_eye_tese),
+                              shader(vk, host_eye_frag, sizeof host_eye_frag)};
+    const VkShaderStageFlagBits kinds[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
+                                            VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
+    VkPipelineShaderStageCreateInfo st[4];
+    for (int i = 0; i < 4; i++) {
+        st[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        st[i].stage = kinds[i], st[i].module = mods[i], st[i].pName = "main";
+    }
+    VkVertexInputBindingDescription vb{0, 12, VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription va{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vin.vertexBindingDescriptionCount = 1, vin.pVertexBindingDescriptions = &vb;
+    vin.vertexAttributeDescriptionCount = 1, vin.pVertexAttributeDescriptions = &va;
+    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+    VkPipelineTessellationStateCreateInfo ts{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
+    ts.patchControlPoints = 3;
+    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vp.viewportCount = vp.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.cullMode = VK_CULL_MODE_NONE;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
+    ds.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState cb[2] = {};
+    cb[0].colorWriteMask = cb[1].colorWriteMask = 0xf;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 2, blend.pAttachments = cb;
+    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dy.dynamicStateCount = 2, dy.pDynamicStates = dyn;
+    VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    ri.colorAttachmentCount = 2, ri.pColorAttachmentFormats = EYE_FORMATS;
+    ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
+    VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gi.pNext = &ri;
+    gi.stageCount = 4, gi.pStages = st;
+    gi.pVertexInputState = &vin, gi.pInputAssemblyState = &ia, gi.pTessellationState = &ts;
+    gi.pViewportState = &vp, gi.pRasterizationState = &rs, gi.pMultisampleState = &ms, gi.pDepthStencilState = &ds;
+    gi.pColorBlendState = &blend, gi.pDynamicState = &dy, gi.layout = p.layout;
+    CHECK(vkCreateGraphicsPipelines(vk.device, VK_NULL_HANDLE, 1, &gi, nullptr, &p.pipe));
+    for (VkShaderModule m : mods)
+        vkDestroyShaderModule(vk.device, m, nullptr);
+    return p;
+}
+
+void destroy_eye_pipeline(const Vk &vk, EyePipeline &p)
+{
+    vkDestroySampler(vk.device, p.sampler, nullptr);
+    vkDestroyPipeline(vk.device, p.pipe, nullptr);
+    vkDestroyPipelineLayout(vk.device, p.layout, nullptr);
+    vkDestroyDescriptorPool(vk.device, p.pool, nullptr);
+    vkDestroyDescriptorSetLayout(vk.device, p.set_layout, nullptr);
+}
+
+struct Eye {
+    Image color, centre_x, zbuffer;
+};
+
+Eye make_eye(const Vk &vk, uint32_t w, uint32_t h)
+{
+    Eye e;
+    e.color = make_image(vk, EYE_FORMATS[0], w, h, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_IMAGE_ASPECT_COLOR_BIT);
+    e.centre_x = make_image(vk, EYE_FORMATS[1], w, h,
+                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                            VK_IMAGE_ASPECT_COLOR_BIT);
+    e.zbuffer = make_image(vk, VK_FORMAT_D32_SFLOAT, w, h, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                           VK_IMAGE_ASPECT_DEPTH_BIT);
+    return e;
+}
+
+void free_eye(const Vk &vk, Eye &e)
+{
+    free_image(vk, e.color);
+    free_image(vk, e.centre_x);
+    free_image(vk, e.zbuffer);
+}
+
+// One eye: the sky, then every draw as patches; leaves the colour and the
+// centre-view x in TRANSFER_SRC_OPTIMAL.
+void render_eye(VkCommandBuffer cmd, const Eye &e, const EyePipeline &p, const Scene &scene, VkBuffer vbuf,
+                VkBuffer ibuf, uint32_t w, uint32_t h, bool right)
+{
+    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkPipelineStageFlags2 TESTS =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    for (const Image *im : {&e.color, &e.centre_x})
+        barrier(cmd, im->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, OUT,
+                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    barrier(cmd, e.zbuffer.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, TESTS, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, TESTS,
+            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    VkRenderingAttachmentInfo color[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                          {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
+    color[0].imageView = e.color.view;
+    color[1].imageView = e.centre_x.view;
+    for (VkRenderingAttachmentInfo &c : color) {
+        c.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    }
+    color[0].clearValue.color = {{0.78f, 0.86f, 0.95f, 1.0f}}; // sky
+    color[1].clearValue.color = {{-1.0f, 0, 0, 0}};           // no surface
+    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    dat.imageView = e.zbuffer.view;
+    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    dat.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {w, h}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = 2;
+    ri.pColorAttachments = color;
+    ri.pDepthAttachment = &dat;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
+    VkViewport viewport{0, 0, (float)w, (float)h, 0, 1};
+    VkRect2D scissor{{0, 0}, {w, h}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.layout, 0, 1, &p.set, 0, nullptr);
+    VkDeviceSize zero = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &vbuf, &zero); // slot 0: the frame's positions
+    vkCmdBindIndexBuffer(cmd, ibuf, 0, VK_INDEX_TYPE_UINT32);
+    // At most 16 patches a draw: lavapipe corrupts a draw whose tessellation
+    // makes more than 65,535 vertices, silently (a level-64 patch makes about
+    // 3,200); bounded draws cost nothing on a GPU.
+    const uint32_t PATCHES_PER_DRAW = 16;
+    for (const Draw &d : scene.draws) {
+        EyePush push{{d.color[0], d.color[1], d.color[2], d.color[3]}, right ? 1u : 0u};
+        vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                           sizeof push, &push);
+        for (uint32_t at = 0; at < d.index_count; at += 3 * PATCHES_PER_DRAW) {
+            uint32_t n = d.index_count - at < 3 * PATCHES_PER_DRAW ? d.index_count - at : 3 * PATCHES_PER_DRAW;
+            vkCmdDrawIndexed(cmd, n, 1, d.first_index + at, 0, 0);
+        }
+    }
+    vkCmdEndRendering(cmd);
+    for (const Image *im : {&e.color, &e.centre_x})
+        barrier(cmd, im->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, OUT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+// PPM, 8-bit RGB: the eyes for people.
+bool write_ppm(const std::string &path, const uint8_t *rgba, uint32_t w, uint32_t h)
+{
+    std::string tmp = path + ".tmp";
+    FILE *f = std::fopen(tmp.c_str(), "wb");
+    if (!f)
+        return false;
+    std::fprintf(f, "P6\n%u %u\n255\n", w, h);
+    bool ok = true;
+    for (size_t i = 0; i < (size_t)w * h && ok; i++)
+        ok = std::fwrite(rgba + 4 * i, 1, 3, f) == 3;
+    ok = std::fclose(f) == 0 && ok;
+    return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
 // PFM, one channel, little-endian, rows bottom to top (the format's order).
 bool write_pfm(const std::string &path, const float *data, uint32_t w, uint32_t h)
 {
@@ -884,8 +1126,10 @@ int usage(const char *why)
 } // namespace
 
 // Renders frames round(T fps) .. + N - 1 of the scene and writes, for frame
-// i of them, frame_NNNN_h.pfm and _f.pfm, and for the last one also its depth and g
-// (the names `vergence capture` uses).
+// i of them, frame_NNNN_h.pfm and _f.pfm, and for the last one also its depth
+// and g (the names `vergence capture` uses) and its stereo pair:
+// frame_NNNN_left.ppm and _right.ppm, and _left_x.pfm and _right_x.pfm, the
+// centre-view x of the surface each eye pixel shows (-1: none).
 int main(int argc, char **argv)
 {
     std::string scene_path, out_dir;
@@ -949,7 +1193,7 @@ int main(int argc, char **argv)
     cd.height = H;
     cd.fps = fps;
     cd.look_ahead = causal ? VGX_LOOK_AHEAD_CAUSAL : VGX_LOOK_AHEAD_PREDICTED;
-    cd.flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE;
+    cd.flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP;
     cd.message = on_vgx_message;
     vgx_context *ctx = nullptr;
     vgx_result vr = vgx_context_create(&cd, &ctx);
@@ -972,7 +1216,12 @@ int main(int argc, char **argv)
     std::memcpy(ibuf.mapped, scene.indices.data(), scene.indices.size() * 4);
     VkDeviceSize map_bytes = (VkDeviceSize)W * H * 4;
     Buffer readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    Buffer eye_readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT); // colour, x per eye
     Pipeline pipe = create_pipeline(vk, views.buffer);
+    vgx_warp warp;
+    vgx_get_warp(ctx, &warp);
+    EyePipeline eye_pipe = create_eye_pipeline(vk, warp, frame_gb.images[0].view);
+    Eye eyes[2] = {make_eye(vk, W, H), make_eye(vk, W, H)};
 
     VkCommandPool pool;
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -1030,13 +1279,31 @@ int main(int argc, char **argv)
         dd.frame = as_vgx(frame_gb);
         dd.keyframes = as_vgx(atlas_gb);
         dd.rig = rig;
+        std::memcpy(dd.view_proj, ((const View *)views.mapped)->vp, sizeof dd.view_proj); // slot 0: the frame
+        dd.background_depth_m = (float)scene.zfar;
         vr = vgx_dispatch(ctx, &dd);
         if (vr != VGX_SUCCESS) {
             std::fprintf(stderr, "vergence_host: error: vgx_dispatch: %s\n", vgx_result_name(vr));
             return 2;
         }
 
-        // 4. Copies of depth, g, h and f (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
+        // 4. The stereo pair of the frame it writes (the last): this
+        //    renderer's geometry warped by vergence's GLSL.
+        bool last = i + 1 == frames;
+        for (int e = 0; e < 2 && last; e++) {
+            render_eye(cmd, eyes[e], eye_pipe, scene, vbuf.buffer, ibuf.buffer, W, H, e == 1);
+            const Image *src[2] = {&eyes[e].color, &eyes[e].centre_x};
+            for (int k = 0; k < 2; k++) {
+                VkBufferImageCopy region{};
+                region.bufferOffset = (2 * e + k) * map_bytes;
+                region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+                region.imageExtent = {W, H, 1};
+                vkCmdCopyImageToBuffer(cmd, src[k]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, eye_readback.buffer, 1,
+                                       &region);
+            }
+        }
+
+        // 5. Copies of depth, g, h and f (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
         VkImage copies[4] = {frame_gb.images[0].image, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
         VkImageLayout layouts[4] = {VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
@@ -1076,10 +1343,22 @@ int main(int argc, char **argv)
 
         const float *maps = (const float *)readback.mapped;
         static const char *const names[4] = {"depth", "g", "h", "f"};
-        for (int k = i + 1 == frames ? 0 : 2; k < 4; k++) {
+        for (int k = last ? 0 : 2; k < 4; k++) {
             char name[64];
             std::snprintf(name, sizeof name, "/frame_%04d_%s.pfm", i, names[k]);
             if (!write_pfm(out_dir + name, maps + (size_t)k * W * H, W, H)) {
+                std::fprintf(stderr, "vergence_host: error: %s%s: cannot write\n", out_dir.c_str(), name);
+                rc = 2;
+            }
+        }
+        for (int e = 0; e < 2 && last; e++) {
+            const char *side = e ? "right" : "left";
+            const uint8_t *eye = (const uint8_t *)eye_readback.mapped + (size_t)2 * e * map_bytes;
+            char name[64], xname[64];
+            std::snprintf(name, sizeof name, "/frame_%04d_%s.ppm", i, side);
+            std::snprintf(xname, sizeof xname, "/frame_%04d_%s_x.pfm", i, side);
+            if (!write_ppm(out_dir + name, eye, W, H) ||
+                !write_pfm(out_dir + xname, (const float *)(eye + map_bytes), W, H)) {
                 std::fprintf(stderr, "vergence_host: error: %s%s: cannot write\n", out_dir.c_str(), name);
                 rc = 2;
             }
@@ -1096,7 +1375,10 @@ int main(int argc, char **argv)
     vgx_context_destroy(ctx);
     vkDestroyCommandPool(vk.device, pool, nullptr);
     destroy_pipeline(vk, pipe);
-    for (Buffer *b : {&readback, &views, &ibuf, &vbuf})
+    destroy_eye_pipeline(vk, eye_pipe);
+    for (Eye &e : eyes)
+        free_eye(vk, e);
+    for (Buffer *b : {&readback, &eye_readback, &views, &ibuf, &vbuf})
         free_buffer(vk, *b);
     free_gbuffer(vk, atlas_gb);
     free_gbuffer(vk, frame_gb);

@@ -136,6 +136,17 @@ typedef enum vgx_preset {
 /* vgx_context_desc.flags */
 #define VGX_CONTEXT_SALIENCY 0x1u /* the host gives saliency each frame and in its keyframes (else every pixel weighs 1) */
 #define VGX_CONTEXT_OPTIMIZE 0x2u /* f: the host gives motion, ids and the keyframes vgx_begin_frame asks for */
+#define VGX_CONTEXT_WARP 0x4u     /* the dispatch also makes what warp.glsl reads (vgx_get_warp): the host draws
+                                     its stereo pair by moving its own vertices */
+
+/* The warp's settings (include/vergence/warp.glsl; zero = the engine's). */
+typedef struct vgx_warp_settings {
+    double tess_px;                   /* tessellate edges down to this many pixels (paper: 1); 0 = error-driven */
+    double tess_error_px;             /* error-driven: the disparity error an edge may leave, pixels; 0 = 0.025 */
+    uint32_t max_tess_level;          /* 0 = 32 (64 with tess_px) */
+    double depth_epsilon;             /* the cascade: relative depth difference of one surface; 0 = 0.01 */
+    double halton_radius_px;          /* the cascade's Halton search radius; 0 = 24 */
+} vgx_warp_settings;
 
 /* Where the window's future keyframes come from (paper 4.5: "a prediction
  * of future frames"). */
@@ -164,6 +175,7 @@ typedef struct vgx_context_desc {
     int keyframe_stride;              /* frames between keyframes (paper 4.4); 0 = 10 */
     double window_seconds;            /* the keyframe window (paper 4.2); 0 = 3 s, half of it ahead */
     vgx_look_ahead look_ahead;
+    vgx_warp_settings warp;           /* with VGX_CONTEXT_WARP */
     uint32_t flags;                   /* VGX_CONTEXT_* */
     vgx_message_fn message;           /* NULL = stderr */
     void *message_user;
@@ -253,11 +265,24 @@ typedef struct vgx_gbuffer {
     vgx_image ids;                    /* R32_UINT: the surface's object, 0 = background (VGX_CONTEXT_OPTIMIZE) */
 } vgx_gbuffer;
 
+/* Which map the warp gives the stereo pair (VGX_CONTEXT_WARP). */
+typedef enum vgx_warp_map {
+    VGX_WARP_MAP_DEFAULT = 0,         /* f with VGX_CONTEXT_OPTIMIZE, else h */
+    VGX_WARP_MAP_G,                   /* the original stereo */
+    VGX_WARP_MAP_H,
+    VGX_WARP_MAP_F,
+} vgx_warp_map;
+
 typedef struct vgx_dispatch_desc {
     VkCommandBuffer command_buffer;   /* recording, outside a render pass, of the context's queue family */
     vgx_gbuffer frame;
     vgx_gbuffer keyframes;            /* the atlas (VGX_CONTEXT_OPTIMIZE): its tiles rendered this frame are read */
     vgx_rig rig;
+    /* VGX_CONTEXT_WARP: */
+    float view_proj[16];              /* the host camera's world -> clip at the frame (column-major; Vulkan clip:
+                                         y down, depth 0..1): where warp.glsl finds a vertex in the maps */
+    float background_depth_m;         /* the depth the host writes where there is no geometry (its far plane) */
+    vgx_warp_map warp_map;
 } vgx_dispatch_desc;
 
 /* Records the frame's passes into desc->command_buffer. */
@@ -275,6 +300,32 @@ typedef enum vgx_output {
  * to transition it, and back). The handles stay valid for the context's
  * life; the contents are the last recorded dispatch's. */
 VGX_API vgx_result vgx_get_output(const vgx_context *context, vgx_output which, vgx_image *out);
+
+/* ------------------------------------------------------------------------- */
+/* The warp (VGX_CONTEXT_WARP)                                               */
+/* ------------------------------------------------------------------------- */
+
+/* What include/vergence/warp.glsl reads, in the set the host picks
+ * (VGX_WARP_SET), after each dispatch:
+ *   binding 0  uniform buffer `constants` (std140, constants_size bytes)
+ *   binding 1  combined image sampler: the host's own frame depth (the
+ *              image given as frame.depth; any sampler, read by texelFetch)
+ *   binding 2  combined image sampler: `target`, the warp map
+ *              (SHADER_READ_ONLY_OPTIMAL after the dispatch)
+ *   binding 3  storage buffer `curve` (curve_size bytes), read only
+ * The dispatch leaves the buffers written and visible to every later stage.
+ * The handles stay the same for the context's life. */
+typedef struct vgx_warp {
+    VkBuffer constants;
+    VkDeviceSize constants_size;
+    vgx_image target;
+    VkBuffer curve;
+    VkDeviceSize curve_size;
+} vgx_warp;
+VGX_API vgx_result vgx_get_warp(const vgx_context *context, vgx_warp *warp);
+/* The four bindings above for a VkDescriptorSetLayoutCreateInfo, for the
+ * given shader stages (the tessellation stages, say). */
+VGX_API void vgx_warp_bindings(VkShaderStageFlags stages, VkDescriptorSetLayoutBinding bindings[4]);
 
 #ifdef __cplusplus
 }

@@ -7,11 +7,12 @@ usage: host_test.py BUILD_DIR VERGENCE
 against that prefix twice, with find_package(vergence) (CMake) and with
 pkg-config (its Makefile); both run headless with validation and must agree
 with each other bit for bit, and with `vergence capture` of the same scene,
-camera, frames and rig within the tolerances below: the last frame's depth,
-g and h, and f of every frame, with predicted keyframes and (--causal,
-`--look-ahead causal`) with keyframes extrapolated from the past. The two
-modes' MID distortion is printed side by side. Validation messages fail
-the run (the host exits 3).
+camera, frames and rig within the tolerances below: the last frame's depth
+and g, and h and f of every frame, with predicted keyframes and (--causal,
+`--look-ahead causal`) with keyframes extrapolated from the past. The last
+frame's stereo pair, drawn by the host with vergence's warp GLSL, shows the
+same centre-view points as the engine's. The two modes' MID distortion is
+printed side by side. Validation messages fail the run (the host exits 3).
 """
 import atexit
 import json
@@ -31,6 +32,13 @@ SCENE, SIZE, TIME, FRAMES = "content/balloon.gltf", "160x90", "1", 41  # frames 
 # percentile 2e-6 m, 3e-5, 6e-5 and 8e-4 arcmin for depth, g, h and f). f
 # differs from h by up to 0.3 arcmin with predicted keyframes and 3.4 with
 # causal ones on these frames, so a host that showed h would fail.
+# The eyes: the same tessellation levels (vgx_edge_level, which the
+# engine's warp.classify runs too) and the same vertex warp put every pixel
+# on the same centre-view point up to round-off (2026-11-25: 99th percentile
+# 2e-5 px, at most 5e-5). The engine's right eye shows ground at 27 of 14400
+# pixels on its left border (centre-view x -0.3 to -1.3, just outside the
+# centre view) where the host's shows sky: not explained yet.
+EYE_P99_PX, EYE_COVERAGE = 1e-2, 0.005
 TOLERANCE = {  # kind: (99th percentile, mean)
     "depth": (1e-3, 1e-3),
     "g": (1e-3, 1e-3),
@@ -46,16 +54,17 @@ def run(args, env=None, cwd=None):
     return p
 
 
-def pfm(path):
+def pfm(path, channels=1):
     with open(path, "rb") as f:
-        if f.readline().strip() != b"Pf":
-            sys.exit(f"FAIL: {path} is not a one-channel PFM")
+        if f.readline().strip() != (b"Pf" if channels == 1 else b"PF"):
+            sys.exit(f"FAIL: {path} is not a {channels}-channel PFM")
         w, h = map(int, f.readline().split())
         scale = float(f.readline())
         data = f.read()
-    if scale >= 0 or len(data) != 4 * w * h:
-        sys.exit(f"FAIL: {path}: {len(data)} bytes for {w}x{h}, scale {scale}")
-    return (w, h), struct.unpack(f"<{w * h}f", data)
+    n = w * h * channels
+    if scale >= 0 or len(data) != 4 * n:
+        sys.exit(f"FAIL: {path}: {len(data)} bytes for {w}x{h}x{channels}, scale {scale}")
+    return (w, h), struct.unpack(f"<{n}f", data)
 
 
 def main():
@@ -94,8 +103,10 @@ def main():
     caps, mid = {}, {}
     for look in ("foresight", "causal"):
         cap = caps[look] = os.path.join(tmp, f"capture-{look}")
+        # The engine's own warped pair (and where its eye pixels come from) for the first.
+        eyes = ["--write-aux"] if look == "foresight" else ["--stereo-render", "cameras"]
         run([vergence, "capture", "--scene", SCENE, "--size", SIZE, "--time", TIME, "--frames", str(FRAMES),
-             "--stereo-render", "cameras", "--no-reference", "--look-ahead", look, "--out", cap])
+             "--no-reference", "--look-ahead", look, "--out", cap] + eyes)
         with open(os.path.join(cap, "capture.json")) as f:
             mid[look] = json.load(f)["metrics"]
 
@@ -129,6 +140,24 @@ def main():
             failed = True
     for (name, kind), (p99, mean, i) in worst.items():
         print(f"{name} {kind}: |host - capture| worst 99th pct {p99:.3g} (frame {i}), its mean {mean:.3g}")
+    # The stereo pair: which centre-view point each eye pixel shows, host
+    # (its own tessellation and shaders, vergence's warp GLSL) against the
+    # engine's warp; pixels showing geometry in one and not the other count
+    # as coverage differences.
+    for side in ("left", "right"):
+        size, hx = pfm(os.path.join(outs["cmake"], f"frame_{last:04d}_{side}_x.pfm"))
+        csize, aux = pfm(os.path.join(caps["foresight"], f"frame_{last:04d}_{side}_aux.pfm"), channels=3)
+        if size != csize:
+            sys.exit(f"FAIL: {side} eye: host {size}, capture {csize}")
+        cx, stage = aux[0::3], aux[2::3]
+        both = [abs(a - b) for a, b, st in zip(hx, cx, stage) if a >= 0 and st > 0]
+        differ = sum(1 for a, st in zip(hx, stage) if (a >= 0) != (st > 0))
+        both.sort()
+        p99, worst = both[int(0.99 * (len(both) - 1))], both[-1]
+        ok = p99 <= EYE_P99_PX and differ <= EYE_COVERAGE * len(hx) and len(both) > len(hx) // 2
+        print(f"{side} eye: |centre x host - engine| 99th pct {p99:.3g} px, max {worst:.3g} px over {len(both)} "
+              f"pixels; {differ} pixels show geometry in one only {'ok' if ok else 'FAIL'}")
+        failed |= not ok
     print(f"largest |f - h| of the captures: {correction:.3f} arcmin")
     if correction < 10 * TOLERANCE["f"][0]:
         print("FAIL: f hardly differs from h here: the comparison would not tell them apart")
