@@ -634,6 +634,18 @@ struct Push {
 const VkFormat GBUFFER_FORMATS[4] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32G32B32A32_SFLOAT,
                                      VK_FORMAT_R32_UINT};
 
+// This renderer's pipeline kit: one descriptor set, push constants, vec3
+// position streams, depth-tested colour attachments, dynamic viewport.
+struct PipelineDesc {
+    std::vector<std::pair<VkShaderStageFlagBits, VkShaderModule>> stages; // destroyed by create_pipeline
+    uint32_t streams;                 // vec3 vertex streams, one binding and location each
+    bool patches;                     // 3-point patches (tessellation) instead of triangles
+    const VkFormat *colors;
+    uint32_t color_count;
+    std::vector<VkDescriptorSetLayoutBinding> bindings;
+    VkPushConstantRange push;
+};
+
 struct Pipeline {
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
@@ -642,51 +654,45 @@ struct Pipeline {
     VkDescriptorSet set;
 };
 
-// The G-buffer: linear depth, saliency (alpha), motion to two other times
-// and the object id; depth-tested, three position streams (t, prev, next).
-Pipeline create_pipeline(const Vk &vk, VkBuffer views)
+Pipeline create_pipeline(const Vk &vk, const PipelineDesc &d)
 {
     Pipeline p;
-    VkDescriptorSetLayoutBinding bind{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1,
-                                      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    sl.bindingCount = 1, sl.pBindings = &bind;
+    sl.bindingCount = (uint32_t)d.bindings.size(), sl.pBindings = d.bindings.data();
     CHECK(vkCreateDescriptorSetLayout(vk.device, &sl, nullptr, &p.set_layout));
-    VkPushConstantRange range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
     VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     li.setLayoutCount = 1, li.pSetLayouts = &p.set_layout;
-    li.pushConstantRangeCount = 1, li.pPushConstantRanges = &range;
+    li.pushConstantRangeCount = 1, li.pPushConstantRanges = &d.push;
     CHECK(vkCreatePipelineLayout(vk.device, &li, nullptr, &p.layout));
-    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1};
+    std::vector<VkDescriptorPoolSize> ps;
+    for (const VkDescriptorSetLayoutBinding &b : d.bindings)
+        ps.push_back({b.descriptorType, b.descriptorCount});
     VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pi.maxSets = 1, pi.poolSizeCount = 1, pi.pPoolSizes = &ps;
+    pi.maxSets = 1, pi.poolSizeCount = (uint32_t)ps.size(), pi.pPoolSizes = ps.data();
     CHECK(vkCreateDescriptorPool(vk.device, &pi, nullptr, &p.pool));
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     ai.descriptorPool = p.pool, ai.descriptorSetCount = 1, ai.pSetLayouts = &p.set_layout;
     CHECK(vkAllocateDescriptorSets(vk.device, &ai, &p.set));
-    VkDescriptorBufferInfo bi{views, 0, sizeof(View)};
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstSet = p.set, w.descriptorCount = 1, w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
-    w.pBufferInfo = &bi;
-    vkUpdateDescriptorSets(vk.device, 1, &w, 0, nullptr);
 
-    VkShaderModule vs = shader(vk, host_gbuffer_vert, sizeof host_gbuffer_vert);
-    VkShaderModule fs = shader(vk, host_gbuffer_frag, sizeof host_gbuffer_frag);
-    VkPipelineShaderStageCreateInfo st[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                             {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    st[0].stage = VK_SHADER_STAGE_VERTEX_BIT, st[0].module = vs, st[0].pName = "main";
-    st[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT, st[1].module = fs, st[1].pName = "main";
-    VkVertexInputBindingDescription vb[3];
-    VkVertexInputAttributeDescription va[3];
-    for (uint32_t i = 0; i < 3; i++) {
-        vb[i] = {i, 12, VK_VERTEX_INPUT_RATE_VERTEX};
-        va[i] = {i, i, VK_FORMAT_R32G32B32_SFLOAT, 0};
+    std::vector<VkPipelineShaderStageCreateInfo> st;
+    for (const auto &[stage, module] : d.stages) {
+        VkPipelineShaderStageCreateInfo si{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        si.stage = stage, si.module = module, si.pName = "main";
+        st.push_back(si);
+    }
+    std::vector<VkVertexInputBindingDescription> vb;
+    std::vector<VkVertexInputAttributeDescription> va;
+    for (uint32_t i = 0; i < d.streams; i++) {
+        vb.push_back({i, 12, VK_VERTEX_INPUT_RATE_VERTEX});
+        va.push_back({i, i, VK_FORMAT_R32G32B32_SFLOAT, 0});
     }
     VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vin.vertexBindingDescriptionCount = 3, vin.pVertexBindingDescriptions = vb;
-    vin.vertexAttributeDescriptionCount = 3, vin.pVertexAttributeDescriptions = va;
+    vin.vertexBindingDescriptionCount = d.streams, vin.pVertexBindingDescriptions = vb.data();
+    vin.vertexAttributeDescriptionCount = d.streams, vin.pVertexAttributeDescriptions = va.data();
     VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    ia.topology = d.patches ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineTessellationStateCreateInfo ts{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
+    ts.patchControlPoints = 3;
     VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     vp.viewportCount = vp.scissorCount = 1;
     VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
@@ -697,26 +703,26 @@ Pipeline create_pipeline(const Vk &vk, VkBuffer views)
     VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
     ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState cb[4] = {};
+    std::vector<VkPipelineColorBlendAttachmentState> cb(d.color_count);
     for (VkPipelineColorBlendAttachmentState &c : cb)
-        c.colorWriteMask = 0xf;
+        c = {}, c.colorWriteMask = 0xf;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 4, blend.pAttachments = cb;
+    blend.attachmentCount = d.color_count, blend.pAttachments = cb.data();
     VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
     dy.dynamicStateCount = 2, dy.pDynamicStates = dyn;
     VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    ri.colorAttachmentCount = 4, ri.pColorAttachmentFormats = GBUFFER_FORMATS;
+    ri.colorAttachmentCount = d.color_count, ri.pColorAttachmentFormats = d.colors;
     ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
     VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
     gi.pNext = &ri;
-    gi.stageCount = 2, gi.pStages = st;
-    gi.pVertexInputState = &vin, gi.pInputAssemblyState = &ia, gi.pViewportState = &vp;
-    gi.pRasterizationState = &rs, gi.pMultisampleState = &ms, gi.pDepthStencilState = &ds;
+    gi.stageCount = (uint32_t)st.size(), gi.pStages = st.data();
+    gi.pVertexInputState = &vin, gi.pInputAssemblyState = &ia, gi.pTessellationState = d.patches ? &ts : nullptr;
+    gi.pViewportState = &vp, gi.pRasterizationState = &rs, gi.pMultisampleState = &ms, gi.pDepthStencilState = &ds;
     gi.pColorBlendState = &blend, gi.pDynamicState = &dy, gi.layout = p.layout;
     CHECK(vkCreateGraphicsPipelines(vk.device, VK_NULL_HANDLE, 1, &gi, nullptr, &p.pipe));
-    vkDestroyShaderModule(vk.device, vs, nullptr);
-    vkDestroyShaderModule(vk.device, fs, nullptr);
+    for (const auto &stage : d.stages)
+        vkDestroyShaderModule(vk.device, stage.second, nullptr);
     return p;
 }
 
@@ -726,6 +732,79 @@ void destroy_pipeline(const Vk &vk, Pipeline &p)
     vkDestroyPipelineLayout(vk.device, p.layout, nullptr);
     vkDestroyDescriptorPool(vk.device, p.pool, nullptr);
     vkDestroyDescriptorSetLayout(vk.device, p.set_layout, nullptr);
+}
+
+// The G-buffer: linear depth, saliency (alpha), motion to two other times
+// and the object id; three position streams (t, prev, next); the views at
+// a dynamic offset.
+Pipeline create_gbuffer_pipeline(const Vk &vk, VkBuffer views)
+{
+    PipelineDesc d;
+    d.stages = {{VK_SHADER_STAGE_VERTEX_BIT, shader(vk, host_gbuffer_vert, sizeof host_gbuffer_vert)},
+                {VK_SHADER_STAGE_FRAGMENT_BIT, shader(vk, host_gbuffer_frag, sizeof host_gbuffer_frag)}};
+    d.streams = 3, d.patches = false;
+    d.colors = GBUFFER_FORMATS, d.color_count = 4;
+    d.bindings = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1,
+                   VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+    d.push = {VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
+    Pipeline p = create_pipeline(vk, d);
+    VkDescriptorBufferInfo bi{views, 0, sizeof(View)};
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = p.set, w.descriptorCount = 1, w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+    w.pBufferInfo = &bi;
+    vkUpdateDescriptorSets(vk.device, 1, &w, 0, nullptr);
+    return p;
+}
+
+// Starts dynamic rendering into colour images (cleared to their values, their
+// old contents discarded) and a z-buffer of w x h.
+void begin_targets(VkCommandBuffer cmd, const std::vector<const Image *> &colors,
+                   const std::vector<VkClearColorValue> &clears, const Image &zbuffer, uint32_t w, uint32_t h)
+{
+    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkPipelineStageFlags2 TESTS =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    std::vector<VkRenderingAttachmentInfo> att;
+    for (size_t i = 0; i < colors.size(); i++) {
+        barrier(cmd, colors[i]->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, OUT,
+                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+        VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        a.imageView = colors[i]->view;
+        a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        a.clearValue.color = clears[i];
+        att.push_back(a);
+    }
+    barrier(cmd, zbuffer.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, TESTS, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, TESTS,
+            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    dat.imageView = zbuffer.view;
+    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    dat.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {w, h}};
+    ri.layerCount = 1;
+    ri.colorAttachmentCount = (uint32_t)att.size();
+    ri.pColorAttachments = att.data();
+    ri.pDepthAttachment = &dat;
+    vkCmdBeginRendering(cmd, &ri);
+    VkViewport viewport{0, 0, (float)w, (float)h, 0, 1};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+}
+
+// Ends it: the colour images go to `layout`, their writes available to `stage` / `access`.
+void end_targets(VkCommandBuffer cmd, const std::vector<const Image *> &colors, VkImageLayout layout,
+                 VkPipelineStageFlags2 stage, VkAccessFlags2 access)
+{
+    vkCmdEndRendering(cmd);
+    for (const Image *im : colors)
+        barrier(cmd, im->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, layout,
+                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, stage, access);
 }
 
 // A G-buffer of this renderer: the four images vergence reads and a z-buffer.
@@ -778,41 +857,10 @@ struct Render {
 void render_gbuffer(VkCommandBuffer cmd, const GBuffer &g, const Pipeline &p, const Scene &scene, VkBuffer vbuf,
                     VkBuffer ibuf, const std::vector<Render> &renders)
 {
-    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    const VkPipelineStageFlags2 TESTS =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    for (const Image &im : g.images) // the last frame's contents are not needed: vergence has read them
-        barrier(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, OUT,
-                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    barrier(cmd, g.zbuffer.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, TESTS, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, TESTS,
-            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-    VkRenderingAttachmentInfo color[4];
-    for (int i = 0; i < 4; i++) {
-        color[i] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        color[i].imageView = g.images[i].view;
-        color[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        color[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        color[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    }
-    color[0].clearValue.color = {{(float)scene.zfar, 0, 0, 0}}; // the background at the far plane
-    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    dat.imageView = g.zbuffer.view;
-    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    dat.clearValue.depthStencil = {1.0f, 0};
-    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    ri.renderArea = {{0, 0}, {g.width, g.height}};
-    ri.layerCount = 1;
-    ri.colorAttachmentCount = 4;
-    ri.pColorAttachments = color;
-    ri.pDepthAttachment = &dat;
-    vkCmdBeginRendering(cmd, &ri);
+    // The last frame's contents are not needed: vergence has read them.
+    std::vector<const Image *> colors = {&g.images[0], &g.images[1], &g.images[2], &g.images[3]};
+    begin_targets(cmd, colors, {{{(float)scene.zfar, 0, 0, 0}}, {}, {}, {}}, g.zbuffer, g.width, g.height);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
-    VkViewport viewport{0, 0, (float)g.width, (float)g.height, 0, 1};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdBindIndexBuffer(cmd, ibuf, 0, VK_INDEX_TYPE_UINT32);
     VkDeviceSize stream = (VkDeviceSize)scene.vertex_count * 12;
     for (const Render &r : renders) {
@@ -828,11 +876,8 @@ void render_gbuffer(VkCommandBuffer cmd, const GBuffer &g, const Pipeline &p, co
             vkCmdDrawIndexed(cmd, d.index_count, 1, d.first_index, 0, 0);
         }
     }
-    vkCmdEndRendering(cmd);
-    for (const Image &im : g.images)
-        barrier(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                VK_IMAGE_LAYOUT_GENERAL, OUT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    end_targets(cmd, colors, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
 // Fills slot `slot` of the views and the streams: the scene at t (and its
@@ -880,115 +925,35 @@ struct EyePush {
 
 const VkFormat EYE_FORMATS[2] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32_SFLOAT}; // colour, centre-view x
 
-struct EyePipeline {
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout layout;
-    VkPipeline pipe;
-    VkDescriptorPool pool;
-    VkDescriptorSet set;
-    VkSampler sampler;
-};
-
-EyePipeline create_eye_pipeline(const Vk &vk, const vgx_warp &warp, VkImageView depth_view)
+// The eyes: the warp's four bindings (vgx_warp_bindings) in set 0.
+Pipeline create_eye_pipeline(const Vk &vk, const vgx_warp &warp, VkImageView depth_view, VkSampler sampler)
 {
-    EyePipeline p;
     const VkShaderStageFlags stages = VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
                                       VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-    VkDescriptorSetLayoutBinding bindings[4];
-    vgx_warp_bindings(stages, bindings); // what warp.glsl reads, in our set 0
-    VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    sl.bindingCount = 4, sl.pBindings = bindings;
-    CHECK(vkCreateDescriptorSetLayout(vk.device, &sl, nullptr, &p.set_layout));
-    VkPushConstantRange range{VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                              sizeof(EyePush)};
-    VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    li.setLayoutCount = 1, li.pSetLayouts = &p.set_layout;
-    li.pushConstantRangeCount = 1, li.pPushConstantRanges = &range;
-    CHECK(vkCreatePipelineLayout(vk.device, &li, nullptr, &p.layout));
-    VkDescriptorPoolSize ps[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
-                                  {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1}};
-    VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pi.maxSets = 1, pi.poolSizeCount = 3, pi.pPoolSizes = ps;
-    CHECK(vkCreateDescriptorPool(vk.device, &pi, nullptr, &p.pool));
-    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    ai.descriptorPool = p.pool, ai.descriptorSetCount = 1, ai.pSetLayouts = &p.set_layout;
-    CHECK(vkAllocateDescriptorSets(vk.device, &ai, &p.set));
-    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    si.magFilter = si.minFilter = VK_FILTER_NEAREST;
-    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    CHECK(vkCreateSampler(vk.device, &si, nullptr, &p.sampler));
-    // The handles vergence gives stay the same for the context's life: write once.
+    PipelineDesc d;
+    d.stages = {{VK_SHADER_STAGE_VERTEX_BIT, shader(vk, host_eye_vert, sizeof host_eye_vert)},
+                {VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, shader(vk, host_eye_tesc, sizeof host_eye_tesc)},
+                {VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, shader(vk, host_eye_tese, sizeof host_eye_tese)},
+                {VK_SHADER_STAGE_FRAGMENT_BIT, shader(vk, host_eye_frag, sizeof host_eye_frag)}};
+    d.streams = 1, d.patches = true;
+    d.colors = EYE_FORMATS, d.color_count = 2;
+    d.bindings.resize(4);
+    vgx_warp_bindings(stages, d.bindings.data()); // what warp.glsl reads
+    d.push = {VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(EyePush)};
+    Pipeline p = create_pipeline(vk, d);
+    // The handles vergence gives stay the same for the context's life: written once.
     VkDescriptorBufferInfo constants{warp.constants, 0, warp.constants_size}, curve{warp.curve, 0, warp.curve_size};
-    VkDescriptorImageInfo depth{p.sampler, depth_view, VK_IMAGE_LAYOUT_GENERAL};
-    VkDescriptorImageInfo target{p.sampler, warp.target.view, warp.target.layout};
+    VkDescriptorImageInfo depth{sampler, depth_view, VK_IMAGE_LAYOUT_GENERAL};
+    VkDescriptorImageInfo target{sampler, warp.target.view, warp.target.layout};
     VkWriteDescriptorSet w[4];
     for (uint32_t i = 0; i < 4; i++) {
         w[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         w[i].dstSet = p.set, w[i].dstBinding = i, w[i].descriptorCount = 1;
-        w[i].descriptorType = bindings[i].descriptorType;
+        w[i].descriptorType = d.bindings[i].descriptorType;
     }
     w[0].pBufferInfo = &constants, w[1].pImageInfo = &depth, w[2].pImageInfo = &target, w[3].pBufferInfo = &curve;
     vkUpdateDescriptorSets(vk.device, 4, w, 0, nullptr);
-
-    VkShaderModule mods[4] = {shader(vk, host_eye_vert, sizeof host_eye_vert),
-                              shader(vk, host_eye_tesc, sizeof host_eye_tesc),
-                              shader(vk, host_eye_tese, sizeof host_eye_tese),
-                              shader(vk, host_eye_frag, sizeof host_eye_frag)};
-    const VkShaderStageFlagBits kinds[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
-                                            VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
-    VkPipelineShaderStageCreateInfo st[4];
-    for (int i = 0; i < 4; i++) {
-        st[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-        st[i].stage = kinds[i], st[i].module = mods[i], st[i].pName = "main";
-    }
-    VkVertexInputBindingDescription vb{0, 12, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription va{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
-    VkPipelineVertexInputStateCreateInfo vin{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vin.vertexBindingDescriptionCount = 1, vin.pVertexBindingDescriptions = &vb;
-    vin.vertexAttributeDescriptionCount = 1, vin.pVertexAttributeDescriptions = &va;
-    VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
-    VkPipelineTessellationStateCreateInfo ts{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
-    ts.patchControlPoints = 3;
-    VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    vp.viewportCount = vp.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.cullMode = VK_CULL_MODE_NONE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    ds.depthTestEnable = ds.depthWriteEnable = VK_TRUE;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState cb[2] = {};
-    cb[0].colorWriteMask = cb[1].colorWriteMask = 0xf;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 2, blend.pAttachments = cb;
-    VkDynamicState dyn[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dy.dynamicStateCount = 2, dy.pDynamicStates = dyn;
-    VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    ri.colorAttachmentCount = 2, ri.pColorAttachmentFormats = EYE_FORMATS;
-    ri.depthAttachmentFormat = VK_FORMAT_D32_SFLOAT;
-    VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    gi.pNext = &ri;
-    gi.stageCount = 4, gi.pStages = st;
-    gi.pVertexInputState = &vin, gi.pInputAssemblyState = &ia, gi.pTessellationState = &ts;
-    gi.pViewportState = &vp, gi.pRasterizationState = &rs, gi.pMultisampleState = &ms, gi.pDepthStencilState = &ds;
-    gi.pColorBlendState = &blend, gi.pDynamicState = &dy, gi.layout = p.layout;
-    CHECK(vkCreateGraphicsPipelines(vk.device, VK_NULL_HANDLE, 1, &gi, nullptr, &p.pipe));
-    for (VkShaderModule m : mods)
-        vkDestroyShaderModule(vk.device, m, nullptr);
     return p;
-}
-
-void destroy_eye_pipeline(const Vk &vk, EyePipeline &p)
-{
-    vkDestroySampler(vk.device, p.sampler, nullptr);
-    vkDestroyPipeline(vk.device, p.pipe, nullptr);
-    vkDestroyPipelineLayout(vk.device, p.layout, nullptr);
-    vkDestroyDescriptorPool(vk.device, p.pool, nullptr);
-    vkDestroyDescriptorSetLayout(vk.device, p.set_layout, nullptr);
 }
 
 struct Eye {
@@ -1017,47 +982,13 @@ void free_eye(const Vk &vk, Eye &e)
 
 // One eye: the sky, then every draw as patches; leaves the colour and the
 // centre-view x in TRANSFER_SRC_OPTIMAL.
-void render_eye(VkCommandBuffer cmd, const Eye &e, const EyePipeline &p, const Scene &scene, VkBuffer vbuf,
+void render_eye(VkCommandBuffer cmd, const Eye &e, const Pipeline &p, const Scene &scene, VkBuffer vbuf,
                 VkBuffer ibuf, uint32_t w, uint32_t h, bool right)
 {
-    const VkPipelineStageFlags2 OUT = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    const VkPipelineStageFlags2 TESTS =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    for (const Image *im : {&e.color, &e.centre_x})
-        barrier(cmd, im->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0, OUT,
-                VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    barrier(cmd, e.zbuffer.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
-            VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, TESTS, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, TESTS,
-            VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-    VkRenderingAttachmentInfo color[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
-                                          {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
-    color[0].imageView = e.color.view;
-    color[1].imageView = e.centre_x.view;
-    for (VkRenderingAttachmentInfo &c : color) {
-        c.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        c.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        c.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    }
-    color[0].clearValue.color = {{0.78f, 0.86f, 0.95f, 1.0f}}; // sky
-    color[1].clearValue.color = {{-1.0f, 0, 0, 0}};           // no surface
-    VkRenderingAttachmentInfo dat{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    dat.imageView = e.zbuffer.view;
-    dat.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    dat.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    dat.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    dat.clearValue.depthStencil = {1.0f, 0};
-    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    ri.renderArea = {{0, 0}, {w, h}};
-    ri.layerCount = 1;
-    ri.colorAttachmentCount = 2;
-    ri.pColorAttachments = color;
-    ri.pDepthAttachment = &dat;
-    vkCmdBeginRendering(cmd, &ri);
+    std::vector<const Image *> colors = {&e.color, &e.centre_x};
+    begin_targets(cmd, colors, {{{0.78f, 0.86f, 0.95f, 1.0f}}, {{-1.0f, 0, 0, 0}}}, e.zbuffer, w, h); // sky; no surface
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
-    VkViewport viewport{0, 0, (float)w, (float)h, 0, 1};
     VkRect2D scissor{{0, 0}, {w, h}};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.layout, 0, 1, &p.set, 0, nullptr);
     VkDeviceSize zero = 0;
@@ -1076,41 +1007,44 @@ void render_eye(VkCommandBuffer cmd, const Eye &e, const EyePipeline &p, const S
             vkCmdDrawIndexed(cmd, n, 1, d.first_index + at, 0, 0);
         }
     }
-    vkCmdEndRendering(cmd);
-    for (const Image *im : {&e.color, &e.centre_x})
-        barrier(cmd, im->image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, OUT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    end_targets(cmd, colors, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+// Writes a file whole or not at all: into path.tmp, then renamed.
+template <typename Body> bool write_file(const std::string &path, Body body)
+{
+    std::string tmp = path + ".tmp";
+    FILE *f = std::fopen(tmp.c_str(), "wb");
+    if (!f)
+        return false;
+    bool ok = body(f);
+    ok = std::fclose(f) == 0 && ok;
+    if (!ok)
+        std::remove(tmp.c_str());
+    return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
 }
 
 // PPM, 8-bit RGB: the eyes for people.
 bool write_ppm(const std::string &path, const uint8_t *rgba, uint32_t w, uint32_t h)
 {
-    std::string tmp = path + ".tmp";
-    FILE *f = std::fopen(tmp.c_str(), "wb");
-    if (!f)
-        return false;
-    std::fprintf(f, "P6\n%u %u\n255\n", w, h);
-    bool ok = true;
-    for (size_t i = 0; i < (size_t)w * h && ok; i++)
-        ok = std::fwrite(rgba + 4 * i, 1, 3, f) == 3;
-    ok = std::fclose(f) == 0 && ok;
-    return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
+    return write_file(path, [&](FILE *f) {
+        bool ok = std::fprintf(f, "P6\n%u %u\n255\n", w, h) > 0;
+        for (size_t i = 0; i < (size_t)w * h && ok; i++)
+            ok = std::fwrite(rgba + 4 * i, 1, 3, f) == 3;
+        return ok;
+    });
 }
 
 // PFM, one channel, little-endian, rows bottom to top (the format's order).
 bool write_pfm(const std::string &path, const float *data, uint32_t w, uint32_t h)
 {
-    std::string tmp = path + ".tmp";
-    FILE *f = std::fopen(tmp.c_str(), "wb");
-    if (!f)
-        return false;
-    std::fprintf(f, "Pf\n%u %u\n-1.0\n", w, h);
-    bool ok = true;
-    for (uint32_t y = h; y-- > 0;)
-        ok = ok && std::fwrite(data + (size_t)y * w, 4, w, f) == w;
-    ok = std::fclose(f) == 0 && ok;
-    return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
+    return write_file(path, [&](FILE *f) {
+        bool ok = std::fprintf(f, "Pf\n%u %u\n-1.0\n", w, h) > 0;
+        for (uint32_t y = h; y-- > 0 && ok;)
+            ok = std::fwrite(data + (size_t)y * w, 4, w, f) == w;
+        return ok;
+    });
 }
 
 int usage(const char *why)
@@ -1217,10 +1151,15 @@ int main(int argc, char **argv)
     VkDeviceSize map_bytes = (VkDeviceSize)W * H * 4;
     Buffer readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
     Buffer eye_readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT); // colour, x per eye
-    Pipeline pipe = create_pipeline(vk, views.buffer);
+    Pipeline pipe = create_gbuffer_pipeline(vk, views.buffer);
+    VkSampler sampler; // the warp reads its maps with texelFetch: any sampler
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    CHECK(vkCreateSampler(vk.device, &sci, nullptr, &sampler));
     vgx_warp warp;
     vgx_get_warp(ctx, &warp);
-    EyePipeline eye_pipe = create_eye_pipeline(vk, warp, frame_gb.images[0].view);
+    Pipeline eye_pipe = create_eye_pipeline(vk, warp, frame_gb.images[0].view, sampler);
     Eye eyes[2] = {make_eye(vk, W, H), make_eye(vk, W, H)};
 
     VkCommandPool pool;
@@ -1375,7 +1314,8 @@ int main(int argc, char **argv)
     vgx_context_destroy(ctx);
     vkDestroyCommandPool(vk.device, pool, nullptr);
     destroy_pipeline(vk, pipe);
-    destroy_eye_pipeline(vk, eye_pipe);
+    destroy_pipeline(vk, eye_pipe);
+    vkDestroySampler(vk.device, sampler, nullptr);
     for (Eye &e : eyes)
         free_eye(vk, e);
     for (Buffer *b : {&readback, &eye_readback, &views, &ibuf, &vbuf})
