@@ -11,6 +11,7 @@
 #include "core/clock.h"
 #include "core/log.h"
 #include "disparity/gpu/disparity_gpu.h"
+#include "sdk/vgx_engine.h"
 #include "disparity/gpu/keyframe_gpu.h"
 #include "disparity/mid_window.h"
 #include "render/frame_ctx.h"
@@ -34,11 +35,22 @@ typedef struct readback_item {
 
 _Static_assert(VG_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "the graph keeps timestamps for every frame in flight");
 
+/* One of the SDK dispatch's passes, as a pass of the frame's graph. */
+#define FRAME_MAX_VGX_PASSES 24
+typedef struct vgx_pass {
+    struct frame *f;
+    uint32_t index;
+} vgx_pass;
+
 struct frame {
     frame_ctx fc;
     gbuffer_gpu *gbuffer;
-    disparity_gpu *disparity;
-    keyframe_gpu *keyframes;     /* the atlas of the window's keyframes the disparity passes read */
+    vgx_context *vgx;            /* the disparity passes, through the public API (include/vergence) */
+    vgx_pass vgx_passes[FRAME_MAX_VGX_PASSES];
+    vgx_image maps[3];           /* g, h, f: the context's */
+    disparity_gpu_atlas atlas;
+    disparity_gpu *disparity;    /* behind it: the frame's metrics read the solve's keyframes */
+    keyframe_gpu *keyframes;     /* the frame renders the window's keyframes vgx_begin_frame asks for */
     warp_gpu *warp;
     compose_gpu *compose;
     overlay_gpu *overlay;        /* stereo frames that draw a HUD (windowed, or desc.overlay) */
@@ -111,6 +123,69 @@ static bool frame_needs_maps(const frame_desc *d)
            (d->stereo != FRAME_STEREO_CAMERAS || d->mode != FRAME_MODE_ORIGINAL || d->measure || d->readback);
 }
 
+/* The disparity passes as graph passes of the frame, one per pass of the
+ * SDK's dispatch (vgx_pass_name), each recording only its own
+ * (first_pass): the pass clock, the HUD and the benches time them one by
+ * one. Each reads the G-buffer and the atlas (so they live until the last),
+ * and leaves g, h and f, the context's images, in SHADER_READ_ONLY_OPTIMAL
+ * (RG_SAMPLED) as it found them. */
+static vgx_image vgx_image_of(const rg_context *ctx, rg_res r)
+{
+    return (vgx_image){rg_ctx_image(ctx, r), rg_ctx_view(ctx, r), rg_ctx_layout(ctx, r)};
+}
+
+static void vgx_execute(const rg_context *ctx, void *user)
+{
+    const vgx_pass *p = user;
+    frame *f = p->f;
+    const frame_ctx *fc = &f->fc;
+    const frame_resources *res = &f->res;
+    const disparity_gpu_atlas *a = &f->atlas;
+    vgx_dispatch_desc d = {
+        .command_buffer = rg_ctx_cmd(ctx),
+        .frame = {vgx_image_of(ctx, res->depth), vgx_image_of(ctx, res->color), vgx_image_of(ctx, res->motion),
+                  vgx_image_of(ctx, res->ids)},
+        .keyframes = {vgx_image_of(ctx, a->depth), vgx_image_of(ctx, a->color), vgx_image_of(ctx, a->motion),
+                      vgx_image_of(ctx, a->ids)},
+        /* The original rig as stereo_setup makes it: the render camera's field of view. */
+        .rig = {.hfov_deg = 2.0 * atan(tan(0.5 * fc->cam.yfov) * fc->cam.aspect) * 180.0 / M_PI,
+                .interaxial_m = fc->desc.rig.interaxial_m, .convergence_m = fc->desc.rig.convergence_m},
+        .first_pass = p->index, .pass_count = 1,
+    };
+    if (vgx_dispatch(f->vgx, &d) != VGX_SUCCESS)
+        vg_error("the frame's disparity pass %s was not recorded", vgx_pass_name(f->vgx, p->index));
+}
+
+static void vgx_add(frame *f, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas)
+{
+    f->atlas = *atlas;
+    rg_import_desc sampled = {RG_SAMPLED, RG_SAMPLED};
+    static const char *const names[3] = {"disparity.g", "disparity.h", "disparity.f"};
+    rg_res *maps[3] = {&res->g, &res->h, &res->f};
+    for (int i = 0; i < 3; i++) {
+        vgx_image img;
+        if (vgx_get_output(f->vgx, (vgx_output)i, &img) != VGX_SUCCESS)
+            continue;
+        *maps[i] = rg_import_image(g, &(rg_image_desc){names[i], VK_FORMAT_R32_SFLOAT, f->fc.desc.width,
+                                                       f->fc.desc.height, 1}, &sampled);
+        f->maps[i] = img;
+    }
+    rg_res reads[8] = {res->depth, res->color, res->motion, res->ids, atlas->depth, atlas->color, atlas->motion,
+                       atlas->ids};
+    uint32_t n = vgx_pass_count(f->vgx);
+    for (uint32_t i = 0; i < n && i < FRAME_MAX_VGX_PASSES; i++) {
+        f->vgx_passes[i] = (vgx_pass){f, i};
+        rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = vgx_pass_name(f->vgx, i), .type = RG_PASS_COMPUTE,
+                                                   .execute = vgx_execute, .user = &f->vgx_passes[i],
+                                                   .side_effects = true});
+        for (int k = 0; k < 8; k++)
+            rg_use(g, p, reads[k], RG_STORAGE_READ);
+        for (int k = 0; k < 3; k++)
+            if (maps[k]->id)
+                rg_use(g, p, *maps[k], RG_SAMPLED);
+    }
+}
+
 static vg_status build_graph(frame *f)
 {
     frame_ctx *fc = &f->fc;
@@ -131,10 +206,10 @@ static vg_status build_graph(frame *f)
     bool eyes = stereo && !fc->desc.maps_only;
     if (stereo) {
         rg_res target = {0};
-        if (f->disparity) {
+        if (f->vgx) {
             disparity_gpu_atlas atlas;
             keyframe_gpu_add(f->keyframes, g, res, &atlas);
-            disparity_gpu_add(f->disparity, g, res, &atlas);
+            vgx_add(f, g, res, &atlas);
             target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
                      : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
                                                              : res->g;
@@ -372,24 +447,37 @@ bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap)
     return false;
 }
 
-/* The disparity passes for the frame's settings, and the renderer of their
- * keyframe atlas. */
+/* The disparity passes for the frame's settings, through the SDK as any
+ * host would make them (its context over the frame's own device), and the
+ * renderer of their keyframe atlas. */
 static vg_status disparity_create(frame *f)
 {
     frame_ctx *fc = &f->fc;
     const frame_desc *fd = &fc->desc; /* defaults resolved */
-    vg_status st = disparity_gpu_create(&(disparity_gpu_desc){
-        .gpu = fc->gpu, .width = fd->width, .height = fd->height, .fps = fd->fps,
-        .keyframe_stride = fd->keyframe_stride, .coarse_stride = fd->coarse_stride,
-        .window_seconds = fd->window_seconds, .window_future = fd->window_future, .op = fd->op,
-        .op_preset = fd->op_preset, .target_range = fd->target_range,
-        .screen_vergence = fc->display.screen_vergence, .solver = fd->solver,
-        .solver_iterations = fd->solver_iterations, .causal = fd->look_ahead == FRAME_LOOK_AHEAD_CAUSAL,
-        .temporal_depth_only = fd->temporal_depth_only, .keyframes = true,
-        .f = fd->mode == FRAME_MODE_OPTIMIZED || fd->measure || (fd->readback && !fd->maps_only),
-        .readback = fd->readback}, &f->disparity);
-    if (st != VG_OK)
-        return st;
+    gpu *g = fc->gpu;
+    bool optimize = fd->mode == FRAME_MODE_OPTIMIZED || fd->measure || (fd->readback && !fd->maps_only);
+    const stereo_display_desc *dd = &fd->display;
+    vgx_context_desc d = {
+        .header_version = VGX_HEADER_VERSION, .instance = g->instance, .physical_device = g->phys,
+        .device = g->device, .queue_family = g->queue_family, .allocator = g->alloc,
+        .width = fd->width, .height = fd->height,
+        .display = {.diagonal_in = dd->diagonal_in, .aspect_w = dd->aspect_w, .aspect_h = dd->aspect_h,
+                    .res_x = dd->res_x, .res_y = dd->res_y, .distance_m = dd->distance_m, .ipd_m = dd->ipd_m},
+        .op = (vgx_operator)fd->op, .preset = (vgx_preset)fd->op_preset, .target_range_arcmin = fd->target_range,
+        .fps = fd->fps, .keyframe_stride = fd->keyframe_stride, .window_seconds = fd->window_seconds,
+        .look_ahead = fd->look_ahead == FRAME_LOOK_AHEAD_CAUSAL ? VGX_LOOK_AHEAD_CAUSAL : VGX_LOOK_AHEAD_PREDICTED,
+        /* Keyframes in every mode: lang-smoothed's h depends on its keyframe
+         * and the frame only (issue 13). */
+        .flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_KEYFRAMES | (optimize ? VGX_CONTEXT_OPTIMIZE : 0u),
+    };
+    vgx_result r = vgx_engine_context_create(&d, &(disparity_gpu_desc){
+        .coarse_stride = fd->coarse_stride, .window_future = fd->window_future, .solver = fd->solver,
+        .solver_iterations = fd->solver_iterations, .temporal_depth_only = fd->temporal_depth_only,
+        .readback = fd->readback}, &f->vgx);
+    if (r != VGX_SUCCESS)
+        return r == VGX_ERROR_OUT_OF_MEMORY ? VG_ERR_NOMEM : r == VGX_ERROR_VULKAN ? VG_ERR_VULKAN
+               : r == VGX_ERROR_DEVICE ? VG_ERR_DEVICE : VG_ERR_ARG;
+    f->disparity = vgx_engine_disparity(f->vgx);
     disparity_gpu_info i;
     disparity_gpu_get_info(f->disparity, &i);
     return keyframe_gpu_create(fc, &(keyframe_gpu_desc){.disparity = f->disparity, .nx = i.nx, .ny = i.ny, .stride = i.stride,
@@ -458,7 +546,7 @@ void frame_destroy(frame *f)
     free(f->hud);
     compose_gpu_destroy(f->compose);
     warp_gpu_destroy(f->warp);
-    disparity_gpu_destroy(f->disparity);
+    vgx_context_destroy(f->vgx);
     keyframe_gpu_destroy(f->keyframes);
     gbuffer_gpu_destroy(f->gbuffer);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
@@ -597,14 +685,17 @@ static vg_status frame_begin(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
     fill_ubo(fc, fc->ubo[slot].mapped);
-    if (!f->disparity)
+    if (!f->vgx)
         return VG_OK;
-    vg_status st = disparity_gpu_prepare(f->disparity, fc->times.index, slot);
-    long first;
-    int count;
-    disparity_gpu_keyframes(f->disparity, &first, &count);
-    keyframe_gpu_prepare(f->keyframes, first, count);
-    return st;
+    vgx_frame_plan plan;
+    vgx_result r = vgx_engine_begin_frame(f->vgx, fc->times.index, slot, &plan);
+    if (r != VGX_SUCCESS)
+        return r == VGX_ERROR_VULKAN ? VG_ERR_VULKAN : VG_ERR_ARG;
+    vgx_keyframe first = {0};
+    if (plan.keyframe_count)
+        vgx_get_keyframe(f->vgx, 0, &first);
+    keyframe_gpu_prepare(f->keyframes, (long)first.index, (int)plan.keyframe_count);
+    return VG_OK;
 }
 
 /* Binds this slot's imported buffers to the graph. */
@@ -616,6 +707,10 @@ static void frame_bind(frame *f)
     rg_bind_buffer(f->graph, f->res.vertices, fc->sg.dynamic[slot].buffer);
     rg_bind_buffer(f->graph, f->res.statics, fc->sg.statics.buffer);
     rg_bind_buffer(f->graph, f->res.indices, fc->sg.indices.buffer);
+    const rg_res maps[3] = {f->res.g, f->res.h, f->res.f};
+    for (int i = 0; i < 3; i++)
+        if (f->vgx && f->maps[i].image)
+            rg_bind_image(f->graph, maps[i], f->maps[i].image, f->maps[i].view);
     if (fc->desc.readback)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
     if (f->warp)
@@ -780,8 +875,8 @@ rg_graph *frame_get_graph(frame *f) { return f->graph; }
 
 void frame_restart(frame *f)
 {
-    if (f && f->disparity)
-        disparity_gpu_restart(f->disparity);
+    if (f && f->vgx)
+        vgx_restart(f->vgx);
 }
 
 void frame_get_info(const frame *f, frame_info *out)

@@ -664,6 +664,11 @@ static void transition(rg_track *t, const rg_physical *ph, uint32_t res, uint32_
         t->visible_access = n.access;
         t->write_access = 0;
         t->read_stage = 0;
+        /* A layout transition writes the image: a later use at another stage
+         * waits for it, even when no pass of the frame wrote the image (an
+         * imported one, read at compute and then at the vertex stage). */
+        if (layout_change && !t->write_stage)
+            t->write_stage = n.stage;
     }
     if (n.writes) {
         t->write_stage = n.stage;

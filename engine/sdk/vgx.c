@@ -2,6 +2,7 @@
  * passes: a small frame graph of its own whose imported resources are the
  * host's images, recorded into the host's command buffer. */
 #include "vergence/vergence.h"
+#include "vgx_engine.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -14,6 +15,8 @@
 #include "disparity/mid_window.h"
 #include "graph/graph.h"
 #include "warp/gpu/curve_gpu.h"
+
+#include "vgx_depth_comp.h"
 #include "shared.h"
 #include "stereo/stereo_display.h"
 
@@ -39,6 +42,13 @@ struct vgx_context {
     gpu_image blank[2];               /* where the host gives no saliency: the frame's and the atlas's */
     bool initialised;                 /* the context's images were moved to their steady layouts */
 
+    /* VGX_DEPTH_DEVICE: the host's z-buffer made linear (vgx.depth). */
+    gpu_compute_kit depth_kit;
+    VkSampler nearest;
+    gpu_image linear;
+    float depth_m[4];                 /* m10, m11, m14, m15 of the host's projection */
+    bool device_depth;                /* the last dispatch's */
+
     /* The warp (VGX_CONTEXT_WARP). */
     curve_gpu *curve;
     gpu_buffer warp_ubo, curve_buf;
@@ -49,13 +59,16 @@ struct vgx_context {
     rg_graph *graph;
     VkImageLayout layouts[VGX_INPUTS];
     int graph_warp_map;
-    rg_res r_warp_ubo, r_curve;
+    vgx_depth_kind graph_depth_kind;
+    VkFormat graph_depth_format;
+    rg_res r_warp_ubo, r_curve, r_linear;
     rg_res inputs[VGX_INPUTS];
     frame_resources res;
     vg_frame_ubo constants;
 
     /* The frame planned by vgx_begin_frame. */
     bool planned;
+    uint32_t next_pass;               /* a dispatch recorded pass by pass: the next one due */
     int64_t next_index;               /* without a plan: the dispatch's frame */
     vgx_frame_plan plan;
     long key_first;
@@ -184,7 +197,7 @@ static vg_status check_desc(const vgx_context_desc *d)
                  w->tess_error_px, w->max_tess_level, w->depth_epsilon, w->halton_radius_px);
         return VG_ERR_ARG;
     }
-    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP;
+    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES;
     if (d->flags & ~known) {
         vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
         return VG_ERR_ARG;
@@ -192,10 +205,18 @@ static vg_status check_desc(const vgx_context_desc *d)
     return VG_OK;
 }
 
-static vg_status create(vgx_context *c)
+static bool has_keyframes(const vgx_context *c)
+{
+    return c->desc.flags & (VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_KEYFRAMES);
+}
+
+static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS], int warp_map);
+static bool input_used(const vgx_context *c, int i);
+
+static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
 {
     const vgx_context_desc *d = &c->desc;
-    bool optimize = d->flags & VGX_CONTEXT_OPTIMIZE;
+    bool optimize = d->flags & VGX_CONTEXT_OPTIMIZE, keyframes = has_keyframes(c);
     vg_status st = gpu_import(&(gpu_import_desc){.instance = d->instance, .physical_device = d->physical_device,
                                                  .device = d->device, .queue_family = d->queue_family,
                                                  .alloc = d->allocator}, &c->gpu);
@@ -205,8 +226,9 @@ static vg_status create(vgx_context *c)
         .diagonal_in = d->display.diagonal_in, .aspect_w = d->display.aspect_w, .aspect_h = d->display.aspect_h,
         .res_x = d->display.res_x, .res_y = d->display.res_y, .distance_m = d->display.distance_m,
         .ipd_m = d->display.ipd_m});
-    /* The engine's frame resolves the same defaults (frame.c). */
-    st = disparity_gpu_create(&(disparity_gpu_desc){
+    /* The engine's frame resolves the same defaults (frame.c); it tunes
+     * what the public desc does not name (vgx_engine.h). */
+    disparity_gpu_desc dd = {
         .gpu = c->gpu, .width = d->width, .height = d->height, .fps = d->fps > 0 ? d->fps : 60.0,
         .keyframe_stride = d->keyframe_stride > 0 ? d->keyframe_stride : MID_KEYFRAME_STRIDE,
         .coarse_stride = MID_COARSE_STRIDE,
@@ -216,7 +238,16 @@ static vg_status create(vgx_context *c)
         .op_preset = (disp_operator_preset)d->preset, .target_range = d->target_range_arcmin,
         .screen_vergence = c->display.screen_vergence, .no_saliency = !(d->flags & VGX_CONTEXT_SALIENCY),
         .solver = MID_SOLVER_GAUSS_NEWTON, .causal = d->look_ahead == VGX_LOOK_AHEAD_CAUSAL,
-        .keyframes = optimize, .f = optimize}, &c->d);
+        .keyframes = keyframes, .f = optimize};
+    if (tuning) {
+        dd.coarse_stride = tuning->coarse_stride > 0 ? tuning->coarse_stride : dd.coarse_stride;
+        dd.window_future = tuning->window_future > 0 ? tuning->window_future : dd.window_future;
+        dd.solver = tuning->solver ? tuning->solver : dd.solver;
+        dd.solver_iterations = tuning->solver_iterations;
+        dd.temporal_depth_only = tuning->temporal_depth_only;
+        dd.readback = tuning->readback;
+    }
+    st = disparity_gpu_create(&dd, &c->d);
     if (st != VG_OK)
         return st;
     disparity_gpu_get_info(c->d, &c->info);
@@ -232,6 +263,28 @@ static vg_status create(vgx_context *c)
                                                         .usage = VK_IMAGE_USAGE_STORAGE_BIT |
                                                                  VK_IMAGE_USAGE_SAMPLED_BIT |
                                                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT}, &c->out[i]);
+    static const VkDescriptorType depth_types[2] = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                                                    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+    if (st == VG_OK)
+        st = gpu_compute_kit_create(c->gpu, &(gpu_compute_kit_desc){
+            .name = "vgx.depth", .types = depth_types, .count = 2, .push_size = 4 * sizeof(float),
+            .kernels = {GPU_KERNEL(spv_vgx_depth_comp, "vgx.depth")}}, &c->depth_kit);
+    if (st == VG_OK) {
+        VkSamplerCreateInfo si = {.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO, .magFilter = VK_FILTER_NEAREST,
+                                  .minFilter = VK_FILTER_NEAREST, .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+                                  .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+                                  .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE};
+        VkResult r = vkCreateSampler(c->gpu->device, &si, c->gpu->alloc, &c->nearest);
+        if (r != VK_SUCCESS) {
+            gpu_report_failure(__FILE__, __LINE__, "vkCreateSampler", r);
+            st = VG_ERR_VULKAN;
+        }
+    }
+    if (st == VG_OK)
+        st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = "vgx linear depth", .format = VK_FORMAT_R32_SFLOAT,
+                                                        .width = d->width, .height = d->height,
+                                                        .usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT},
+                              &c->linear);
     c->warp_map = optimize ? VGX_OUTPUT_F : VGX_OUTPUT_H; /* the default warp map (vgx_get_warp) */
     if (st == VG_OK && (d->flags & VGX_CONTEXT_WARP)) {
         st = curve_gpu_create(c->gpu, d->width, d->height, &c->curve);
@@ -244,15 +297,23 @@ static vg_status create(vgx_context *c)
                                                               .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
                                    &c->curve_buf);
     }
-    for (int i = 0; i < (optimize ? 2 : 1) && st == VG_OK && !(d->flags & VGX_CONTEXT_SALIENCY); i++)
+    for (int i = 0; i < (keyframes ? 2 : 1) && st == VG_OK && !(d->flags & VGX_CONTEXT_SALIENCY); i++)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = "vgx no saliency", .format = VK_FORMAT_R8G8B8A8_UNORM,
                                                         .width = i ? c->atlas_w : d->width,
                                                         .height = i ? c->atlas_h : d->height,
                                                         .usage = VK_IMAGE_USAGE_STORAGE_BIT}, &c->blank[i]);
+    /* The passes are known from the start (vgx_pass_name): a graph for
+     * inputs in GENERAL; a dispatch with other layouts compiles its own. */
+    VkImageLayout general[VGX_INPUTS];
+    for (int i = 0; i < VGX_INPUTS; i++)
+        general[i] = input_used(c, i) ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED;
+    c->graph_depth_kind = VGX_DEPTH_LINEAR;
+    if (st == VG_OK)
+        st = build_graph(c, general, c->warp_map);
     return st;
 }
 
-vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context **out)
+static vgx_result context_create(const vgx_context_desc *desc, const disparity_gpu_desc *tuning, vgx_context **out)
 {
     if (!out)
         return VGX_ERROR_INVALID_ARGUMENT;
@@ -269,7 +330,7 @@ vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context **out)
     }
     if (st == VG_OK) {
         c->desc = *desc;
-        st = create(c);
+        st = create(c, tuning);
         if (st != VG_OK) {
             vgx_context_destroy(c);
             c = NULL;
@@ -278,6 +339,21 @@ vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context **out)
     vg_log_set_sink(was);
     *out = c;
     return st == VG_ERR_UNSUPPORTED ? VGX_ERROR_VERSION : result_of(st);
+}
+
+vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context **out)
+{
+    return context_create(desc, NULL, out);
+}
+
+vgx_result vgx_engine_context_create(const vgx_context_desc *desc, const disparity_gpu_desc *tuning, vgx_context **out)
+{
+    return context_create(desc, tuning, out);
+}
+
+disparity_gpu *vgx_engine_disparity(const vgx_context *c)
+{
+    return c->d;
 }
 
 void vgx_context_destroy(vgx_context *c)
@@ -294,6 +370,10 @@ void vgx_context_destroy(vgx_context *c)
             gpu_image_destroy(c->gpu, &c->blank[i]);
         gpu_buffer_destroy(c->gpu, &c->ubo);
         gpu_buffer_destroy(c->gpu, &c->warp_ubo);
+        gpu_image_destroy(c->gpu, &c->linear);
+        gpu_compute_kit_destroy(c->gpu, &c->depth_kit);
+        if (c->nearest)
+            vkDestroySampler(c->gpu->device, c->nearest, c->gpu->alloc);
         gpu_buffer_destroy(c->gpu, &c->curve_buf);
         curve_gpu_destroy(c->curve);
         disparity_gpu_destroy(c->d);
@@ -327,7 +407,7 @@ vgx_result vgx_get_output(const vgx_context *c, vgx_output which, vgx_image *out
 /* The frame's plan                                                          */
 /* ------------------------------------------------------------------------- */
 
-static vg_status begin_frame(vgx_context *c, int64_t index)
+static vg_status begin_frame(vgx_context *c, int64_t index, int slot)
 {
     if (index < 0 || index > ((int64_t)1 << 40)) {
         vg_error("vgx_begin_frame: frame_index %lld is out of range (0 to 2^40)", (long long)index);
@@ -335,7 +415,12 @@ static vg_status begin_frame(vgx_context *c, int64_t index)
     }
     int stride = c->desc.keyframe_stride > 0 ? c->desc.keyframe_stride : MID_KEYFRAME_STRIDE;
     double fps = c->desc.fps > 0 ? c->desc.fps : 60.0;
-    vg_status st = disparity_gpu_prepare(c->d, (long)index, (int)(index % 2));
+    if (c->next_pass) {
+        vg_error("vgx_begin_frame: the last dispatch stopped after pass %u of %u", c->next_pass,
+                 rg_order_count(c->graph));
+        return VG_ERR_ARG;
+    }
+    vg_status st = disparity_gpu_prepare(c->d, (long)index, slot);
     if (st != VG_OK)
         return st;
     int count;
@@ -354,8 +439,16 @@ vgx_result vgx_begin_frame(vgx_context *c, int64_t frame_index, vgx_frame_plan *
         return VGX_ERROR_INVALID_ARGUMENT;
     message_to m;
     vg_log_sink was = sink_begin(&m, c->desc.message, c->desc.message_user);
-    vg_status st = begin_frame(c, frame_index);
+    vg_status st = begin_frame(c, frame_index, (int)(frame_index % 2));
     vg_log_set_sink(was);
+    if (st == VG_OK && plan)
+        *plan = c->plan;
+    return result_of(st);
+}
+
+vgx_result vgx_engine_begin_frame(vgx_context *c, int64_t frame_index, int slot, vgx_frame_plan *plan)
+{
+    vg_status st = begin_frame(c, frame_index, slot);
     if (st == VG_OK && plan)
         *plan = c->plan;
     return result_of(st);
@@ -397,8 +490,20 @@ static rg_usage usage_of_layout(VkImageLayout layout)
     case VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL: return RG_COLOR_WRITE;
     case VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL: return RG_TRANSFER_SRC;
     case VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL: return RG_TRANSFER_DST;
+    case VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL: return RG_SAMPLED;   /* of a depth format */
+    case VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL: return RG_DEPTH_WRITE;
     default: return RG_USAGE_NONE;
     }
+}
+
+static void depth_execute(const rg_context *ctx, void *user)
+{
+    vgx_context *c = user;
+    VkDescriptorImageInfo z = {c->nearest, rg_ctx_view(ctx, c->inputs[0]), rg_ctx_layout(ctx, c->inputs[0])};
+    VkDescriptorImageInfo l = {.imageView = rg_ctx_view(ctx, c->r_linear), .imageLayout = rg_ctx_layout(ctx, c->r_linear)};
+    gpu_binding b[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &z, VK_NULL_HANDLE}, GPU_STORAGE_IMAGE(&l)};
+    gpu_compute_kit_bind_list(c->gpu, rg_ctx_cmd(ctx), &c->depth_kit, 0, b, 2, c->depth_m);
+    vkCmdDispatch(rg_ctx_cmd(ctx), (c->desc.width + 7) / 8, (c->desc.height + 7) / 8, 1);
 }
 
 static void constants_execute(const rg_context *ctx, void *user)
@@ -428,15 +533,16 @@ static void inputs_of(const vgx_dispatch_desc *d, vgx_image out[VGX_INPUTS])
     }
 }
 
-/* Which inputs the context reads: depth always, saliency with
- * VGX_CONTEXT_SALIENCY, the rest with VGX_CONTEXT_OPTIMIZE. */
+/* Which inputs the context reads: the frame's depth always, saliency with
+ * VGX_CONTEXT_SALIENCY, the frame's motion and ids with f, the atlas with
+ * keyframes. */
 static bool input_used(const vgx_context *c, int i)
 {
     bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE, saliency = c->desc.flags & VGX_CONTEXT_SALIENCY;
     int kind = i % 4;
-    if (i >= 4 && !optimize)
+    if (i >= 4 && !has_keyframes(c))
         return false;
-    return kind == 0 || (kind == 1 ? saliency : optimize);
+    return kind == 0 || (kind == 1 ? saliency : i >= 4 || optimize);
 }
 
 static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS], int warp_map)
@@ -450,17 +556,24 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     *res = (frame_resources){0};
     res->ubo = rg_import_buffer(g, &(rg_buffer_desc){"vgx.constants", sizeof(vg_frame_ubo)},
                                 &(rg_import_desc){RG_UNIFORM, RG_UNIFORM});
+    bool device = c->graph_depth_kind == VGX_DEPTH_DEVICE;
     for (int i = 0; i < VGX_INPUTS; i++) {
         c->inputs[i] = (rg_res){0};
-        bool blank = i % 4 == 1 && !(c->desc.flags & VGX_CONTEXT_SALIENCY) && (i < 4 || optimize);
+        bool blank = i % 4 == 1 && !(c->desc.flags & VGX_CONTEXT_SALIENCY) && (i < 4 || has_keyframes(c));
         if (!input_used(c, i) && !blank)
             continue;
         uint32_t w = i < 4 ? c->desc.width : c->atlas_w, h = i < 4 ? c->desc.height : c->atlas_h;
         rg_usage u = blank ? RG_STORAGE_READ : usage_of_layout(layouts[i]);
-        c->inputs[i] = rg_import_image(g, &(rg_image_desc){input_names[i], input_formats[i % 4], w, h, 1},
+        VkFormat format = i == 0 && device ? c->graph_depth_format : input_formats[i % 4];
+        c->inputs[i] = rg_import_image(g, &(rg_image_desc){input_names[i], format, w, h, 1},
                                        &(rg_import_desc){u, u});
     }
     res->depth = c->inputs[0], res->color = c->inputs[1], res->motion = c->inputs[2], res->ids = c->inputs[3];
+    c->r_linear = (rg_res){0};
+    if (device) /* the z-buffer made linear: what every later pass reads */
+        res->depth = c->r_linear = rg_import_image(g, &(rg_image_desc){"vgx.depth.linear", VK_FORMAT_R32_SFLOAT,
+                                                                       c->desc.width, c->desc.height, 1},
+                                                   &(rg_import_desc){RG_SAMPLED, RG_SAMPLED});
     disparity_gpu_atlas atlas = {.depth = c->inputs[4], .color = c->inputs[5], .motion = c->inputs[6],
                                  .ids = c->inputs[7]};
     rg_import_desc out = {RG_SAMPLED, RG_SAMPLED};
@@ -480,7 +593,12 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     rg_use(g, p, res->ubo, RG_TRANSFER_DST);
     if (c->curve)
         rg_use(g, p, c->r_warp_ubo, RG_TRANSFER_DST);
-    disparity_gpu_add(c->d, g, res, optimize ? &atlas : NULL);
+    if (device) {
+        p = rg_pass_add(g, &(rg_pass_desc){"vgx.depth", RG_PASS_COMPUTE, depth_execute, c, false});
+        rg_use(g, p, c->inputs[0], RG_SAMPLED);
+        rg_use(g, p, c->r_linear, RG_STORAGE_WRITE);
+    }
+    disparity_gpu_add(c->d, g, res, has_keyframes(c) ? &atlas : NULL);
     /* The warp's global curve, of the map it reads. */
     if (c->curve)
         curve_gpu_add(c->curve, g, res->depth, *maps[warp_map], c->r_curve);
@@ -492,6 +610,8 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     rg_bind_buffer(g, res->ubo, c->ubo.buffer);
     for (int i = 0; i < (optimize ? 3 : 2); i++)
         rg_bind_image(g, *maps[i], c->out[i].image, c->out[i].view);
+    if (device)
+        rg_bind_image(g, c->r_linear, c->linear.image, c->linear.view);
     if (c->curve) {
         rg_bind_buffer(g, c->r_warp_ubo, c->warp_ubo.buffer);
         rg_bind_buffer(g, c->r_curve, c->curve_buf.buffer);
@@ -506,10 +626,10 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
  * the layouts every later dispatch finds them in. */
 static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
 {
-    VkImageMemoryBarrier2 b[5];
+    VkImageMemoryBarrier2 b[6];
     uint32_t n = 0;
-    for (int i = 0; i < 5; i++) {
-        const gpu_image *img = i < 3 ? &c->out[i] : &c->blank[i - 3];
+    for (int i = 0; i < 6; i++) {
+        const gpu_image *img = i < 3 ? &c->out[i] : i == 5 ? &c->linear : &c->blank[i - 3];
         if (!img->image)
             continue;
         b[n++] = (VkImageMemoryBarrier2){
@@ -518,7 +638,7 @@ static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
             .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
             .dstAccessMask = VK_ACCESS_2_SHADER_READ_BIT,
             .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .newLayout = i < 3 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL,
+            .newLayout = i < 3 || i == 5 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL,
             .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
             .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
             .image = img->image,
@@ -529,10 +649,19 @@ static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
                                                    .imageMemoryBarrierCount = n, .pImageMemoryBarriers = b});
 }
 
-static vg_status check_image(const char *gbuffer, const char *name, const vgx_image *img)
+static vg_status check_image(const char *gbuffer, const char *name, const vgx_image *img, bool device_depth)
 {
     if (!img->image || !img->view) {
         vg_error("vgx_dispatch_desc.%s.%s: image or view is null", gbuffer, name);
+        return VG_ERR_ARG;
+    }
+    bool depth_layout = img->layout == VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL ||
+                        img->layout == VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    if (device_depth != depth_layout) {
+        vg_error("vgx_dispatch_desc.%s.%s.layout is %d; %s", gbuffer, name, (int)img->layout,
+                 device_depth ? "a z-buffer (VGX_DEPTH_DEVICE) is read in DEPTH_READ_ONLY_OPTIMAL or "
+                                "DEPTH_ATTACHMENT_OPTIMAL"
+                              : "only a z-buffer (VGX_DEPTH_DEVICE) is given in a depth layout");
         return VG_ERR_ARG;
     }
     if (usage_of_layout(img->layout) == RG_USAGE_NONE) {
@@ -593,7 +722,8 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
     for (int i = 0; i < VGX_INPUTS; i++) {
         if (!input_used(c, i))
             continue;
-        vg_status st = check_image(i < 4 ? "frame" : "keyframes", strchr(input_names[i], '.') + 1, &in[i]);
+        vg_status st = check_image(i < 4 ? "frame" : "keyframes", strchr(input_names[i], '.') + 1, &in[i],
+                                   i == 0 && d->depth_kind == VGX_DEPTH_DEVICE);
         if (st != VG_OK)
             return st;
         layouts[i] = in[i].layout;
@@ -605,16 +735,36 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
         return VG_ERR_ARG;
     }
     bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE;
+    VkFormat depth_format = d->depth_format ? d->depth_format : VK_FORMAT_D32_SFLOAT;
+    if ((unsigned)d->depth_kind > VGX_DEPTH_DEVICE ||
+        (d->depth_kind == VGX_DEPTH_DEVICE && gpu_format_aspect(depth_format) != VK_IMAGE_ASPECT_DEPTH_BIT &&
+         depth_format != VK_FORMAT_D24_UNORM_S8_UINT && depth_format != VK_FORMAT_D32_SFLOAT_S8_UINT)) {
+        vg_error("vgx_dispatch_desc.depth_kind (%d) or .depth_format (%d) is not one vergence reads",
+                 (int)d->depth_kind, (int)d->depth_format);
+        return VG_ERR_ARG;
+    }
+    if (d->depth_kind == VGX_DEPTH_DEVICE) {
+        const float *m = d->projection;
+        bool finite = true;
+        for (int i = 0; i < 16; i++)
+            finite = finite && isfinite(m[i]);
+        if (!finite || (m[10] == 0 && m[11] == 0)) {
+            vg_error("vgx_dispatch_desc.projection: VGX_DEPTH_DEVICE needs the finite projection the z-buffer was "
+                     "drawn with");
+            return VG_ERR_ARG;
+        }
+    }
     if (!c->planned) {
         if (optimize) {
             vg_error("vgx_dispatch: call vgx_begin_frame first (a context with VGX_CONTEXT_OPTIMIZE plans each "
                      "frame's keyframes)");
             return VG_ERR_ARG;
         }
-        vg_status st = begin_frame(c, c->next_index);
+        vg_status st = begin_frame(c, c->next_index, (int)(c->next_index % 2));
         if (st != VG_OK)
             return st;
     }
+    uint32_t first = d->first_pass;
     int warp_map = d->warp_map == VGX_WARP_MAP_G ? VGX_OUTPUT_G : d->warp_map == VGX_WARP_MAP_H ? VGX_OUTPUT_H
                    : d->warp_map == VGX_WARP_MAP_F || optimize                               ? VGX_OUTPUT_F
                                                                                              : VGX_OUTPUT_H;
@@ -630,10 +780,34 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
             return VG_ERR_ARG;
         }
     }
-    if (!c->graph || memcmp(c->layouts, layouts, sizeof layouts) != 0 || warp_map != c->graph_warp_map) {
+    bool rebuild = memcmp(c->layouts, layouts, sizeof layouts) != 0 || warp_map != c->graph_warp_map ||
+                   d->depth_kind != c->graph_depth_kind ||
+                   (d->depth_kind == VGX_DEPTH_DEVICE && depth_format != c->graph_depth_format);
+    if (rebuild && first > 0) {
+        vg_error("vgx_dispatch_desc: pass %u was given other images' layouts or another warp_map than pass 0", first);
+        return VG_ERR_ARG;
+    }
+    if (rebuild) {
+        c->graph_depth_kind = d->depth_kind;
+        c->graph_depth_format = depth_format;
         vg_status st = build_graph(c, layouts, warp_map);
         if (st != VG_OK)
             return st;
+    }
+    /* The passes of this configuration (a z-buffer adds vgx.depth). */
+    uint32_t passes = rg_order_count(c->graph);
+    uint32_t end = d->pass_count ? first + d->pass_count : passes;
+    if (first != c->next_pass || end > passes || end <= first) {
+        vg_error("vgx_dispatch_desc: passes %u..%u of %u; the next one due is %u", first, end - 1, passes,
+                 c->next_pass);
+        return VG_ERR_ARG;
+    }
+    if (first > 0) {
+        for (uint32_t o = first; o < end; o++)
+            rg_execute_pass(c->graph, d->command_buffer, o);
+        c->next_pass = end == passes ? 0 : end;
+        c->planned = c->next_pass != 0;
+        return VG_OK;
     }
     for (int i = 0; i < VGX_INPUTS; i++) {
         if (input_used(c, i))
@@ -642,6 +816,11 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
             rg_bind_image(c->graph, c->inputs[i], c->blank[i / 4].image, c->blank[i / 4].view);
     }
     fill_constants(c, &d->rig);
+    c->device_depth = d->depth_kind == VGX_DEPTH_DEVICE;
+    if (c->device_depth) {
+        const float *m = d->projection;
+        memcpy(c->depth_m, (float[4]){m[10], m[11], m[14], m[15]}, sizeof c->depth_m);
+    }
     if (c->curve) {
         fill_warp(c, d);
         c->warp_map = warp_map;
@@ -660,10 +839,23 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
                              .dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT};
     vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
                                                    .memoryBarrierCount = 1, .pMemoryBarriers = &host});
-    for (uint32_t o = 0; o < rg_order_count(c->graph); o++)
+    for (uint32_t o = 0; o < end; o++)
         rg_execute_pass(c->graph, cmd, o);
-    c->planned = false;
+    c->next_pass = end == passes ? 0 : end;
+    c->planned = c->next_pass != 0;
     return VG_OK;
+}
+
+uint32_t vgx_pass_count(const vgx_context *c)
+{
+    return c && c->graph ? rg_order_count(c->graph) : 0;
+}
+
+const char *vgx_pass_name(const vgx_context *c, uint32_t pass)
+{
+    if (!c || !c->graph || pass >= rg_order_count(c->graph))
+        return NULL;
+    return rg_pass_name(c->graph, rg_order_pass(c->graph, pass));
 }
 
 vgx_result vgx_get_warp(const vgx_context *c, vgx_warp *out)
@@ -672,6 +864,9 @@ vgx_result vgx_get_warp(const vgx_context *c, vgx_warp *out)
         return VGX_ERROR_INVALID_ARGUMENT;
     const gpu_image *t = &c->out[c->warp_map];
     *out = (vgx_warp){.constants = c->warp_ubo.buffer, .constants_size = sizeof(warp_constants),
+                      .depth = c->device_depth ? (vgx_image){c->linear.image, c->linear.view,
+                                                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
+                                               : (vgx_image){0},
                       .target = {t->image, t->view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
                       .curve = c->curve_buf.buffer, .curve_size = sizeof(vg_curve)};
     return VGX_SUCCESS;

@@ -138,6 +138,8 @@ typedef enum vgx_preset {
 #define VGX_CONTEXT_OPTIMIZE 0x2u /* f: the host gives motion, ids and the keyframes vgx_begin_frame asks for */
 #define VGX_CONTEXT_WARP 0x4u     /* the dispatch also makes what warp.glsl reads (vgx_get_warp): the host draws
                                      its stereo pair by moving its own vertices */
+#define VGX_CONTEXT_KEYFRAMES 0x8u /* keyframes without f (implied by VGX_CONTEXT_OPTIMIZE): lang-smoothed's h then
+                                     depends on its keyframe and the frame only, not on which frames were rendered */
 
 /* The warp's settings (include/vergence/warp.glsl; zero = the engine's). */
 typedef struct vgx_warp_settings {
@@ -273,20 +275,40 @@ typedef enum vgx_warp_map {
     VGX_WARP_MAP_F,
 } vgx_warp_map;
 
+/* What frame.depth holds. */
+typedef enum vgx_depth_kind {
+    VGX_DEPTH_LINEAR = 0,             /* R32_SFLOAT metres along the view axis (storage), as vgx_gbuffer says */
+    VGX_DEPTH_DEVICE,                 /* the host's z-buffer as rasterised (a depth format, SAMPLED usage, in
+                                         DEPTH_READ_ONLY_OPTIMAL or DEPTH_ATTACHMENT_OPTIMAL): the dispatch makes
+                                         linear depth from `projection`, any depth range or handedness */
+} vgx_depth_kind;
+
 typedef struct vgx_dispatch_desc {
     VkCommandBuffer command_buffer;   /* recording, outside a render pass, of the context's queue family */
     vgx_gbuffer frame;
     vgx_gbuffer keyframes;            /* the atlas (VGX_CONTEXT_OPTIMIZE): its tiles rendered this frame are read */
     vgx_rig rig;
+    vgx_depth_kind depth_kind;        /* of frame.depth */
+    VkFormat depth_format;            /* VGX_DEPTH_DEVICE: frame.depth's format; 0 = D32_SFLOAT */
+    float projection[16];             /* VGX_DEPTH_DEVICE: the projection the z-buffer was drawn with (column-major) */
     /* VGX_CONTEXT_WARP: */
     float view_proj[16];              /* the host camera's world -> clip at the frame (column-major; Vulkan clip:
                                          y down, depth 0..1): where warp.glsl finds a vertex in the maps */
     float background_depth_m;         /* the depth the host writes where there is no geometry (its far plane) */
     vgx_warp_map warp_map;
+    /* A profiler's view: record only passes first_pass .. first_pass + pass_count - 1 of the dispatch
+     * (vgx_pass_name), in order, each call with the same desc; 0 passes = all of them. */
+    uint32_t first_pass, pass_count;
 } vgx_dispatch_desc;
 
 /* Records the frame's passes into desc->command_buffer. */
 VGX_API vgx_result vgx_dispatch(vgx_context *context, const vgx_dispatch_desc *desc);
+/* The dispatch's passes in recording order, for a host that times them one
+ * by one ("disparity.original", "mid.solve", ...): fixed for the context's
+ * life, but for vgx.depth, which a VGX_DEPTH_DEVICE dispatch adds (the
+ * count is the last dispatch's, or for linear depth before the first). */
+VGX_API uint32_t vgx_pass_count(const vgx_context *context);
+VGX_API const char *vgx_pass_name(const vgx_context *context, uint32_t pass);
 
 typedef enum vgx_output {
     VGX_OUTPUT_G = 0,                 /* original vergence, arcmin */
@@ -308,8 +330,9 @@ VGX_API vgx_result vgx_get_output(const vgx_context *context, vgx_output which, 
 /* What include/vergence/warp.glsl reads, in the set the host picks
  * (VGX_WARP_SET), after each dispatch:
  *   binding 0  uniform buffer `constants` (std140, constants_size bytes)
- *   binding 1  combined image sampler: the host's own frame depth (the
- *              image given as frame.depth; any sampler, read by texelFetch)
+ *   binding 1  combined image sampler: the frame's linear depth, the
+ *              host's own image given as frame.depth (or `depth` below
+ *              with VGX_DEPTH_DEVICE); any sampler, read by texelFetch
  *   binding 2  combined image sampler: `target`, the warp map
  *              (SHADER_READ_ONLY_OPTIMAL after the dispatch)
  *   binding 3  storage buffer `curve` (curve_size bytes), read only
@@ -318,6 +341,8 @@ VGX_API vgx_result vgx_get_output(const vgx_context *context, vgx_output which, 
 typedef struct vgx_warp {
     VkBuffer constants;
     VkDeviceSize constants_size;
+    vgx_image depth;                  /* after a VGX_DEPTH_DEVICE dispatch: the linear depth it made, to bind at 1
+                                         instead of the host's (SHADER_READ_ONLY_OPTIMAL); else null */
     vgx_image target;
     VkBuffer curve;
     VkDeviceSize curve_size;

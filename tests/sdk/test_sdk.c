@@ -188,7 +188,8 @@ static int errors(void)
 
 /* g is the rig's vergence at each depth (stereo_camera_vergence), h lies in
  * the target range and keeps the order of depths; the input found in
- * SHADER_READ_ONLY_OPTIMAL, then (a new graph) in GENERAL, gives the same. */
+ * SHADER_READ_ONLY_OPTIMAL, then (a new graph) in GENERAL, and the dispatch
+ * recorded one pass per submission give the same bits. */
 static int maps(void)
 {
     gpu *g = make_gpu();
@@ -220,9 +221,14 @@ static int maps(void)
     vgx_context_info info;
     vgx_get_info(c, &info);
     double lo = info.range_lo_arcmin, hi = info.range_hi_arcmin;
-    static float gmap[2][W * H], hmap[2][W * H];
-    VkImageLayout layouts[2] = {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL};
-    for (int run = 0; run < 2; run++) {
+    /* Run 2: the GENERAL input again, one pass per submission (a profiler's view). */
+    static float gmap[3][W * H], hmap[3][W * H];
+    VkImageLayout layouts[3] = {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                                VK_IMAGE_LAYOUT_GENERAL};
+    uint32_t passes = vgx_pass_count(c);
+    CHECK(passes >= 4 && strcmp(vgx_pass_name(c, 0), "vgx.constants") == 0 && vgx_pass_name(c, passes) == NULL,
+          "%u passes, the first %s", passes, vgx_pass_name(c, 0));
+    for (int run = 0; run < 3; run++) {
         VkCommandBuffer cmd;
         CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
         if (run == 1) { /* the host moves its image to GENERAL itself */
@@ -251,8 +257,24 @@ static int maps(void)
         dd.rig.hfov_deg = 70;
         dd.rig.interaxial_m = 0.25;
         dd.rig.convergence_m = 6.0;
-        CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "dispatch %d: %s", run, m.last);
-        CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
+        for (uint32_t p = 0; p < (run == 2 ? passes : 1); p++) {
+            if (run == 2) {
+                dd.first_pass = p, dd.pass_count = 1;
+                if (p > 0) {
+                    CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+                    dd.command_buffer = cmd;
+                }
+            }
+            CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "dispatch %d: %s", run, m.last);
+            CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
+            if (run == 2 && p == 0) { /* out of order: refused, and nothing recorded */
+                vgx_dispatch_desc late = dd;
+                late.first_pass = 2;
+                CHECK(vgx_dispatch(c, &late) == VGX_ERROR_INVALID_ARGUMENT && strstr(m.last, "next one due is 1"),
+                      "pass 2 before 1: '%s'", m.last);
+                m.errors = 0;
+            }
+        }
         vgx_image og, oh;
         CHECK(vgx_get_output(c, VGX_OUTPUT_G, &og) == VGX_SUCCESS && vgx_get_output(c, VGX_OUTPUT_H, &oh) == VGX_SUCCESS,
               "outputs");
@@ -274,9 +296,95 @@ static int maps(void)
     EXPECT(gmap[0][0] - gmap[0][W - 1] > 20, "g spans %g arcmin", gmap[0][0] - gmap[0][W - 1]);
     EXPECT(memcmp(gmap[0], gmap[1], sizeof gmap[0]) == 0 && memcmp(hmap[0], hmap[1], sizeof hmap[0]) == 0,
            "the two input layouts gave different maps");
+    EXPECT(memcmp(gmap[1], gmap[2], sizeof gmap[0]) == 0 && memcmp(hmap[1], hmap[2], sizeof hmap[0]) == 0,
+           "recorded pass by pass, the maps differ");
     EXPECT(m.errors == 0, "%d errors: %s", m.errors, m.last);
     vgx_context_destroy(c);
     gpu_image_destroy(g, &img);
+    gpu_destroy(g);
+    return gpu_validation_messages() != 0;
+}
+
+/* A host that gives its z-buffer (VGX_DEPTH_DEVICE) gets the g of the
+ * linear depth it stands for, with a standard and with a reversed depth
+ * range. */
+static int device_depth(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    enum { W = 64, H = 48 };
+    messages m = {0};
+    vgx_context_desc d = context_desc(g, W, H, &m);
+    vgx_context *c = NULL;
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
+    stereo_display disp;
+    stereo_display_init(&disp, NULL);
+    stereo_camera cam;
+    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
+                                                   .image_width = W}, &disp);
+    const double z[4] = {2.0, 4.5, 9.0, 40.0}, n = 0.1, far = 150.0;
+    for (int reversed = 0; reversed < 2; reversed++) {
+        /* Vulkan clip: x right, y down, the view looking down -z; depth 0..1 (or 1..0). */
+        float proj[16] = {0};
+        proj[0] = 1.0f, proj[5] = -1.0f, proj[11] = -1.0f;
+        proj[10] = reversed ? (float)(n / (far - n)) : (float)(far / (n - far));
+        proj[14] = reversed ? (float)(n * far / (far - n)) : (float)(n * far / (n - far));
+        static float zbuf[W * H];
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                double zv = -z[x * 4 / W];
+                zbuf[y * W + x] = (float)((proj[10] * zv + proj[14]) / -zv);
+            }
+        gpu_image img;
+        CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test z-buffer", .format = VK_FORMAT_D32_SFLOAT, .width = W,
+                                                    .height = H, .usage = VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                          VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                               &img) == VG_OK, "z-buffer");
+        CHECK(gpu_image_upload(g, &img, zbuf, sizeof zbuf) == VG_OK, "upload");
+        VkCommandBuffer cmd;
+        CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+        VkImageMemoryBarrier2 b = {
+            .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
+            .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+            .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+            .dstAccessMask = VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
+            .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+            .newLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+            .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+            .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+            .image = img.image,
+            .subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1},
+        };
+        VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
+                                .pImageMemoryBarriers = &b};
+        vkCmdPipelineBarrier2(cmd, &dep);
+        vgx_dispatch_desc dd;
+        memset(&dd, 0, sizeof dd);
+        dd.command_buffer = cmd;
+        dd.frame.depth.image = img.image;
+        dd.frame.depth.view = img.view;
+        dd.frame.depth.layout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+        dd.depth_kind = VGX_DEPTH_DEVICE;
+        memcpy(dd.projection, proj, sizeof proj);
+        dd.rig.hfov_deg = 70;
+        dd.rig.interaxial_m = 0.25;
+        dd.rig.convergence_m = 6.0;
+        CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "dispatch: %s", m.last);
+        CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
+        vgx_image og;
+        CHECK(vgx_get_output(c, VGX_OUTPUT_G, &og) == VGX_SUCCESS, "output");
+        static float gmap[W * H];
+        CHECK(read_map(g, &og, W, H, gmap) == 0, "read");
+        for (int band = 0; band < 4; band++) {
+            int i = (H / 2) * W + band * (W / 4) + 3;
+            /* float depth loses precision far away: 40 m is 1e-4 from 1 in the standard range */
+            EXPECT_NEAR(gmap[i], stereo_camera_vergence(&cam, &disp, z[band]), band == 3 ? 0.5 : 0.05,
+                        "g at %g m from a %s z-buffer", z[band], reversed ? "reversed" : "standard");
+        }
+        gpu_image_destroy(g, &img);
+    }
+    EXPECT(m.errors == 0, "%d errors: %s", m.errors, m.last);
+    vgx_context_destroy(c);
     gpu_destroy(g);
     return gpu_validation_messages() != 0;
 }
@@ -384,7 +492,8 @@ static int threads(void)
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
-        {"version", version}, {"errors", errors}, {"maps", maps}, {"allocator", allocator}, {"threads", threads},
+        {"version", version}, {"errors", errors}, {"maps", maps}, {"device_depth", device_depth},
+        {"allocator", allocator}, {"threads", threads},
     };
     return vg_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
