@@ -475,8 +475,7 @@ static vg_status disparity_create(frame *f)
         .solver_iterations = fd->solver_iterations, .temporal_depth_only = fd->temporal_depth_only,
         .readback = fd->readback}, &f->vgx);
     if (r != VGX_SUCCESS)
-        return r == VGX_ERROR_OUT_OF_MEMORY ? VG_ERR_NOMEM : r == VGX_ERROR_VULKAN ? VG_ERR_VULKAN
-               : r == VGX_ERROR_DEVICE ? VG_ERR_DEVICE : VG_ERR_ARG;
+        return vgx_engine_status(r);
     f->disparity = vgx_engine_disparity(f->vgx);
     disparity_gpu_info i;
     disparity_gpu_get_info(f->disparity, &i);
@@ -690,7 +689,7 @@ static vg_status frame_begin(frame *f, long index)
     vgx_frame_plan plan;
     vgx_result r = vgx_engine_begin_frame(f->vgx, fc->times.index, slot, &plan);
     if (r != VGX_SUCCESS)
-        return r == VGX_ERROR_VULKAN ? VG_ERR_VULKAN : VG_ERR_ARG;
+        return vgx_engine_status(r);
     vgx_keyframe first = {0};
     if (plan.keyframe_count)
         vgx_get_keyframe(f->vgx, 0, &first);

@@ -103,6 +103,18 @@ static vgx_result result_of(vg_status st)
     }
 }
 
+vg_status vgx_engine_status(vgx_result r)
+{
+    switch (r) {
+    case VGX_SUCCESS: return VG_OK;
+    case VGX_ERROR_OUT_OF_MEMORY: return VG_ERR_NOMEM;
+    case VGX_ERROR_VULKAN: return VG_ERR_VULKAN;
+    case VGX_ERROR_DEVICE: return VG_ERR_DEVICE;
+    case VGX_ERROR_VERSION: return VG_ERR_UNSUPPORTED;
+    default: return VG_ERR_ARG;
+    }
+}
+
 /* ------------------------------------------------------------------------- */
 /* Messages: the engine's log lines go to the host's callback while a vgx_   */
 /* call runs (core/log.h's sink is per thread).                              */

@@ -14,5 +14,7 @@ vgx_result vgx_engine_context_create(const vgx_context_desc *desc, const dispari
                                      vgx_context **out);
 /* vgx_begin_frame with the engine's slot (RG_MAX_SLOTS) for the solve's timestamps. */
 vgx_result vgx_engine_begin_frame(vgx_context *c, int64_t frame_index, int slot, vgx_frame_plan *plan);
+/* The engine's status of a result (the inverse of the SDK's own mapping). */
+vg_status vgx_engine_status(vgx_result r);
 /* The pipeline behind the context (keyframe readback, its info). */
 disparity_gpu *vgx_engine_disparity(const vgx_context *c);
