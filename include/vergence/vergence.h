@@ -4,8 +4,9 @@
  * A context is made from the host's own Vulkan objects; each frame the host
  * records one dispatch into its own command buffer, naming its own images
  * (VkImage + VkImageView + the layout they are in), and gets the vergence
- * maps back as images it can sample. Nothing is submitted, waited on or
- * created behind the host's back after vgx_context_create.
+ * maps back as images it can sample. Nothing is ever submitted or waited
+ * on behind the host's back; every Vulkan object of the context is made in
+ * vgx_context_create.
  *
  *   g  the vergence (arcmin) a viewer of the display gets from the host's
  *      original stereo camera, per pixel of the host's linear depth
@@ -22,9 +23,11 @@
  * look-ahead) into tiles of a coarse atlas, with the matrix that places
  * each; the host draws them with its own G-buffer shaders, then records
  * vgx_dispatch with its frame's depth, saliency, motion and ids and the atlas.
+ * The stereo pair: the host's tessellation shaders include
+ * vergence/warp.glsl (VGX_CONTEXT_WARP, vgx_get_warp).
  *
- * Conventions (DESIGN.md "Units and conventions" of the vergence repository):
- * vergence in arcmin, larger = nearer; depth in metres along the view axis.
+ * Conventions (docs/method.md of the vergence repository): vergence in
+ * arcmin, larger = nearer; depth in metres along the view axis.
  *
  * Errors: every call that can fail returns a vgx_result; the context's
  * message callback gets one line naming the cause (without one, lines go to
