@@ -924,6 +924,7 @@ struct EyePush {
 };
 
 const VkFormat EYE_FORMATS[2] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32_SFLOAT}; // colour, centre-view x
+const float NO_SURFACE = -1e30f; // the centre-view x of an eye pixel that shows sky
 
 // The eyes: the warp's four bindings (vgx_warp_bindings) in set 0.
 Pipeline create_eye_pipeline(const Vk &vk, const vgx_warp &warp, VkImageView depth_view, VkSampler sampler)
@@ -986,7 +987,9 @@ void render_eye(VkCommandBuffer cmd, const Eye &e, const Pipeline &p, const Scen
                 VkBuffer ibuf, uint32_t w, uint32_t h, bool right)
 {
     std::vector<const Image *> colors = {&e.color, &e.centre_x};
-    begin_targets(cmd, colors, {{{0.78f, 0.86f, 0.95f, 1.0f}}, {{-1.0f, 0, 0, 0}}}, e.zbuffer, w, h); // sky; no surface
+    // Sky; no surface (a centre-view x may be negative: a point just left of
+    // the centre view that the right eye shows).
+    begin_targets(cmd, colors, {{{0.78f, 0.86f, 0.95f, 1.0f}}, {{NO_SURFACE, 0, 0, 0}}}, e.zbuffer, w, h);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
     VkRect2D scissor{{0, 0}, {w, h}};
     vkCmdSetScissor(cmd, 0, 1, &scissor);
@@ -1063,7 +1066,7 @@ int usage(const char *why)
 // i of them, frame_NNNN_h.pfm and _f.pfm, and for the last one also its depth
 // and g (the names `vergence capture` uses) and its stereo pair:
 // frame_NNNN_left.ppm and _right.ppm, and _left_x.pfm and _right_x.pfm, the
-// centre-view x of the surface each eye pixel shows (-1: none).
+// centre-view x of the surface each eye pixel shows (-1e30: none).
 int main(int argc, char **argv)
 {
     std::string scene_path, out_dir;

@@ -35,10 +35,10 @@ SCENE, SIZE, TIME, FRAMES = "content/balloon.gltf", "160x90", "1", 41  # frames 
 # The eyes: the same tessellation levels (vgx_edge_level, which the
 # engine's warp.classify runs too) and the same vertex warp put every pixel
 # on the same centre-view point up to round-off (2026-11-25: 99th percentile
-# 2e-5 px, at most 5e-5). The engine's right eye shows ground at 27 of 14400
-# pixels on its left border (centre-view x -0.3 to -1.3, just outside the
-# centre view) where the host's shows sky: not explained yet.
-EYE_P99_PX, EYE_COVERAGE = 1e-2, 0.005
+# 2e-5 px, at most 5e-5), and geometry on the same pixels but one of 14400
+# in the right eye (a seam pixel the host's eye leaves to its sky and the
+# engine's covers).
+EYE_P99_PX, EYE_COVERAGE = 1e-2, 0.002
 TOLERANCE = {  # kind: (99th percentile, mean)
     "depth": (1e-3, 1e-3),
     "g": (1e-3, 1e-3),
@@ -150,8 +150,9 @@ def main():
         if size != csize:
             sys.exit(f"FAIL: {side} eye: host {size}, capture {csize}")
         cx, stage = aux[0::3], aux[2::3]
-        both = [abs(a - b) for a, b, st in zip(hx, cx, stage) if a >= 0 and st > 0]
-        differ = sum(1 for a, st in zip(hx, stage) if (a >= 0) != (st > 0))
+        seen = [a > -1e29 for a in hx]  # the host writes -1e30 where its eye shows sky
+        both = [abs(a - b) for a, b, st, s in zip(hx, cx, stage, seen) if s and st > 0]
+        differ = sum(1 for s, st in zip(seen, stage) if s != (st > 0))
         both.sort()
         p99, worst = both[int(0.99 * (len(both) - 1))], both[-1]
         ok = p99 <= EYE_P99_PX and differ <= EYE_COVERAGE * len(hx) and len(both) > len(hx) // 2
