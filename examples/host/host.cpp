@@ -513,6 +513,16 @@ uint32_t memory_type(const Vk &vk, uint32_t bits, VkMemoryPropertyFlags want)
     std::exit(2);
 }
 
+VkDeviceMemory allocate(const Vk &vk, const VkMemoryRequirements &req, VkMemoryPropertyFlags want)
+{
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = memory_type(vk, req.memoryTypeBits, want);
+    VkDeviceMemory m;
+    CHECK(vkAllocateMemory(vk.device, &ai, nullptr, &m));
+    return m;
+}
+
 struct Buffer {
     VkBuffer buffer = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
@@ -528,11 +538,7 @@ Buffer make_buffer(const Vk &vk, VkDeviceSize size, VkBufferUsageFlags usage)
     CHECK(vkCreateBuffer(vk.device, &bi, nullptr, &b.buffer));
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(vk.device, b.buffer, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = memory_type(vk, req.memoryTypeBits,
-                                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    CHECK(vkAllocateMemory(vk.device, &ai, nullptr, &b.memory));
+    b.memory = allocate(vk, req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     CHECK(vkBindBufferMemory(vk.device, b.buffer, b.memory, 0));
     CHECK(vkMapMemory(vk.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
     return b;
@@ -565,10 +571,7 @@ Image make_image(const Vk &vk, VkFormat format, uint32_t w, uint32_t h, VkImageU
     CHECK(vkCreateImage(vk.device, &ii, nullptr, &im.image));
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(vk.device, im.image, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = memory_type(vk, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    CHECK(vkAllocateMemory(vk.device, &ai, nullptr, &im.memory));
+    im.memory = allocate(vk, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     CHECK(vkBindImageMemory(vk.device, im.image, im.memory, 0));
     VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = im.image;

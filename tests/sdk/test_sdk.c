@@ -91,6 +91,41 @@ static int read_map(gpu *g, const vgx_image *img, uint32_t w, uint32_t h, float 
     return 0;
 }
 
+/* The host's own barrier moving its image to another layout (reads after it). */
+static void host_layout(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout from,
+                        VkImageLayout to)
+{
+    VkImageMemoryBarrier2 b = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
+        .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+        .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+        .dstAccessMask = VK_ACCESS_2_SHADER_READ_BIT,
+        .oldLayout = from,
+        .newLayout = to,
+        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .image = image,
+        .subresourceRange = {aspect, 0, 1, 0, 1},
+    };
+    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
+                            .pImageMemoryBarriers = &b};
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+/* A dispatch of the frame's depth alone, through the test rig (70 degrees,
+ * 25 cm converged at 6 m). */
+static vgx_dispatch_desc depth_dispatch(VkCommandBuffer cmd, const gpu_image *depth, VkImageLayout layout)
+{
+    vgx_dispatch_desc dd;
+    memset(&dd, 0, sizeof dd);
+    dd.command_buffer = cmd;
+    dd.frame.depth = (vgx_image){depth->image, depth->view, layout};
+    dd.rig.hfov_deg = 70;
+    dd.rig.interaxial_m = 0.25;
+    dd.rig.convergence_m = 6.0;
+    return dd;
+}
+
 static gpu *make_gpu(void)
 {
     gpu *g = NULL;
@@ -231,32 +266,10 @@ static int maps(void)
     for (int run = 0; run < 3; run++) {
         VkCommandBuffer cmd;
         CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
-        if (run == 1) { /* the host moves its image to GENERAL itself */
-            VkImageMemoryBarrier2 b = {
-                .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
-                .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                .dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                .newLayout = VK_IMAGE_LAYOUT_GENERAL,
-                .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                .image = img.image,
-                .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1},
-            };
-            VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
-                                    .pImageMemoryBarriers = &b};
-            vkCmdPipelineBarrier2(cmd, &dep);
-        }
-        vgx_dispatch_desc dd;
-        memset(&dd, 0, sizeof dd);
-        dd.command_buffer = cmd;
-        dd.frame.depth.image = img.image;
-        dd.frame.depth.view = img.view;
-        dd.frame.depth.layout = layouts[run];
-        dd.rig.hfov_deg = 70;
-        dd.rig.interaxial_m = 0.25;
-        dd.rig.convergence_m = 6.0;
+        if (run == 1) /* the host moves its image to GENERAL itself */
+            host_layout(cmd, img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL);
+        vgx_dispatch_desc dd = depth_dispatch(cmd, &img, layouts[run]);
         for (uint32_t p = 0; p < (run == 2 ? passes : 1); p++) {
             if (run == 2) {
                 dd.first_pass = p, dd.pass_count = 1;
@@ -343,32 +356,11 @@ static int device_depth(void)
         CHECK(gpu_image_upload(g, &img, zbuf, sizeof zbuf) == VG_OK, "upload");
         VkCommandBuffer cmd;
         CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
-        VkImageMemoryBarrier2 b = {
-            .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
-            .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-            .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-            .dstAccessMask = VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
-            .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-            .newLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-            .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-            .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-            .image = img.image,
-            .subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1},
-        };
-        VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
-                                .pImageMemoryBarriers = &b};
-        vkCmdPipelineBarrier2(cmd, &dep);
-        vgx_dispatch_desc dd;
-        memset(&dd, 0, sizeof dd);
-        dd.command_buffer = cmd;
-        dd.frame.depth.image = img.image;
-        dd.frame.depth.view = img.view;
-        dd.frame.depth.layout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+        host_layout(cmd, img.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
+        vgx_dispatch_desc dd = depth_dispatch(cmd, &img, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
         dd.depth_kind = VGX_DEPTH_DEVICE;
         memcpy(dd.projection, proj, sizeof proj);
-        dd.rig.hfov_deg = 70;
-        dd.rig.interaxial_m = 0.25;
-        dd.rig.convergence_m = 6.0;
         CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "dispatch: %s", m.last);
         CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
         vgx_image og;
