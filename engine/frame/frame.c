@@ -11,11 +11,11 @@
 #include "core/clock.h"
 #include "core/log.h"
 #include "disparity/gpu/disparity_gpu.h"
-#include "sdk/vgx_engine.h"
 #include "disparity/gpu/keyframe_gpu.h"
 #include "disparity/mid_window.h"
 #include "render/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
+#include "sdk/vgx_engine.h"
 #include "shared.h"
 #include "output/compose_gpu.h"
 #include "output/overlay_gpu.h"
@@ -156,8 +156,13 @@ static void vgx_execute(const rg_context *ctx, void *user)
         vg_error("the frame's disparity pass %s was not recorded", vgx_pass_name(f->vgx, p->index));
 }
 
-static void vgx_add(frame *f, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas)
+static vg_status vgx_add(frame *f, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas)
 {
+    uint32_t n = vgx_pass_count(f->vgx);
+    if (n > FRAME_MAX_VGX_PASSES) {
+        vg_error("frame: the SDK's dispatch has %u passes; the frame holds %d", n, FRAME_MAX_VGX_PASSES);
+        return VG_ERR_GRAPH;
+    }
     f->atlas = *atlas;
     rg_import_desc sampled = {RG_SAMPLED, RG_SAMPLED};
     static const char *const names[3] = {"disparity.g", "disparity.h", "disparity.f"};
@@ -172,8 +177,7 @@ static void vgx_add(frame *f, rg_graph *g, frame_resources *res, const disparity
     }
     rg_res reads[8] = {res->depth, res->color, res->motion, res->ids, atlas->depth, atlas->color, atlas->motion,
                        atlas->ids};
-    uint32_t n = vgx_pass_count(f->vgx);
-    for (uint32_t i = 0; i < n && i < FRAME_MAX_VGX_PASSES; i++) {
+    for (uint32_t i = 0; i < n; i++) {
         f->vgx_passes[i] = (vgx_pass){f, i};
         rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = vgx_pass_name(f->vgx, i), .type = RG_PASS_COMPUTE,
                                                    .execute = vgx_execute, .user = &f->vgx_passes[i],
@@ -184,6 +188,7 @@ static void vgx_add(frame *f, rg_graph *g, frame_resources *res, const disparity
             if (maps[k]->id)
                 rg_use(g, p, *maps[k], RG_SAMPLED);
     }
+    return VG_OK;
 }
 
 static vg_status build_graph(frame *f)
@@ -209,7 +214,9 @@ static vg_status build_graph(frame *f)
         if (f->vgx) {
             disparity_gpu_atlas atlas;
             keyframe_gpu_add(f->keyframes, g, res, &atlas);
-            vgx_add(f, g, res, &atlas);
+            vg_status st = vgx_add(f, g, res, &atlas);
+            if (st != VG_OK)
+                return st;
             target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
                      : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
                                                              : res->g;
