@@ -630,9 +630,7 @@ static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
         glm_mat4_mul(proj, view, vp);
         memcpy(u->eye_view_proj[eye].m, vp, sizeof vp);
     }
-    memcpy(u->rig.v, (float[4]){(float)fc->rig.gain_px, (float)c, (float)b, 0}, 16);
-    memcpy(u->display.v, (float[4]){(float)fc->display.ipd_m, (float)fc->display.distance_m,
-                                    (float)(fc->display.width_m / d->width), (float)fc->display.screen_vergence}, 16);
+    frame_ctx_ubo_stereo(u, &fc->rig, &fc->display, d->width);
     memcpy(u->warp.v, (float[4]){(float)d->tess_px, (float)d->tess_error, (float)d->depth_epsilon,
                                  (float)d->halton_radius}, 16);
     memcpy(u->warp2.v, (float[4]){(float)d->max_tess_level, d->diffuse ? 0.0f : 1.0f, d->measure ? 1.0f : 0.0f, 0}, 16);

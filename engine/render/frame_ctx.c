@@ -1,7 +1,16 @@
 /* vergence — helpers the frame shares with its pass modules. */
 #include "frame_ctx.h"
 
+#include <string.h>
+
 #include "shared.h"
+
+void frame_ctx_ubo_stereo(vg_frame_ubo *u, const stereo_camera *rig, const stereo_display *display, uint32_t width)
+{
+    memcpy(u->rig.v, (float[4]){(float)rig->gain_px, (float)rig->convergence_m, (float)rig->interaxial_m, 0}, 16);
+    memcpy(u->display.v, (float[4]){(float)display->ipd_m, (float)display->distance_m,
+                                    (float)(display->width_m / width), (float)display->screen_vergence}, 16);
+}
 
 void frame_ctx_push_scene(const frame_ctx *fc, const rg_context *ctx, rg_res shadow)
 {

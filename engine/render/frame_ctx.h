@@ -42,6 +42,13 @@ typedef struct frame_resources {
     rg_res stereo;                                         /* composed output */
 } frame_resources;
 
+/* The original rig and the display as the shaders read them (vg_frame_ubo's
+ * rig and display; stereo.glsl, include/vergence/display.glsl), for images
+ * `width` pixels wide: the frame's constants and the SDK's alike. */
+struct vg_frame_ubo;
+void frame_ctx_ubo_stereo(struct vg_frame_ubo *u, const stereo_camera *rig, const stereo_display *display,
+                          uint32_t width);
+
 /* Pushes the frame UBO (binding 0) and, when shadow is non-null, the shadow
  * map (binding 1) for a scene pipeline. */
 void frame_ctx_push_scene(const frame_ctx *fc, const rg_context *ctx, rg_res shadow);

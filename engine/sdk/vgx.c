@@ -716,10 +716,7 @@ static void fill_constants(vgx_context *c, const vgx_rig *rig)
     memset(u, 0, sizeof *u);
     float w = (float)c->desc.width, h = (float)c->desc.height;
     memcpy(u->viewport.v, (float[4]){w, h, 1.0f / w, 1.0f / h}, 16);
-    memcpy(u->rig.v, (float[4]){(float)cam.gain_px, (float)cam.convergence_m, (float)cam.interaxial_m, 0}, 16);
-    memcpy(u->display.v, (float[4]){(float)c->display.ipd_m, (float)c->display.distance_m,
-                                    (float)(c->display.width_m / c->desc.width), (float)c->display.screen_vergence},
-           16);
+    frame_ctx_ubo_stereo(u, &cam, &c->display, c->desc.width);
 }
 
 static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
