@@ -486,7 +486,7 @@ static vg_status disparity_create(frame *f)
     f->disparity = vgx_engine_disparity(f->vgx);
     disparity_gpu_info i;
     disparity_gpu_get_info(f->disparity, &i);
-    return keyframe_gpu_create(fc, &(keyframe_gpu_desc){.disparity = f->disparity, .nx = i.nx, .ny = i.ny, .stride = i.stride,
+    return keyframe_gpu_create(fc, &(keyframe_gpu_desc){.nx = i.nx, .ny = i.ny, .stride = i.stride,
                                                           .max_tiles = i.max_tiles}, &f->keyframes);
 }
 
@@ -695,10 +695,16 @@ static vg_status frame_begin(frame *f, long index)
     vgx_result r = vgx_engine_begin_frame(f->vgx, fc->times.index, slot, &plan);
     if (r != VGX_SUCCESS)
         return vgx_engine_status(r);
-    vgx_keyframe first = {0};
-    if (plan.keyframe_count)
-        vgx_get_keyframe(f->vgx, 0, &first);
-    keyframe_gpu_prepare(f->keyframes, (long)first.index, (int)plan.keyframe_count);
+    /* The frame is the SDK's host: it renders what the plan asks for. */
+    keyframe_gpu_tile tiles[MID_MAX_KEYFRAMES];
+    uint32_t n = plan.keyframe_count < MID_MAX_KEYFRAMES ? plan.keyframe_count : MID_MAX_KEYFRAMES;
+    for (uint32_t i = 0; i < n; i++) {
+        vgx_keyframe kf;
+        vgx_get_keyframe(f->vgx, i, &kf);
+        tiles[i] = (keyframe_gpu_tile){kf.time_s, kf.prev_time_s, kf.next_time_s, {0}};
+        memcpy(tiles[i].atlas_from_clip, kf.atlas_from_clip, sizeof kf.atlas_from_clip);
+    }
+    keyframe_gpu_prepare(f->keyframes, tiles, (int)n);
     return VG_OK;
 }
 

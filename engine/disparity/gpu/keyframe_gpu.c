@@ -84,13 +84,13 @@ void keyframe_gpu_destroy(keyframe_gpu *k)
 /* Per frame                                                                 */
 /* ------------------------------------------------------------------------- */
 
-static void tile_ubo(keyframe_gpu *k, int tile, const vg_camera *cam, const vg_camera *prev, const vg_camera *next,
-                     vg_frame_ubo *u)
+static void tile_ubo(keyframe_gpu *k, const float *atlas_from_clip, const vg_camera *cam, const vg_camera *prev,
+                     const vg_camera *next, vg_frame_ubo *u)
 {
     frame_ctx *fc = k->fc;
     memcpy(u, fc->ubo[fc->slot].mapped, sizeof *u); /* light, sky, rig, display of this frame */
     mat4 a, vp, out, inv;
-    disparity_gpu_atlas_matrix(k->d.disparity, tile, (float *)a);
+    memcpy(a, atlas_from_clip, sizeof a);
     const vg_camera *cams[3] = {cam, prev, next};
     float *dst[3] = {u->view_proj.m, u->view_proj_prev.m, u->view_proj_next.m};
     for (int i = 0; i < 3; i++) {
@@ -107,26 +107,24 @@ static void tile_ubo(keyframe_gpu *k, int tile, const vg_camera *cam, const vg_c
     memcpy(u->viewport.v, (float[4]){aw, ah, 1.0f / aw, 1.0f / ah}, 16);
 }
 
-void keyframe_gpu_prepare(keyframe_gpu *k, long first, int count)
+void keyframe_gpu_prepare(keyframe_gpu *k, const keyframe_gpu_tile *tiles, int count)
 {
     frame_ctx *fc = k->fc;
     const scene *s = fc->scene;
     int slot = fc->slot;
     k->tiles = count < (int)k->d.max_tiles ? count : (int)k->d.max_tiles;
     float aspect = (float)fc->desc.width / (float)fc->desc.height;
-    double step = fc->desc.keyframe_stride / fc->desc.fps;
     for (int m = 0; m < k->tiles; m++) {
-        /* The times the frame at that keyframe would be evaluated at. */
-        double t = (double)((first + m) * fc->desc.keyframe_stride) / fc->desc.fps;
+        const keyframe_gpu_tile *tile = &tiles[m];
         const scene_past *known = scene_gpu_known(&fc->sg);
-        scene_evaluate_known(s, known, (float)t, &k->now);
-        scene_evaluate_known(s, known, (float)(t - step), &k->prev);
-        scene_evaluate_known(s, known, (float)(t + step), &k->next);
+        scene_evaluate_known(s, known, (float)tile->t, &k->now);
+        scene_evaluate_known(s, known, (float)tile->t_prev, &k->prev);
+        scene_evaluate_known(s, known, (float)tile->t_next, &k->next);
         vg_camera cam, cp, cn;
         scene_camera_resolve(s, &k->now, fc->desc.camera, aspect, &cam);
         scene_camera_resolve(s, &k->prev, fc->desc.camera, aspect, &cp);
         scene_camera_resolve(s, &k->next, fc->desc.camera, aspect, &cn);
-        tile_ubo(k, m, &cam, &cp, &cn, (vg_frame_ubo *)((uint8_t *)k->ubo[slot].mapped + UBO_STRIDE * m));
+        tile_ubo(k, tile->atlas_from_clip, &cam, &cp, &cn, (vg_frame_ubo *)((uint8_t *)k->ubo[slot].mapped + UBO_STRIDE * m));
         float *v = (float *)((uint8_t *)k->vertices[slot].mapped + k->tile_bytes * m);
         float *pv = v + 6 * (size_t)s->vertex_count, *nv = pv + 3 * (size_t)s->vertex_count;
         for (uint32_t i = 0; i < s->vertex_count; i++) {

@@ -17,7 +17,6 @@
 typedef struct keyframe_gpu keyframe_gpu;
 
 typedef struct keyframe_gpu_desc {
-    const disparity_gpu *disparity; /* whose atlas this renders */
     uint32_t nx, ny, stride;   /* coarse grid of the full-resolution frame */
     uint32_t max_tiles;        /* keyframes rendered in one frame */
 } keyframe_gpu_desc;
@@ -27,7 +26,15 @@ void keyframe_gpu_destroy(keyframe_gpu *k);
 /* Adds "mid.keyframes": the frame's renderer of the atlas disparity_gpu
  * reads (a host of the SDK draws it with its own); fills the atlas. */
 void keyframe_gpu_add(keyframe_gpu *k, rg_graph *g, const frame_resources *res, disparity_gpu_atlas *atlas);
-/* This frame renders keyframes first .. first + count - 1 (count 0: none):
- * evaluates the scene at their times and fills the slot's streams. */
-void keyframe_gpu_prepare(keyframe_gpu *k, long first, int count);
+/* One keyframe to render, as the SDK plans it (vgx_get_keyframe): the scene
+ * at t with its motion to t_prev and t_next, placed in its tile by
+ * atlas_from_clip (column-major). */
+typedef struct keyframe_gpu_tile {
+    double t, t_prev, t_next;
+    float atlas_from_clip[16];
+} keyframe_gpu_tile;
+/* This frame renders tiles[0 .. count - 1] into atlas tiles 0 .. count - 1
+ * (count 0: none): evaluates the scene at their times and fills the slot's
+ * streams. */
+void keyframe_gpu_prepare(keyframe_gpu *k, const keyframe_gpu_tile *tiles, int count);
 int keyframe_gpu_tiles(const keyframe_gpu *k);
