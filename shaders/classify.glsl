@@ -1,5 +1,6 @@
 // vergence — warp.classify / warp.compact (shared declarations). Triangles
 // go in chunks of 256 of one instance: classify culls them (warp_cull),
+// warps each vertex they use once for both eyes (warp_vertices),
 // levels each edge they use once (warp_edges), then decides each
 // triangle's kind (0 culled, 1 flat, 2 tessellated) in parallel over all chunks;
 // compact writes each instance's flat and tessellated index lists in the
@@ -17,6 +18,8 @@ layout(set = 0, binding = VG_BINDING_TESS_LEVELS, scalar) writeonly buffer TessL
 layout(set = 0, binding = VG_BINDING_TRI_EDGES, scalar) readonly buffer TriEdgeBlock { uint tri_edges[]; };
 layout(set = 0, binding = VG_BINDING_EDGES, scalar) readonly buffer EdgeBlock { vg_warp_edge edges[]; };
 layout(set = 0, binding = VG_BINDING_EDGE_LEVELS, scalar) buffer EdgeLevelBlock { uint edge_levels[]; };
+layout(set = 0, binding = VG_BINDING_VERTEX_WARP, scalar) writeonly buffer VertexWarpBlock { vec2 vertex_warp[]; };
+layout(set = 0, binding = VG_BINDING_VERTEX_SEEN, scalar) buffer VertexSeenBlock { uint vertex_seen[]; };
 layout(push_constant, scalar) uniform ClassifyBlock { vg_classify_push pc; };
 
 const uint KIND_CULLED = 0u, KIND_FLAT = 1u, KIND_TESSELLATED = 2u;

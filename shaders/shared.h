@@ -118,7 +118,9 @@ VG_STRUCT(vg_classify_push) {
     VG_UINT chunk_count;
     VG_UINT tess_slots;        /* draw commands of all tessellated chunks; per-instance counts follow them */
     VG_UINT edge_count;        /* the scene's distinct triangle edges (warp.edges) */
-    VG_UINT pad0, pad1, pad2;
+    VG_UINT vertex_count;      /* the scene's vertices (warp.vertices) */
+    VG_UINT stamp;             /* this frame's mark in vertex_seen: never 0, one more each frame */
+    VG_UINT pad0;
 };
 /* warp.edges: an edge of the scene's triangles, once however many triangles
  * share it. Vertices global (instance first_vertex + index); the (at most
@@ -150,6 +152,14 @@ VG_STRUCT(vg_warp_edge) {
 #define VG_BINDING_EDGES 18       /* vg_warp_edge */
 #define VG_BINDING_EDGE_LEVELS 19 /* per edge: its tessellation level this frame (1 when no visible
                                      triangle uses it) */
+/* warp.vertices writes, the flat triangles' vertex shader reads: per scene
+ * vertex, vgx_warp_disparity of this frame (vec2: disparity x clip w in
+ * pixels, cascade stage), for the vertices of the triangles warp.cull let
+ * through; each is warped once for both eyes. Binding 20 of the scene
+ * pipelines' set 0 too. */
+#define VG_BINDING_VERTEX_WARP 20
+#define VG_BINDING_VERTEX_SEEN 21 /* warp.classify: per scene vertex, the stamp of the last frame a visible
+                                     triangle used it (so nothing is cleared between frames) */
 
 /* compose modes (frame_compose minus one) and push constants. The packed
  * layouts (side by side, top-bottom, their halves, frame packing,

@@ -1,8 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 1 of 3: which triangles the eyes may see (frustum
-// culling, as vgx_patch_outside). kinds = 1 visible, 0 culled;
-// warp_edges then levels only the edges a visible triangle uses. No shared
+// warp.classify, step 1 of 4: which triangles the eyes may see (frustum
+// culling, as vgx_patch_outside). kinds = 1 visible, 0 culled, and this
+// frame's stamp on the visible triangles' vertices; warp_vertices then warps
+// only those, warp_edges levels only the edges a visible triangle uses. No shared
 // memory and no barrier (lavapipe runs a kernel with a barrier as coroutines).
 #define VG_FRAME_STORAGE
 #include "common.glsl"
@@ -29,4 +30,9 @@ void main()
          p2 = position(inst.first_vertex + indices[first + 2u]);
     bool seen = !vgx_patch_outside(u.view_proj * vec4(p0, 1.0), u.view_proj * vec4(p1, 1.0), u.view_proj * vec4(p2, 1.0));
     kinds[inst.first_index / 3u + tri] = seen ? 1u : 0u;
+    if (seen) { // warp_vertices warps these (several triangles write the same stamp)
+        vertex_seen[inst.first_vertex + indices[first]] = pc.stamp;
+        vertex_seen[inst.first_vertex + indices[first + 1u]] = pc.stamp;
+        vertex_seen[inst.first_vertex + indices[first + 2u]] = pc.stamp;
+    }
 }

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 2 of 3: the level of every edge a visible triangle
+// warp.classify, step 3 of 4: the level of every edge a visible triangle
 // uses, once per edge (two triangles share most edges: each sampled the
 // edge's cascade before). The same edge_level as before, so the levels, and
 // the pictures, are the same. No barrier.

@@ -302,9 +302,9 @@ static vg_status create_layouts(frame_ctx *fc)
     gpu *g = fc->gpu;
     /* Set 0 of every scene pipeline (shared.h VG_BINDING_*): frame UBO,
      * shadow map, centre depth, target vergence, curve, centre colour, ids,
-     * the warp's edge levels. */
+     * the warp's edge levels and vertices. */
     const VkShaderStageFlags all = VK_SHADER_STAGE_ALL_GRAPHICS;
-    VkDescriptorSetLayoutBinding bindings[8] = {
+    VkDescriptorSetLayoutBinding bindings[9] = {
         {VG_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, all, NULL},
         {VG_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
         {VG_BINDING_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
@@ -313,11 +313,12 @@ static vg_status create_layouts(frame_ctx *fc)
         {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
         {6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, all, NULL},
         {VG_BINDING_TESS_LEVELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, NULL},
+        {VG_BINDING_VERTEX_WARP, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, all, NULL},
     };
     VkDescriptorSetLayoutCreateInfo set0 = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
         .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
-        .bindingCount = 8,
+        .bindingCount = 9,
         .pBindings = bindings,
     };
     VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, g->alloc, &fc->push_layout));

@@ -214,29 +214,52 @@ vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
 
 vec2 vgx_cascade(vec2 px, float z) { return vgx_cascade_stages(px, z, true); }
 
-// The warp of one vertex (paper 4.6): the centre-view clip position moved
-// horizontally by half the cascade's disparity, away from the other eye.
-// NDC spans 2 over W pixels, so x moves by side * d / W * w. `precise`: the
-// vertex shader of flat triangles and the tessellation evaluation shader run
-// this on the same corners, and must give the same bits (no contraction
-// into fused multiply-adds in one stage and not the other).
-vec4 vgx_warp_vertex(vec3 world, bool right_eye, out vec4 centre_clip, out vec4 stage_one_hot)
+// The disparity of one vertex as the warp adds it (image pixels times the
+// centre view's clip w) and its cascade stage (VGX_STAGE_*), from its
+// centre-view clip position: the part of vgx_warp_vertex that is the same
+// for both eyes. A host that draws both eyes from one vertex buffer can
+// compute it once a frame per vertex (vergence does, in a compute pass) and
+// move each eye's copy with vgx_warp_shift: the same bits as
+// vgx_warp_vertex. `precise`: the vertex shader of flat triangles, the
+// tessellation evaluation shader and a compute pass run this on the same
+// corners, and must give the same bits (no contraction into fused
+// multiply-adds in one stage and not another).
+float vgx_warp_disparity(vec4 clip, out int stage)
 {
-    precise vec4 clip = VGX_CONSTANTS.view_proj * vec4(world, 1.0);
-    centre_clip = clip;
-    stage_one_hot = vec4(0.0);
     precise float d_times_w;
     if (clip.w * vgx_curve.inv_depth_near > 1.0) {
         vec2 c = vgx_cascade(vgx_centre_pixel(clip), clip.w);
         d_times_w = vgx_px_from_vergence(c.x) * clip.w;
-        stage_one_hot[int(c.y) - 1] = 1.0;
+        stage = int(c.y);
     } else {
         // Nearer than every pixel, or behind the camera: only the curve knows.
         d_times_w = vgx_near_disparity_times_depth(clip.w);
-        stage_one_hot[VGX_STAGE_CURVE - 1] = 1.0;
+        stage = VGX_STAGE_CURVE;
     }
+    return d_times_w;
+}
+
+// One eye's clip position: the centre view's moved horizontally by half the
+// disparity, away from the other eye. NDC spans 2 over W pixels, so x moves
+// by side * d / W * w.
+vec4 vgx_warp_shift(vec4 centre_clip, float d_times_w, bool right_eye)
+{
+    precise vec4 clip = centre_clip;
     clip.x += (right_eye ? 1.0 : -1.0) * d_times_w * VGX_CONSTANTS.viewport.z;
     return clip;
+}
+
+// The warp of one vertex (paper 4.6): vgx_warp_disparity, then
+// vgx_warp_shift for this eye.
+vec4 vgx_warp_vertex(vec3 world, bool right_eye, out vec4 centre_clip, out vec4 stage_one_hot)
+{
+    precise vec4 clip = VGX_CONSTANTS.view_proj * vec4(world, 1.0);
+    centre_clip = clip;
+    int stage;
+    float d_times_w = vgx_warp_disparity(clip, stage);
+    stage_one_hot = vec4(0.0);
+    stage_one_hot[stage - 1] = 1.0;
+    return vgx_warp_shift(clip, d_times_w, right_eye);
 }
 
 float vgx_target_px(vec3 world, out bool seen)

@@ -27,6 +27,7 @@
 #include "warp_cull_comp.h"
 #include "warp_edges_comp.h"
 #include "warp_fill_comp.h"
+#include "warp_vertices_comp.h"
 #include "warp_flat_vert.h"
 #include "warp_vert.h"
 
@@ -42,12 +43,14 @@ typedef struct eye_pass {
 struct warp_gpu {
     frame_ctx *fc;
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
-    gpu_compute_kit classify;    /* K_CULL, K_EDGES, K_CLASSIFY, K_COMPACT */
+    gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_EDGES, K_CLASSIFY, K_COMPACT */
     gpu_compute_kit fill;
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
     gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
     gpu_buffer tri_edges, edges; /* each triangle's 3 edge ids; vg_warp_edge: every edge once */
     uint32_t edge_count;
+    gpu_buffer vertex_seen;      /* per scene vertex: the stamp of the last frame that used it */
+    uint32_t stamp;              /* this frame's (warp.cull) */
     gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
     uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
@@ -61,12 +64,12 @@ struct warp_gpu {
     /* this frame's graph resources */
     frame_resources *res;
     rg_res target;
-    rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts, edge_levels;
+    rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts, edge_levels, vertex_warp, vertex_seen_res;
 };
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
-enum { K_CULL, K_EDGES, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
+enum { K_CULL, K_VERTICES, K_EDGES, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
 
 /* ------------------------------------------------------------------------- */
 /* Classify                                                                  */
@@ -79,7 +82,7 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
     VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
     VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
     VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
-    enum { NB = 14 };
+    enum { NB = 16 };
     VkDescriptorBufferInfo bufs[NB] = {
         {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, r->vertices), 0, VK_WHOLE_SIZE},
@@ -95,11 +98,14 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
         {w->tri_edges.buffer, 0, VK_WHOLE_SIZE},
         {w->edges.buffer, 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->edge_levels), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->vertex_warp), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->vertex_seen_res), 0, VK_WHOLE_SIZE},
     };
     static const uint32_t buffer_bindings[NB] = {
         VG_BINDING_CURVE, VG_BINDING_VERTICES, VG_BINDING_INDICES, VG_BINDING_INSTANCES, VG_BINDING_FLAT,
         VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS,
-        VG_BINDING_TESS_LEVELS, VG_BINDING_TRI_EDGES, VG_BINDING_EDGES, VG_BINDING_EDGE_LEVELS};
+        VG_BINDING_TESS_LEVELS, VG_BINDING_TRI_EDGES, VG_BINDING_EDGES, VG_BINDING_EDGE_LEVELS,
+        VG_BINDING_VERTEX_WARP, VG_BINDING_VERTEX_SEEN};
     VkWriteDescriptorSet wr[3 + NB] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &ubo},
@@ -115,21 +121,27 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel)
                                            .pBufferInfo = &bufs[i]};
     vg_classify_push push = {.instance_count = (uint32_t)fc->scene->instance_count,
                              .chunk_triangles = w->patches_per_draw, .chunk_count = w->chunk_count,
-                             .tess_slots = w->tess_slots, .edge_count = w->edge_count};
+                             .tess_slots = w->tess_slots, .edge_count = w->edge_count,
+                             .vertex_count = fc->scene->vertex_count, .stamp = w->stamp};
     gpu_compute_kit_bind(fc->gpu, rg_ctx_cmd(ctx), &w->classify, kernel, wr, 3 + NB, &push);
 }
 
-/* Cull the triangles, level each edge a visible one uses (once, however
- * many triangles share it), then gather each triangle's kind and count the
- * chunks' (the barrier reduction only there: lavapipe runs a kernel with a
- * barrier as coroutines, and the edge levels are the pass's whole cost). */
+/* Cull the triangles, warp each vertex a visible one uses and level each
+ * edge (both once, however many triangles share them), then gather each
+ * triangle's kind and count the chunks' (the barrier reduction only there:
+ * lavapipe runs a kernel with a barrier as coroutines, and the edge levels
+ * are the pass's main cost). */
 static void classify_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    if (++w->stamp == 0) /* 0 is what vertex_seen starts as */
+        w->stamp = 1;
     bind_classify(w, ctx, K_CULL);
     vkCmdDispatch(cmd, w->chunk_count, 1, 1);
     gpu_compute_barrier(cmd);
+    bind_classify(w, ctx, K_VERTICES);
+    vkCmdDispatch(cmd, (w->fc->scene->vertex_count + 63) / 64, 1, 1);
     if (w->edge_count) {
         bind_classify(w, ctx, K_EDGES);
         vkCmdDispatch(cmd, (w->edge_count + 63) / 64, 1, 1);
@@ -212,9 +224,11 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
     VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo levels = {kind == EYE_WARP ? rg_ctx_buffer(ctx, w->tess_levels) : VK_NULL_HANDLE, 0,
                                      VK_WHOLE_SIZE};
+    VkDescriptorBufferInfo vertex_warp = {kind == EYE_WARP ? rg_ctx_buffer(ctx, w->vertex_warp) : VK_NULL_HANDLE,
+                                          0, VK_WHOLE_SIZE};
 #define W(b, t, field) {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = (b), \
                         .descriptorCount = 1, .descriptorType = (t), field}
-    VkWriteDescriptorSet wr[8] = {
+    VkWriteDescriptorSet wr[9] = {
         W(VG_BINDING_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &ubo),
         W(VG_BINDING_SHADOW, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow),
         W(VG_BINDING_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &depth),
@@ -223,11 +237,13 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
         W(5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &color),
         W(6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &ids),
         W(VG_BINDING_TESS_LEVELS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &levels),
+        W(VG_BINDING_VERTEX_WARP, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &vertex_warp),
     };
 #undef W
     /* The image-warping baseline reads the G-buffer colour and ids, the
-     * others the shadow map and the curve, the warp its edge levels. */
-    VkWriteDescriptorSet used[8];
+     * others the shadow map and the curve, the warp its edge levels and
+     * vertices. */
+    VkWriteDescriptorSet used[9];
     uint32_t n = 0;
     bool maps = eye_reads_maps(w, kind);
     used[n++] = wr[0];
@@ -239,8 +255,10 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
         used[n++] = wr[1];
         if (maps)
             used[n++] = wr[4];
-        if (kind == EYE_WARP)
+        if (kind == EYE_WARP) {
             used[n++] = wr[7];
+            used[n++] = wr[8];
+        }
     } else {
         used[n++] = wr[5];
         used[n++] = wr[6];
@@ -318,6 +336,7 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
             rg_use(g, p, w->flat_indices, RG_INDEX);
             rg_use(g, p, w->tess_indices, RG_INDEX);
             rg_use(g, p, w->tess_levels, RG_STORAGE_READ);
+            rg_use(g, p, w->vertex_warp, RG_STORAGE_READ);
             rg_use(g, p, w->args, RG_INDIRECT);
         } else {
             rg_use(g, p, res->indices, RG_INDEX);
@@ -364,6 +383,10 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         w->tess_levels = rg_buffer(g, &(rg_buffer_desc){"warp.tess_levels", index_bytes / 3 + 4});
         w->counts = rg_buffer(g, &(rg_buffer_desc){"warp.counts", (uint64_t)(w->chunk_count + 1) * 8});
         w->edge_levels = rg_buffer(g, &(rg_buffer_desc){"warp.edge_levels", (uint64_t)(w->edge_count + 1) * 4});
+        w->vertex_warp = rg_buffer(g, &(rg_buffer_desc){"warp.vertex_warp", (uint64_t)(sc->vertex_count + 1) * 8});
+        w->vertex_seen_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.vertex_seen", w->vertex_seen.size},
+                                              &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
+                                                                .final = RG_STORAGE_READ_WRITE});
         /* Both passes push the same descriptors; each declares what it touches. */
         rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = "warp.classify", .type = RG_PASS_COMPUTE,
                                                      .execute = classify_execute, .user = w});
@@ -377,6 +400,8 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         rg_use(g, cls, w->kinds, RG_STORAGE_WRITE);
         rg_use(g, cls, w->counts, RG_STORAGE_WRITE);
         rg_use(g, cls, w->edge_levels, RG_STORAGE_WRITE);
+        rg_use(g, cls, w->vertex_warp, RG_STORAGE_WRITE);
+        rg_use(g, cls, w->vertex_seen_res, RG_STORAGE_READ_WRITE);
         rg_pass cpt = rg_pass_add(g, &(rg_pass_desc){.name = "warp.compact", .type = RG_PASS_COMPUTE,
                                                      .execute = compact_execute, .user = w});
         rg_use(g, cpt, res->depth, RG_SAMPLED);
@@ -521,16 +546,17 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     /* warp.classify: the scene bindings of set 0 plus its own buffers; the
      * frame constants as a storage buffer (shaders/common.glsl,
      * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
-    VkDescriptorType ctypes[VG_BINDING_EDGE_LEVELS + 1];
-    for (int i = 0; i <= VG_BINDING_EDGE_LEVELS; i++)
+    VkDescriptorType ctypes[VG_BINDING_VERTEX_SEEN + 1];
+    for (int i = 0; i <= VG_BINDING_VERTEX_SEEN; i++)
         ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     if (st == VG_OK)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_EDGE_LEVELS + 1,
+            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_VERTEX_SEEN + 1,
             .push_size = sizeof(vg_classify_push),
             .kernels = {[K_CULL] = GPU_KERNEL(spv_warp_cull_comp, "warp.cull"),
+                        [K_VERTICES] = GPU_KERNEL(spv_warp_vertices_comp, "warp.vertices"),
                         [K_EDGES] = GPU_KERNEL(spv_warp_edges_comp, "warp.edges"),
                         [K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
                         [K_COMPACT] = GPU_KERNEL(spv_warp_compact_comp, "warp.compact")}}, &w->classify);
@@ -664,6 +690,8 @@ void warp_gpu_bind(warp_gpu *w, rg_graph *g)
     curve_gpu_set_background(w->curve, w->fc->cam.zfar);
     if (w->baked.buffer)
         rg_bind_buffer(g, w->res->curve, w->baked.buffer);
+    if (w->vertex_seen.buffer)
+        rg_bind_buffer(g, w->vertex_seen_res, w->vertex_seen.buffer);
 }
 
 vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
@@ -686,6 +714,15 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
         w->patches_per_draw = 1;
     shader_set s = {0};
     vg_status st = create_instance_table(w);
+    /* Zero: no frame has stamped a vertex yet (warp.cull). */
+    if (st == VG_OK && fc->desc.stereo == FRAME_STEREO_WARP) {
+        st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "warp vertex stamps",
+                                                           .size = 4 * (VkDeviceSize)(fc->scene->vertex_count + 1),
+                                                           .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                                           .host_visible = true}, &w->vertex_seen);
+        if (st == VG_OK)
+            memset(w->vertex_seen.mapped, 0, w->vertex_seen.size);
+    }
     if (st == VG_OK && fc->desc.curve) {
         st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vg_curve),
                                                            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -720,5 +757,6 @@ void warp_gpu_destroy(warp_gpu *w)
     gpu_buffer_destroy(w->fc->gpu, &w->tri_edges);
     gpu_buffer_destroy(w->fc->gpu, &w->edges);
     gpu_buffer_destroy(w->fc->gpu, &w->baked);
+    gpu_buffer_destroy(w->fc->gpu, &w->vertex_seen);
     free(w);
 }
