@@ -80,13 +80,21 @@ void factor(uint head)
     }
 }
 
-// z = M^-1 r: L y = r along the chain, then L^T z = y back.
+// z = M^-1 r: L y = r along the chain, then L^T z = y back. APPLY_CG
+// first makes a CG step's updates of its nodes (mid_vec.comp CG_UPDATE:
+// s += a p, r -= a Hp) and last writes their r.z terms (RZ): every element
+// is on exactly one chain, so the three element-wise steps become one walk,
+// with the same operations on the same values.
 void apply_chain(uint head)
 {
     int last = int(head);
     for (int i = int(head); i >= 0; i = CHAIN_NEXT(uint(i))) {
         uint u = uint(i);
         int p1 = CHAIN_PREV(u), p2 = p1 >= 0 ? CHAIN_PREV(uint(p1)) : -1;
+        if (OP == MID_OP_APPLY_CG) {
+            vs[u] += st.a_cg * vp[u];
+            vr[u] -= st.a_cg * vhp[u];
+        }
         float v = vr[u];
         if (p1 >= 0)
             v -= L1(u) * vz[uint(p1)];
@@ -104,6 +112,10 @@ void apply_chain(uint head)
         if (n2 >= 0)
             v -= L2(uint(n2)) * vz[uint(n2)];
         vz[u] = v / L0(u);
+        if (OP == MID_OP_APPLY_CG) {
+            DOT(4u, u) = vr[u] * vz[u];
+            DOT(5u, u) = 0.0;
+        }
     }
 }
 
@@ -117,6 +129,6 @@ void main()
         assemble(i);
     else if (CHAIN_PREV(i) < 0 && OP == MID_OP_FACTOR)
         factor(i);
-    else if (CHAIN_PREV(i) < 0 && OP == MID_OP_APPLY)
+    else if (CHAIN_PREV(i) < 0 && (OP == MID_OP_APPLY || OP == MID_OP_APPLY_CG))
         apply_chain(i);
 }

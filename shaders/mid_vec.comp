@@ -44,9 +44,6 @@ void main()
                 acc0 = vr[i] * vz[i];
             }
             break;
-        case MID_OP_RZ:
-            acc0 = vr[i] * vz[i];
-            break;
         case MID_OP_P_UPDATE:
             vp[i] = vz[i] + st.b_cg * vp[i];
             break;
@@ -73,7 +70,7 @@ void main()
             break;
         }
     }
-    if (inside && (OP == MID_OP_CG_START || OP == MID_OP_ZP_INIT || OP == MID_OP_RZ || OP == MID_OP_TRIAL ||
+    if (inside && (OP == MID_OP_CG_START || OP == MID_OP_ZP_INIT || OP == MID_OP_TRIAL ||
                    OP == MID_OP_DESCENT || (OP == MID_OP_CG_UPDATE && pc.jacobi != 0u))) {
         DOT(4u, i) = acc0;
         DOT(5u, i) = acc1;

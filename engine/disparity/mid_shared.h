@@ -437,7 +437,6 @@ struct mid_solve_state {
 #define MID_OP_CG_START 30u    /* mid_vec: element-wise steps of mid_solver.c */
 #define MID_OP_ZP_INIT 31u
 #define MID_OP_CG_UPDATE 32u
-#define MID_OP_RZ 33u
 #define MID_OP_P_UPDATE 34u
 #define MID_OP_TRIAL 35u
 #define MID_OP_DESCENT 36u
@@ -447,6 +446,7 @@ struct mid_solve_state {
 #define MID_OP_ASSEMBLE 40u    /* mid_precond */
 #define MID_OP_FACTOR 41u
 #define MID_OP_APPLY 42u
+#define MID_OP_APPLY_CG 43u    /* ... a CG step's r and s updates, the apply and r.z, in one walk */
 #define MID_OP_C_RESET 50u     /* mid_control: sums, then the solver's branches */
 #define MID_OP_C_RANGE 51u
 #define MID_OP_C_INIT_COST 52u

@@ -78,17 +78,17 @@ static const step_def k_prologue[] = {
     SUM_VEC(GATE_ACTIVE, ONLY_ALL),
     CONTROL("control.rz0", MID_OP_C_RZ0),
 };
-/* One preconditioned CG step. */
+/* One preconditioned CG step. With the line preconditioner, its walk along
+ * the chains also makes the step's updates and r.z terms (APPLY_CG: three
+ * element-wise dispatches in one, the same bits). */
 static const step_def k_cg[] = {
     STEP("terms.direction", K_TERMS, MID_OP_DIRECTION, GATE_CG, SIZE_N, ONLY_ALL),
     STEP("terms.product", K_TERMS, MID_OP_GATHER_HESS, GATE_CG, SIZE_N, ONLY_ALL),
     SUM_VEC(GATE_CG, ONLY_ALL),
     CONTROL("control.php", MID_OP_C_PHP),
-    STEP("vec.cg_update", K_VEC, MID_OP_CG_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
-    SUM_VEC(GATE_CG, ONLY_JACOBI),
-    STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_CG, SIZE_N, ONLY_LINES),
-    STEP("vec.rz", K_VEC, MID_OP_RZ, GATE_CG, SIZE_N, ONLY_LINES),
-    SUM_VEC(GATE_CG, ONLY_LINES),
+    STEP("vec.cg_update", K_VEC, MID_OP_CG_UPDATE, GATE_CG, SIZE_N, ONLY_JACOBI),
+    STEP("precond.apply_cg", K_PRECOND, MID_OP_APPLY_CG, GATE_CG, SIZE_N, ONLY_LINES),
+    SUM_VEC(GATE_CG, ONLY_ALL),
     CONTROL("control.rz", MID_OP_C_RZNEW),
     STEP("vec.p_update", K_VEC, MID_OP_P_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
 };
