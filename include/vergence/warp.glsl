@@ -123,6 +123,16 @@ float vgx_curve_slope(float z)
     return abs(dq) > 1e-12 ? (vgx_curve.vergence[s.y] - vgx_curve.vergence[s.x]) / dq : 0.0;
 }
 
+// vgx_curve_vergence and vgx_curve_slope at one depth from one search.
+vec2 vgx_curve_vergence_slope(float z)
+{
+    float q = 1.0 / max(z, 1e-6);
+    ivec2 s = vgx_curve_segment(q);
+    float dq = vgx_curve.inv_depth[s.y] - vgx_curve.inv_depth[s.x];
+    return vec2(vgx_curve_between(s.x, s.y, q),
+                abs(dq) > 1e-12 ? (vgx_curve.vergence[s.y] - vgx_curve.vergence[s.x]) / dq : 0.0);
+}
+
 // d(z) * z in image pixels for points nearer than anything the depth map
 // holds, including points behind the camera: the curve's near end continued
 // linearly in inverse depth, d = d0 + s (1/z - q0), times z. Affine in z, so
@@ -154,62 +164,82 @@ float vgx_carried(ivec2 q, float z)
 
 // x: vergence (arcmin), y: stage (VGX_STAGE_*). Without `halton` a point the
 // 3x3 neighbourhood does not resolve goes straight to the vgx_curve.
+//
+// Written for CPU rasterisers too, which run every branch under masks and
+// every loop at least once: the stages share their work instead of each
+// returning early. One curve search gives the vergence and the slope at z,
+// the neighbourhood's depths are kept for the carried value, and one
+// vgx_carried-style value is formed for whichever pixel the stages settled
+// on (the direct pixel when no bilinear tap qualifies). The same values, in
+// the same order of operations, as stage by stage.
 vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
 {
     ivec2 size = textureSize(vgx_depth_map, 0);
     ivec2 p = clamp(ivec2(floor(px)), ivec2(0), size - 1);
-    if (vgx_same_surface(texelFetch(vgx_depth_map, p, 0).r, z)) {
-        // Depth-aware bilinear: only taps of this surface, each vgx_carried to
-        // this point's depth along the curve's local slope (a tap within
-        // epsilon may still sit a few centimetres in front or behind, e.g. a
-        // window in a wall).
-        vec2 t = px - 0.5;
-        ivec2 b = ivec2(floor(t));
-        vec2 fr = t - vec2(b);
-        float slope = vgx_curve_slope(z), q = 1.0 / z, wsum = 0.0, vsum = 0.0;
-        for (int k = 0; k < 4; k++) {
-            ivec2 o = ivec2(k & 1, k >> 1);
-            ivec2 tap = clamp(b + o, ivec2(0), size - 1);
-            float w = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
-            float zq = texelFetch(vgx_depth_map, tap, 0).r;
-            if (w > 0.0 && vgx_same_surface(zq, z)) {
-                wsum += w;
-                vsum += w * (texelFetch(vgx_target_map, tap, 0).r + slope * (q - 1.0 / zq));
-            }
+    // The 3x3 neighbourhood's depths (row by row); the centre and the four
+    // bilinear taps are among them.
+    float zn[9];
+    for (int k = 0; k < 9; k++)
+        zn[k] = texelFetch(vgx_depth_map, clamp(p + ivec2(k % 3 - 1, k / 3 - 1), ivec2(0), size - 1), 0).r;
+    float zp = zn[4];
+    bool direct = vgx_same_surface(zp, z);
+    vec2 cz = vgx_curve_vergence_slope(z); // vergence, slope
+    // Direct: depth-aware bilinear, only taps of this surface, each carried
+    // to this point's depth along the curve's local slope (a tap within
+    // epsilon may still sit a few centimetres in front or behind, e.g. a
+    // window in a wall).
+    vec2 t = px - 0.5;
+    ivec2 b = ivec2(floor(t));
+    vec2 fr = t - vec2(b);
+    float q = 1.0 / z, wsum = 0.0, vsum = 0.0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec2 tap = clamp(b + o, ivec2(0), size - 1);
+        float w = (o.x == 1 ? fr.x : 1.0 - fr.x) * (o.y == 1 ? fr.y : 1.0 - fr.y);
+        // tap - p is in [-1, 1]^2 wherever px is (both are clamped).
+        ivec2 c = tap - p + 1;
+        vec3 row = c.y == 0 ? vec3(zn[0], zn[1], zn[2]) : c.y == 1 ? vec3(zn[3], zn[4], zn[5])
+                                                                  : vec3(zn[6], zn[7], zn[8]);
+        float zq = c.x == 0 ? row.x : c.x == 1 ? row.y : row.z;
+        if (w > 0.0 && vgx_same_surface(zq, z)) {
+            wsum += w;
+            vsum += w * (texelFetch(vgx_target_map, tap, 0).r + cz.y * (q - 1.0 / zq));
         }
-        float direct = wsum > 0.0 ? vsum / wsum : vgx_carried(p, z);
-        return vec2(direct, float(VGX_STAGE_DIRECT));
     }
-    float best = 1e30;
+    // Neighbourhood: a nearby pixel of the same surface sits at a slightly
+    // different depth; then (with `halton`) 64 Halton samples within the
+    // radius. Either's vergence is carried over to this depth along the
+    // global curve.
+    float best = 1e30, best_z = zp;
     ivec2 best_q = p;
-    for (int dy = -1; dy <= 1; dy++)
-        for (int dx = -1; dx <= 1; dx++) {
-            ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-            float diff = abs(texelFetch(vgx_depth_map, q, 0).r - z);
-            if (diff < best) {
-                best = diff;
-                best_q = q;
-            }
-        }
-    // A nearby pixel of the same surface sits at a slightly different depth:
-    // carry its vergence over to this depth along the global curve's slope.
-    if (best < VGX_CONSTANTS.warp.z * z)
-        return vec2(vgx_carried(best_q, z), float(VGX_STAGE_NEIGHBORHOOD));
-    if (!halton)
-        return vec2(vgx_curve_vergence(z), float(VGX_STAGE_CURVE));
-    for (uint i = 1u; i <= 64u; i++) {
-        float r = vgx_radical_inverse(i, 2u), a = vgx_radical_inverse(i, 3u);
-        vec2 s = px + r * r * VGX_CONSTANTS.warp.w * vec2(cos(6.2831853 * a), sin(6.2831853 * a));
-        ivec2 q = clamp(ivec2(floor(s)), ivec2(0), size - 1);
-        float diff = abs(texelFetch(vgx_depth_map, q, 0).r - z);
+    for (int k = 0; k < 9; k++) {
+        float diff = abs(zn[k] - z);
         if (diff < best) {
             best = diff;
-            best_q = q;
+            best_q = clamp(p + ivec2(k % 3 - 1, k / 3 - 1), ivec2(0), size - 1);
+            best_z = zn[k];
         }
     }
-    if (best < VGX_CONSTANTS.warp.z * z)
-        return vec2(vgx_carried(best_q, z), float(VGX_STAGE_HALTON));
-    return vec2(vgx_curve_vergence(z), float(VGX_STAGE_CURVE));
+    bool near = best < VGX_CONSTANTS.warp.z * z;
+    for (uint i = 1u; i <= 64u && halton && !direct && !near; i++) {
+        float r = vgx_radical_inverse(i, 2u), a = vgx_radical_inverse(i, 3u);
+        vec2 s = px + r * r * VGX_CONSTANTS.warp.w * vec2(cos(6.2831853 * a), sin(6.2831853 * a));
+        ivec2 n = clamp(ivec2(floor(s)), ivec2(0), size - 1);
+        float zh = texelFetch(vgx_depth_map, n, 0).r, diff = abs(zh - z);
+        if (diff < best) {
+            best = diff;
+            best_q = n;
+            best_z = zh;
+        }
+    }
+    bool found = best < VGX_CONSTANTS.warp.z * z;
+    ivec2 from = direct ? p : best_q;
+    float carried = texelFetch(vgx_target_map, from, 0).r + cz.x - vgx_curve_vergence(direct ? zp : best_z);
+    if (direct)
+        return vec2(wsum > 0.0 ? vsum / wsum : carried, float(VGX_STAGE_DIRECT));
+    if (found)
+        return vec2(carried, float(near ? VGX_STAGE_NEIGHBORHOOD : VGX_STAGE_HALTON));
+    return vec2(cz.x, float(VGX_STAGE_CURVE));
 }
 
 vec2 vgx_cascade(vec2 px, float z) { return vgx_cascade_stages(px, z, true); }
