@@ -41,6 +41,7 @@ layout(set = 0, binding = MID_B_FPREV) buffer FPrevBlock { float fprev[]; };
 layout(set = 0, binding = MID_B_STORE) buffer StoreBlock { float store[]; };
 layout(set = 0, binding = MID_B_PUBLISHED, scalar) buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
 layout(set = 0, binding = MID_B_DOT) buffer DotBlock { float dot_terms[]; };
+layout(set = 0, binding = MID_B_HEADS) buffer HeadsBlock { uint heads[]; };
 
 // Arrays of several fields, each cap long (mid_shared.h).
 #define G(i) field[(i)]

@@ -36,6 +36,7 @@ void main()
         st.g_min_bits = floatBitsToUint(3.0e38);
         st.g_max_bits = 0u;
         st.running = 0u;
+        st.heads = 0u;
         break;
     case MID_OP_C_RANGE: {
         float lo = pc.range_lo, hi = pc.range_hi;
@@ -133,12 +134,16 @@ void main()
     bool open[MID_ARGS_GATES] = bool[MID_ARGS_GATES](run, run && st.cg_running != 0u, run && st.accepted == 0u,
                                                      run && st.accepted != 0u);
     for (uint g = 0u; g < MID_ARGS_GATES; g++) {
-        // An element kernel's grid, and a chunk sum's.
-        args[6u * g] = open[g] ? (pc.nx + MID_TILE - 1u) / MID_TILE : 0u;
-        args[6u * g + 1u] = (pc.ny + MID_TILE - 1u) / MID_TILE;
-        args[6u * g + 2u] = pc.nt;
-        args[6u * g + 3u] = open[g] ? (pc.blocks + 63u) / 64u : 0u;
-        args[6u * g + 4u] = 1u;
-        args[6u * g + 5u] = 1u;
+        // An element kernel's grid, a chunk sum's, a walk over the chain heads'.
+        uint a = 3u * MID_ARGS_SIZES * g;
+        args[a] = open[g] ? (pc.nx + MID_TILE - 1u) / MID_TILE : 0u;
+        args[a + 1u] = (pc.ny + MID_TILE - 1u) / MID_TILE;
+        args[a + 2u] = pc.nt;
+        args[a + 3u] = open[g] ? (pc.blocks + 63u) / 64u : 0u;
+        args[a + 4u] = 1u;
+        args[a + 5u] = 1u;
+        args[a + 6u] = open[g] ? (st.heads + MID_TILE * MID_TILE - 1u) / (MID_TILE * MID_TILE) : 0u;
+        args[a + 7u] = 1u;
+        args[a + 8u] = 1u;
     }
 }

@@ -3,7 +3,8 @@
 // mid.solve: the temporal line preconditioner of mid_precond.c. ASSEMBLE is
 // a gather over all nodes; FACTOR (banded Cholesky) and APPLY (the two
 // substitutions) walk each flow chain from its head, one invocation per
-// chain: the same operations in the same order as the CPU's sweeps.
+// chain (dispatched over the heads' list): the same operations in the same
+// order as the CPU's sweeps.
 #include "mid_arena.glsl"
 // The operation is a specialization constant: one pipeline per operation,
 // no branch on it at run time.
@@ -121,14 +122,20 @@ void apply_chain(uint head)
 
 void main()
 {
-    element_init();
-    if (!inside)
+    if (OP == MID_OP_ASSEMBLE) {
+        element_init();
+        if (inside)
+            assemble(ei);
         return;
-    uint i = ei;
-    if (OP == MID_OP_ASSEMBLE)
-        assemble(i);
-    else if (CHAIN_PREV(i) < 0 && OP == MID_OP_FACTOR)
-        factor(i);
-    else if (CHAIN_PREV(i) < 0 && (OP == MID_OP_APPLY || OP == MID_OP_APPLY_CG))
-        apply_chain(i);
+    }
+    // The walks: one invocation per chain head (window.heads), not per
+    // element. A CPU rasteriser runs a loop at least once for every SIMD
+    // row, so a row without a head cost one pass of each walk's body.
+    uint h = gl_WorkGroupID.x * (MID_TILE * MID_TILE) + gl_LocalInvocationIndex;
+    if (h >= st.heads)
+        return;
+    if (OP == MID_OP_FACTOR)
+        factor(heads[h]);
+    else
+        apply_chain(heads[h]);
 }

@@ -185,5 +185,10 @@ void main()
             CHAIN_NEXT(i) = j;
             CHAIN_PREV(uint(j)) = int(i);
         }
+    } else if (OP == MID_OP_HEADS) {
+        // The heads the line preconditioner walks from, so its walks run
+        // over heads only (any order: the chains are disjoint).
+        if (CHAIN_PREV(i) < 0)
+            heads[atomicAdd(st.heads, 1u)] = i;
     }
 }

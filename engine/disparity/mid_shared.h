@@ -365,17 +365,21 @@ struct mid_solve_state {
     float a_cg, b_cg, range_lo, range_hi;
     uint running, cg_running, accepted, iteration;
     uint cg_steps, line_trials, g_min_bits, g_max_bits; /* g range of the window (operator none) */
-    float cost_initial, inv_range, unused0, unused1;
+    float cost_initial, inv_range;
+    uint heads;                        /* chain heads in MID_B_HEADS (window.heads) */
+    float unused1;
 };
 
 /* Indirect dispatch sizes the control kernel writes (3 uints each): per
- * gate, the size of an element kernel, then that of a chunk-sum kernel. */
+ * gate, the size of an element kernel, that of a chunk-sum kernel, then
+ * that of a kernel over the chain heads (the line preconditioner's walks). */
 #define MID_ARGS_ACTIVE 0u   /* the solve goes on */
 #define MID_ARGS_CG 1u       /* ... and CG goes on */
 #define MID_ARGS_LINE 2u     /* ... and the line search has not accepted a step */
 #define MID_ARGS_COMMIT 3u   /* ... and it has */
 #define MID_ARGS_GATES 4u
-#define MID_ARGS_COUNT 8u    /* gate g: element size at 2 g, sum size at 2 g + 1 */
+#define MID_ARGS_SIZES 3u    /* per gate: element, sum, chain heads */
+#define MID_ARGS_COUNT 12u   /* gate g: element size at 3 g, sum size at 3 g + 1, heads at 3 g + 2 */
 
 /* Bindings of the solver arena (set 0, one storage buffer range each; arrays
  * marked x2 hold the forward half then the backward half, each `cap` long). */
@@ -410,7 +414,8 @@ struct mid_solve_state {
 #define MID_B_STORE 28     /* the keyframe store (a separate buffer) */
 #define MID_B_PUBLISHED 29 /* published ratios f / h (a separate buffer) */
 #define MID_B_DOT 30       /* per element terms of the sums (6 x cap): 4 cost terms, 2 of vector steps */
-#define MID_B_COUNT 31
+#define MID_B_HEADS 31     /* uint: the chains' heads, st.heads of them, in no particular order */
+#define MID_B_COUNT 32     /* all pushed as one set: at most 32 (maxPushDescriptors' guaranteed minimum) */
 #define MID_LIN_FIELDS 8u
 #define MID_PARTIAL_FLOATS 8u  /* per chunk: 4 cost terms, 2 sums of a vector op */
 #define MID_DOT_COLUMNS 6u
@@ -425,6 +430,7 @@ struct mid_solve_state {
 #define MID_OP_SORT 4u         /* mid_window: each CSR row by source index */
 #define MID_OP_TARGETS 5u      /* mid_window: edge weights, targets, heaviest taps */
 #define MID_OP_CHAINS 6u       /* mid_window: mutual heaviest taps */
+#define MID_OP_HEADS 7u        /* mid_window: the list of chain heads */
 #define MID_OP_SCAN_BLOCKS 10u /* mid_scan */
 #define MID_OP_SCAN_TOP 11u
 #define MID_OP_SCAN_ADD 12u

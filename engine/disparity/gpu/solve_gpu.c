@@ -25,8 +25,10 @@
 
 enum { K_WINDOW, K_SCAN, K_TERMS, K_VEC, K_PRECOND, K_CONTROL, K_PUBLISH, K_SUM, K_COUNT };
 
-/* Dispatch size of a step: the element grid, chunks of sums or of the CSR scan, one workgroup. */
-enum { SIZE_N = 0, SIZE_SUM, SIZE_SCAN, SIZE_ONE };
+/* Dispatch size of a step: the element grid, chunks of sums or of the CSR
+ * scan, one workgroup, or the chain heads (gated steps only). */
+enum { SIZE_N = 0, SIZE_SUM, SIZE_SCAN, SIZE_ONE, SIZE_HEADS };
+_Static_assert(MID_B_COUNT <= 32, "the arena's bindings are one push-descriptor set: at most 32 everywhere");
 /* Gates: which MID_ARGS_* sizes an indirect dispatch takes (0 = direct). */
 enum { GATE_NONE = 0, GATE_ACTIVE, GATE_CG, GATE_LINE, GATE_COMMIT };
 /* Steps of the line preconditioner or of Jacobi CG only. */
@@ -55,6 +57,7 @@ static const step_def k_build[] = {
     STEP("window.sort", K_WINDOW, MID_OP_SORT, GATE_NONE, SIZE_N, ONLY_ALL),
     STEP("window.targets", K_WINDOW, MID_OP_TARGETS, GATE_NONE, SIZE_N, ONLY_ALL),
     STEP("window.chains", K_WINDOW, MID_OP_CHAINS, GATE_NONE, SIZE_N, ONLY_ALL),
+    STEP("window.heads", K_WINDOW, MID_OP_HEADS, GATE_NONE, SIZE_N, ONLY_LINES),
 };
 /* f0, projected, and its linearisation (mid_solver_run's start). */
 static const step_def k_init[] = {
@@ -72,8 +75,8 @@ static const step_def k_prologue[] = {
     SUM_VEC(GATE_ACTIVE, ONLY_ALL),
     CONTROL("control.pg2", MID_OP_C_PG2),
     STEP("precond.assemble", K_PRECOND, MID_OP_ASSEMBLE, GATE_ACTIVE, SIZE_N, ONLY_LINES),
-    STEP("precond.factor", K_PRECOND, MID_OP_FACTOR, GATE_ACTIVE, SIZE_N, ONLY_LINES),
-    STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_ACTIVE, SIZE_N, ONLY_LINES),
+    STEP("precond.factor", K_PRECOND, MID_OP_FACTOR, GATE_ACTIVE, SIZE_HEADS, ONLY_LINES),
+    STEP("precond.apply", K_PRECOND, MID_OP_APPLY, GATE_ACTIVE, SIZE_HEADS, ONLY_LINES),
     STEP("vec.zp_init", K_VEC, MID_OP_ZP_INIT, GATE_ACTIVE, SIZE_N, ONLY_ALL),
     SUM_VEC(GATE_ACTIVE, ONLY_ALL),
     CONTROL("control.rz0", MID_OP_C_RZ0),
@@ -87,7 +90,7 @@ static const step_def k_cg[] = {
     SUM_VEC(GATE_CG, ONLY_ALL),
     CONTROL("control.php", MID_OP_C_PHP),
     STEP("vec.cg_update", K_VEC, MID_OP_CG_UPDATE, GATE_CG, SIZE_N, ONLY_JACOBI),
-    STEP("precond.apply_cg", K_PRECOND, MID_OP_APPLY_CG, GATE_CG, SIZE_N, ONLY_LINES),
+    STEP("precond.apply_cg", K_PRECOND, MID_OP_APPLY_CG, GATE_CG, SIZE_HEADS, ONLY_LINES),
     SUM_VEC(GATE_CG, ONLY_ALL),
     CONTROL("control.rz", MID_OP_C_RZNEW),
     STEP("vec.p_update", K_VEC, MID_OP_P_UPDATE, GATE_CG, SIZE_N, ONLY_ALL),
@@ -204,7 +207,7 @@ static void step_execute(const rg_context *ctx, void *user)
         p.scalar = pr->lambda;
     vkCmdPushConstants(cmd, m->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof p, &p);
     if (s->gate != GATE_NONE) {
-        uint32_t slot = 2 * (uint32_t)(s->gate - 1) + (s->size == SIZE_SUM);
+        uint32_t slot = MID_ARGS_SIZES * (uint32_t)(s->gate - 1) + (s->size == SIZE_SUM ? 1 : s->size == SIZE_HEADS ? 2 : 0);
         vkCmdDispatchIndirect(cmd, m->args.buffer, (VkDeviceSize)slot * 3 * sizeof(uint32_t));
     } else if (s->size == SIZE_ONE) {
         vkCmdDispatch(cmd, 1, 1, 1);
@@ -288,6 +291,7 @@ static void arena_layout(solve_gpu *m)
         [MID_B_L] = 3 * n * f,
         [MID_B_LIN] = MID_LIN_FIELDS * n * f,
         [MID_B_DOT] = MID_DOT_COLUMNS * n * f,
+        [MID_B_HEADS] = n * sizeof(uint32_t),
     };
     int singles[] = {MID_B_F, MID_B_FTRY, MID_B_GRAD, MID_B_DIAG, MID_B_S, MID_B_R, MID_B_Z,
                      MID_B_P, MID_B_HP, MID_B_FREE, MID_B_FPREV};
