@@ -170,8 +170,9 @@ float vgx_carried(ivec2 q, float z)
 // returning early. One curve search gives the vergence and the slope at z,
 // the neighbourhood's depths are kept for the carried value, and one
 // vgx_carried-style value is formed for whichever pixel the stages settled
-// on (the direct pixel when no bilinear tap qualifies). The same values, in
-// the same order of operations, as stage by stage.
+// on (the direct pixel when no bilinear tap qualifies). The same operations
+// on the same values as stage by stage (equal up to float rounding where a
+// compiler fuses multiply-adds differently: docs/warp.md).
 vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
 {
     ivec2 size = textureSize(vgx_depth_map, 0);
