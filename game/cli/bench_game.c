@@ -83,7 +83,9 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     for (int i = 0; i <= frames && st == VG_OK; i++) {
         long tick = (long)i * ticks;
         double t = tick / 60.0;
-        int k = (int)floor((t + THROW_EVERY_S - READY_S) / THROW_EVERY_S);
+        /* Throw k comes (and the window restarts) at 3 k s, a second before
+         * its launch; it flies until 3 k + 1.6 s. */
+        int k = (int)floor(t / THROW_EVERY_S);
         if (k > r.throw_no) {
             throw_make(&r, k);
             for (int m = 0; m < MODES; m++)
