@@ -115,15 +115,8 @@ float vgx_curve_vergence(float z)
     return vgx_curve_between(s.x, s.y, q);
 }
 
-// d vergence / d (1/z) of the curve around depth z.
-float vgx_curve_slope(float z)
-{
-    ivec2 s = vgx_curve_segment(1.0 / max(z, 1e-6));
-    float dq = vgx_curve.inv_depth[s.y] - vgx_curve.inv_depth[s.x];
-    return abs(dq) > 1e-12 ? (vgx_curve.vergence[s.y] - vgx_curve.vergence[s.x]) / dq : 0.0;
-}
-
-// vgx_curve_vergence and vgx_curve_slope at one depth from one search.
+// The curve's vergence at depth z and its slope there, d vergence / d (1/z),
+// from one search.
 vec2 vgx_curve_vergence_slope(float z)
 {
     float q = 1.0 / max(z, 1e-6);
@@ -157,22 +150,18 @@ float vgx_radical_inverse(uint i, uint base)
     return r;
 }
 
-float vgx_carried(ivec2 q, float z)
-{
-    return texelFetch(vgx_target_map, q, 0).r + vgx_curve_vergence(z) - vgx_curve_vergence(texelFetch(vgx_depth_map, q, 0).r);
-}
-
 // x: vergence (arcmin), y: stage (VGX_STAGE_*). Without `halton` a point the
 // 3x3 neighbourhood does not resolve goes straight to the vgx_curve.
 //
 // Written for CPU rasterisers too, which run every branch under masks and
 // every loop at least once: the stages share their work instead of each
 // returning early. One curve search gives the vergence and the slope at z,
-// the neighbourhood's depths are kept for the carried value, and one
-// vgx_carried-style value is formed for whichever pixel the stages settled
-// on (the direct pixel when no bilinear tap qualifies). The same operations
-// on the same values as stage by stage (equal up to float rounding where a
-// compiler fuses multiply-adds differently: docs/warp.md).
+// the neighbourhood's depths are kept, and one carried value is formed for
+// whichever pixel the stages settled on (the direct pixel when no bilinear
+// tap qualifies): its target moved to depth z along the curve,
+// target + curve(z) - curve(z_pixel). The same operations on the same values
+// as stage by stage (equal up to float rounding where a compiler fuses
+// multiply-adds differently: docs/warp.md).
 vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
 {
     ivec2 size = textureSize(vgx_depth_map, 0);
