@@ -81,6 +81,8 @@ void gpu_compute_kit_bind(const gpu *g, VkCommandBuffer cmd, const gpu_compute_k
  * of those after it, inside one pass (between passes the graph derives
  * the barriers). */
 void gpu_compute_barrier(VkCommandBuffer cmd);
+/* The same, also to the indirect dispatch sizes read after it. */
+void gpu_compute_barrier_indirect(VkCommandBuffer cmd);
 
 /* The descriptor of one binding: an image, or a whole buffer. */
 typedef struct gpu_binding {

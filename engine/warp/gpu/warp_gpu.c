@@ -26,7 +26,9 @@
 #include "warp_compact_comp.h"
 #include "warp_cull_comp.h"
 #include "warp_edges_comp.h"
-#include "warp_fill_comp.h"
+#include "warp_fill_apply_comp.h"
+#include "warp_fill_find_comp.h"
+#include "warp_fill_test_comp.h"
 #include "warp_vertices_comp.h"
 #include "warp_flat_vert.h"
 #include "warp_vert.h"
@@ -44,7 +46,8 @@ struct warp_gpu {
     frame_ctx *fc;
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
     gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_EDGES, K_CLASSIFY, K_COMPACT */
-    gpu_compute_kit fill;
+    gpu_compute_kit fill;        /* K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY */
+    gpu_buffer fill_header;      /* per eye and frame parity: candidates, dispatch size (warp_fill.glsl) */
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
     gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
     gpu_buffer tri_edges, edges; /* each triangle's 3 edge ids; vg_warp_edge: every edge once */
@@ -59,8 +62,10 @@ struct warp_gpu {
     eye_pass eyes[6];
     struct fill_pass {
         warp_gpu *w;
-        rg_res raw_color, raw_aux, color, aux;
+        rg_res color, aux, list;
+        uint32_t eye, parity;
     } fills[2];
+    rg_res fill_header_res;
     /* this frame's graph resources */
     frame_resources *res;
     rg_res target;
@@ -70,6 +75,7 @@ struct warp_gpu {
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
 enum { K_CULL, K_VERTICES, K_EDGES, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
+enum { K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY };             /* of the fill kit */
 
 /* ------------------------------------------------------------------------- */
 /* Classify                                                                  */
@@ -292,21 +298,35 @@ static void eye_execute(const rg_context *ctx, void *user)
     }
 }
 
+/* warp.fill (shaders/warp_fill.glsl): candidates over every pixel, then
+ * the test and the mean over the candidates only, in the eye's own images. */
 static void fill_execute(const rg_context *ctx, void *user)
 {
-    const struct fill_pass *f = user;
+    struct fill_pass *f = user;
     warp_gpu *w = f->w;
-    const rg_res images[5] = {f->raw_color, f->raw_aux, w->res->ids, f->color, f->aux};
-    VkDescriptorImageInfo info[5];
+    const rg_res images[3] = {f->color, f->aux, w->res->ids};
+    VkDescriptorImageInfo info[3];
     gpu_binding b[5];
-    for (uint32_t i = 0; i < 5; i++) {
+    for (uint32_t i = 0; i < 3; i++) {
         info[i] = (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, images[i]),
                                           .imageLayout = rg_ctx_layout(ctx, images[i])};
         b[i] = GPU_STORAGE_IMAGE(&info[i]);
     }
+    b[3] = GPU_STORAGE_BUFFER(w->fill_header.buffer);
+    b[4] = GPU_STORAGE_BUFFER(rg_ctx_buffer(ctx, f->list));
+    /* Each frame counts into the other parity's slot, which the last one's find zeroed. */
+    f->parity ^= 1;
+    uint32_t push[2] = {2 * f->eye + f->parity, 2 * f->eye + (f->parity ^ 1)};
+    VkDeviceSize args = (VkDeviceSize)push[0] * 4 * sizeof(uint32_t) + sizeof(uint32_t);
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, 0, b, 5, NULL);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_FIND, b, 5, push);
     vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
+    gpu_compute_barrier_indirect(cmd);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_TEST, b, 5, push);
+    vkCmdDispatchIndirect(cmd, w->fill_header.buffer, args);
+    gpu_compute_barrier(cmd);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_APPLY, b, 5, push);
+    vkCmdDispatchIndirect(cmd, w->fill_header.buffer, args);
 }
 
 static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e, const char *name,
@@ -421,6 +441,10 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         {"warp.left", "warp.right"}, {"cameras.left", "cameras.right"}, {"imagewarp.left", "imagewarp.right"}};
     eye_kind kind = d->stereo == FRAME_STEREO_WARP ? EYE_WARP : d->stereo == FRAME_STEREO_CAMERAS ? EYE_CAMERAS
                                                                                                  : EYE_IMAGEWARP;
+    if (kind == EYE_WARP)
+        w->fill_header_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.fill.header", w->fill_header.size},
+                                              &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
+                                                                .final = RG_STORAGE_READ_WRITE});
     res->left = rg_image(g, &(rg_image_desc){"eye.left", WARP_COLOR_FORMAT, width, height, 1});
     res->right = rg_image(g, &(rg_image_desc){"eye.right", WARP_COLOR_FORMAT, width, height, 1});
     res->left_aux = rg_image(g, &(rg_image_desc){"eye.left.aux", WARP_AUX_FORMAT, width, height, 1});
@@ -432,23 +456,22 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
             add_eye(w, g, res, &w->eyes[i], names[kind][i], color, aux);
             continue;
         }
-        /* The warp renders into raw images that warp.fill closes cracks in. */
+        /* warp.fill closes the warp's cracks in the eye's images. */
         struct fill_pass *f = &w->fills[i];
-        *f = (struct fill_pass){
-            .w = w, .color = color, .aux = aux,
-            .raw_color = rg_image(g, &(rg_image_desc){i ? "warp.right.raw" : "warp.left.raw", WARP_COLOR_FORMAT,
-                                                      width, height, 1}),
-            .raw_aux = rg_image(g, &(rg_image_desc){i ? "warp.right.raw_aux" : "warp.left.raw_aux", WARP_AUX_FORMAT,
-                                                    width, height, 1}),
-        };
-        add_eye(w, g, res, &w->eyes[i], names[kind][i], f->raw_color, f->raw_aux);
+        f->w = w;
+        f->color = color;
+        f->aux = aux;
+        f->eye = (uint32_t)i;
+        f->list = rg_buffer(g, &(rg_buffer_desc){i ? "warp.fill.right.list" : "warp.fill.left.list",
+                                                  (uint64_t)width * height * sizeof(uint32_t)});
+        add_eye(w, g, res, &w->eyes[i], names[kind][i], color, aux);
         rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = i ? "warp.fill.right" : "warp.fill.left",
                                                    .type = RG_PASS_COMPUTE, .execute = fill_execute, .user = f});
-        rg_use(g, p, f->raw_color, RG_STORAGE_READ);
-        rg_use(g, p, f->raw_aux, RG_STORAGE_READ);
+        rg_use(g, p, color, RG_STORAGE_READ_WRITE);
+        rg_use(g, p, aux, RG_STORAGE_READ_WRITE);
         rg_use(g, p, res->ids, RG_STORAGE_READ);
-        rg_use(g, p, color, RG_STORAGE_WRITE);
-        rg_use(g, p, aux, RG_STORAGE_WRITE);
+        rg_use(g, p, w->fill_header_res, RG_STORAGE_READ_WRITE);
+        rg_use(g, p, f->list, RG_STORAGE_WRITE);
     }
     if (d->reference && kind != EYE_CAMERAS) {
         res->ref_left = rg_image(g, &(rg_image_desc){"reference.left", WARP_COLOR_FORMAT, width, height, 1});
@@ -561,12 +584,14 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
                         [K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
                         [K_COMPACT] = GPU_KERNEL(spv_warp_compact_comp, "warp.compact")}}, &w->classify);
     static const VkDescriptorType ftypes[5] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                               VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     if (st == VG_OK)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "warp.fill", .types = ftypes, .count = 5,
-            .kernels = {GPU_KERNEL(spv_warp_fill_comp, "warp.fill")}}, &w->fill);
+            .name = "warp.fill", .types = ftypes, .count = 5, .push_size = 2 * sizeof(uint32_t),
+            .kernels = {[K_FILL_FIND] = GPU_KERNEL(spv_warp_fill_find_comp, "warp.fill.find"),
+                        [K_FILL_TEST] = GPU_KERNEL(spv_warp_fill_test_comp, "warp.fill.test"),
+                        [K_FILL_APPLY] = GPU_KERNEL(spv_warp_fill_apply_comp, "warp.fill.apply")}}, &w->fill);
     return st;
 }
 
@@ -692,6 +717,8 @@ void warp_gpu_bind(warp_gpu *w, rg_graph *g)
         rg_bind_buffer(g, w->res->curve, w->baked.buffer);
     if (w->vertex_seen.buffer)
         rg_bind_buffer(g, w->vertex_seen_res, w->vertex_seen.buffer);
+    if (w->fill_header_res.id)
+        rg_bind_buffer(g, w->fill_header_res, w->fill_header.buffer);
 }
 
 vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
@@ -722,6 +749,15 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
                                                            .host_visible = true}, &w->vertex_seen);
         if (st == VG_OK)
             memset(w->vertex_seen.mapped, 0, w->vertex_seen.size);
+        /* warp.fill's counts: none yet, and dispatches of 0 x 1 x 1 over them. */
+        if (st == VG_OK)
+            st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "warp fill header", .size = 4 * 4 * sizeof(uint32_t),
+                                                               .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                                                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                                               .host_visible = true}, &w->fill_header);
+        if (st == VG_OK)
+            for (uint32_t i = 0; i < 4; i++)
+                memcpy((uint32_t *)w->fill_header.mapped + 4 * i, (uint32_t[4]){0, 0, 1, 1}, 4 * sizeof(uint32_t));
     }
     if (st == VG_OK && fc->desc.curve) {
         st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vg_curve),
@@ -758,5 +794,6 @@ void warp_gpu_destroy(warp_gpu *w)
     gpu_buffer_destroy(w->fc->gpu, &w->edges);
     gpu_buffer_destroy(w->fc->gpu, &w->baked);
     gpu_buffer_destroy(w->fc->gpu, &w->vertex_seen);
+    gpu_buffer_destroy(w->fc->gpu, &w->fill_header);
     free(w);
 }

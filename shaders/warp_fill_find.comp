@@ -1,0 +1,30 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// warp.fill, step 1 of 3 (warp_fill.glsl): the candidates, five loads a pixel.
+#include "warp_fill.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+bool between_geometry(ivec2 p, ivec2 d, ivec2 size)
+{
+    ivec2 a = p - d, b = p + d;
+    return fill_inside(a, b, size) && geometry(imageLoad(eye_color, a)) && geometry(imageLoad(eye_color, b));
+}
+
+void main()
+{
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy), size = imageSize(eye_color);
+    if (p == ivec2(0))
+        fill_header[pc.other] = uvec4(0u, 0u, 1u, 1u); // the next frame's count and dispatch size
+    if (any(greaterThanEqual(p, size)))
+        return;
+    vec4 c = imageLoad(eye_color, p);
+    if (geometry(c) || c.a <= 0.25) // only sky, not an empty pixel
+        return;
+    if (between_geometry(p, ivec2(1, 0), size) || between_geometry(p, ivec2(0, 1), size)) {
+        uint i = atomicAdd(fill_header[pc.slot].x, 1u);
+        if (i % 64u == 0u)
+            atomicAdd(fill_header[pc.slot].y, 1u);
+        fill_list[i] = uint(p.x) | uint(p.y) << 16;
+    }
+}
