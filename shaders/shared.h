@@ -120,7 +120,7 @@ VG_STRUCT(vg_classify_push) {
     VG_UINT edge_count;        /* the scene's distinct triangle edges (warp.edges) */
     VG_UINT vertex_count;      /* the scene's vertices (warp.vertices) */
     VG_UINT stamp;             /* this frame's mark in vertex_seen: never 0, one more each frame */
-    VG_UINT pad0;
+    VG_UINT bucket;            /* warp.edges.level: the bucket of edges it levels (VG_EDGE_BUCKETS) */
 };
 /* warp.edges: an edge of the scene's triangles, once however many triangles
  * share it. Vertices global (instance first_vertex + index); the (at most
@@ -160,6 +160,11 @@ VG_STRUCT(vg_warp_edge) {
 #define VG_BINDING_VERTEX_WARP 20
 #define VG_BINDING_VERTEX_SEEN 21 /* warp.classify: per scene vertex, the stamp of the last frame a visible
                                      triangle used it (so nothing is cleared between frames) */
+/* warp.classify: the edges to sample, by their number of samples (6, 12,
+ * VGX_EDGE_SAMPLES: bucket 0, 1, 2); per bucket a count and the dispatch
+ * size over it (uvec4), then edge_count ids per bucket. */
+#define VG_BINDING_EDGE_WORK 22
+#define VG_EDGE_BUCKETS 3u
 
 /* compose modes (frame_compose minus one) and push constants. The packed
  * layouts (side by side, top-bottom, their halves, frame packing,

@@ -13,16 +13,14 @@
 
 layout(local_size_x = 256) in;
 
-vec3 position(uint v)
-{
-    return vec3(vertices[6u * v], vertices[6u * v + 1u], vertices[6u * v + 2u]);
-}
-
 void main()
 {
     vg_warp_chunk ch = chunks[gl_WorkGroupID.x];
     vg_warp_instance inst = instances[ch.instance];
     uint t = gl_LocalInvocationID.x;
+    if (gl_GlobalInvocationID.x == 0u) // warp_edges counts this frame's edges to sample from here
+        for (uint k = 0u; k < VG_EDGE_BUCKETS; k++)
+            edge_buckets[k] = uvec4(0u, 0u, 1u, 1u);
     if (t >= ch.triangle_count)
         return;
     uint tri = ch.first_triangle + t, first = inst.first_index + 3u * tri;

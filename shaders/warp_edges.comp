@@ -1,9 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // warp.classify, step 3 of 4: the level of every edge a visible triangle
-// uses, once per edge (two triangles share most edges: each sampled the
-// edge's cascade before). The same edge_level as before, so the levels, and
-// the pictures, are the same. No barrier.
+// uses, once per edge (two triangles share most edges). Here only what
+// needs no sampling (vgx_edge_prepare: short, behind the camera, a fixed
+// pixel length); each edge to sample goes to the bucket of its number of
+// samples, and warp_edge_levels levels the buckets: llvmpipe runs a loop as
+// long as the longest lane of its row of eight needs, so rows of edges with
+// one sample count do no idle sampling. The same vgx_edge_level, so the
+// levels, and the pictures, are the same. No barrier.
 #define VG_FRAME_STORAGE
 #include "common.glsl"
 #include "stereo.glsl"
@@ -12,11 +16,6 @@
 
 layout(local_size_x = 64) in;
 
-vec3 position(uint v)
-{
-    return vec3(vertices[6u * v], vertices[6u * v + 1u], vertices[6u * v + 2u]);
-}
-
 void main()
 {
     uint e = gl_GlobalInvocationID.x;
@@ -24,5 +23,20 @@ void main()
         return;
     vg_warp_edge ed = edges[e];
     bool needed = ed.t0 == VG_EDGE_ALWAYS || kinds[ed.t0] != 0u || (ed.t1 != VG_EDGE_NONE && kinds[ed.t1] != 0u);
-    edge_levels[e] = needed ? uint(vgx_edge_level(position(ed.v0), position(ed.v1))) : 1u;
+    float level = 1.0;
+    if (needed) {
+        vec3 a = position(ed.v0), b = position(ed.v1);
+        vec4 ca, cb;
+        float max_level;
+        int m;
+        level = vgx_edge_prepare(a, b, ca, cb, max_level, m);
+        if (level == 0.0) {
+            uint k = m == 6 ? 0u : m == 12 ? 1u : 2u, i = atomicAdd(edge_buckets[k].x, 1u);
+            if (i % 64u == 0u)
+                atomicAdd(edge_buckets[k].y, 1u);
+            edge_work[k * pc.edge_count + i] = e;
+            return; // warp_edge_levels writes its level
+        }
+    }
+    edge_levels[e] = uint(level);
 }

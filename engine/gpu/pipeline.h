@@ -46,7 +46,7 @@ vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorTyp
  * pipeline layout (bindings 0..count-1, compute stage, push_size bytes of
  * push constants), each a pipeline built from its SPIR-V. One create, one
  * bind, one NULL-safe destroy for every compute pass module. */
-#define GPU_KIT_MAX_KERNELS 5
+#define GPU_KIT_MAX_KERNELS 8
 
 typedef struct gpu_kernel_code {
     const uint32_t *code;

@@ -299,7 +299,13 @@ float vgx_target_px(vec3 world, out bool seen)
 // small: with 49 samples lavapipe drew long garbage triangles (silently).
 const int VGX_EDGE_SAMPLES = 24;
 
-float vgx_edge_level(vec3 a, vec3 b)
+// The part of vgx_edge_level before it samples the edge: the canonical
+// endpoint order, the part in front of the camera, the level when no
+// sampling decides it (returned, > 0), else 0 and what the sampling needs:
+// the clip positions, the largest level and the number of segments m (6, 12
+// or VGX_EDGE_SAMPLES). A host that levels many edges at once can sort them
+// by m first (vergence does: rows of lanes then sample alike).
+float vgx_edge_prepare(inout vec3 a, inout vec3 b, out vec4 ca, out vec4 cb, out float max_level, out int m)
 {
     // The same edge seen from both of its triangles must get the same level
     // (no cracks): evaluate it in a canonical endpoint order.
@@ -308,7 +314,10 @@ float vgx_edge_level(vec3 a, vec3 b)
         a = b;
         b = t;
     }
-    vec4 ca = VGX_CONSTANTS.view_proj * vec4(a, 1.0), cb = VGX_CONSTANTS.view_proj * vec4(b, 1.0);
+    ca = VGX_CONSTANTS.view_proj * vec4(a, 1.0);
+    cb = VGX_CONSTANTS.view_proj * vec4(b, 1.0);
+    max_level = 1.0;
+    m = 0;
     float near_w = 1e-3;
     if (ca.w < near_w && cb.w < near_w)
         return 1.0;
@@ -326,18 +335,23 @@ float vgx_edge_level(vec3 a, vec3 b)
     float len = distance(vgx_centre_pixel(ca), vgx_centre_pixel(cb));
     if (len <= 1.0)
         return 1.0; /* a pixel or less: nothing to gain */
-    float max_level = min(ceil(len), VGX_CONSTANTS.warp2.x);
+    max_level = min(ceil(len), VGX_CONSTANTS.warp2.x);
     if (VGX_CONSTANTS.warp.x > 0.0)
         return clamp(ceil(len / VGX_CONSTANTS.warp.x), 1.0, VGX_CONSTANTS.warp2.x);
-    // Error-driven: between its vertices the warp interpolates disparity
-    // linearly in screen space (perspective-correct interpolation of d w
-    // over w). The target need not be smooth at any scale the mesh knows
-    // (operator kinks, the solver's coarse grid), so sample the edge about
-    // every two pixels (at most VGX_EDGE_SAMPLES) and take the fewest equal
-    // segments whose vertices, interpolated, stay within the tolerance at
-    // every sample inside them; m is a multiple of every level tried, so
-    // segment ends are samples. An edge no level fits gets the 1-pixel level.
-    int m = len <= 12.0 ? 6 : len <= 24.0 ? 12 : VGX_EDGE_SAMPLES;
+    m = len <= 12.0 ? 6 : len <= 24.0 ? 12 : VGX_EDGE_SAMPLES;
+    return 0.0;
+}
+
+// Error-driven: between its vertices the warp interpolates disparity
+// linearly in screen space (perspective-correct interpolation of d w over
+// w). The target need not be smooth at any scale the mesh knows (operator
+// kinks, the solver's coarse grid), so sample the edge about every two
+// pixels (m samples, from vgx_edge_prepare) and take the fewest equal
+// segments whose vertices, interpolated, stay within the tolerance at every
+// sample inside them; m is a multiple of every level tried, so segment ends
+// are samples. An edge no level fits gets the 1-pixel level.
+float vgx_edge_sampled(vec3 a, vec3 b, vec4 ca, vec4 cb, float max_level, int m)
+{
     float d[VGX_EDGE_SAMPLES + 1];
     uint seen = 0u; /* bit i: sample i is on a surface the warp measures */
     for (int i = 0; i <= m; i++) {
@@ -370,6 +384,17 @@ float vgx_edge_level(vec3 a, vec3 b)
     // No level fits: past the sampling the error falls about linearly with
     // the segment length (the targets bend sharply: operator kinks).
     return clamp(ceil(level * err / VGX_CONSTANTS.warp.y), level + 1.0, max_level);
+}
+
+// The tessellation level of the edge a-b (world positions), the same from
+// both triangles that share it.
+float vgx_edge_level(vec3 a, vec3 b)
+{
+    vec4 ca, cb;
+    float max_level;
+    int m;
+    float level = vgx_edge_prepare(a, b, ca, cb, max_level, m);
+    return level > 0.0 ? level : vgx_edge_sampled(a, b, ca, cb, max_level, m);
 }
 
 bool vgx_patch_outside(vec4 c0, vec4 c1, vec4 c2)

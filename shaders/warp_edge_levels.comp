@@ -1,0 +1,21 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// warp.classify, step 3b: the edges of one bucket of warp_edges (one number
+// of samples), levelled by sampling the cascade along them (vgx_edge_level).
+#define VG_FRAME_STORAGE
+#include "common.glsl"
+#include "stereo.glsl"
+#include "cascade.glsl"
+#include "classify.glsl"
+
+layout(local_size_x = 64) in;
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= edge_buckets[pc.bucket].x)
+        return;
+    uint e = edge_work[pc.bucket * pc.edge_count + i];
+    vg_warp_edge ed = edges[e];
+    edge_levels[e] = uint(vgx_edge_level(position(ed.v0), position(ed.v1)));
+}
