@@ -298,14 +298,16 @@ static void eye_execute(const rg_context *ctx, void *user)
         return;
     }
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg.texture_set, 0, NULL);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->sky);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
     if (e->kind == EYE_WARP) {
         draw_warped(w, ctx, flags);
     } else {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->cameras);
         scene_gpu_draw(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags);
     }
+    /* The sky last, at the far plane behind the depth test: only the pixels
+     * no surface covers pay for it. */
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->sky);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
 }
 
 /* warp.fill (shaders/warp_fill.glsl): candidates over every pixel, then
@@ -374,7 +376,7 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
         rg_use(g, p, res->shadow, RG_SAMPLED);
         if (maps)
             rg_use(g, p, res->curve, RG_STORAGE_READ);
-        rg_use(g, p, color, RG_COLOR_WRITE); /* the sky covers every pixel first */
+        rg_use(g, p, color, RG_COLOR_WRITE); /* surfaces, then the sky covers every pixel left */
     }
     rg_use(g, p, aux, RG_COLOR_WRITE);
     rg_use_clear(g, p, z, RG_DEPTH_WRITE, (VkClearValue){.depthStencil = {1.0f, 0}});
@@ -570,6 +572,7 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     if (st == VG_OK)
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
             .name = "eye sky", .layout = fc->scene_layout, .vert = s->sky_vert, .frag = s->eye_sky_frag,
+            .depth_test = true, .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL, /* where the clear's 1 is left */
             .color_formats = k_eye_formats, .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT}, &w->sky);
     if (st == VG_OK)
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
