@@ -49,10 +49,11 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
     frame_ctx_push_scene(p->fc, ctx, p->shadow_map);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->fc->scene_layout, 1, 1,
                             &p->fc->sg.texture_set, 0, NULL);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->sky);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->gbuffer);
     scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_MOTION, 0);
+    /* The sky last, behind the depth test: only what no surface covers. */
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->sky);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
 }
 
 void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
@@ -97,7 +98,7 @@ gbuffer_targets gbuffer_gpu_targets(rg_graph *g, const char *prefix, uint32_t w,
 void gbuffer_gpu_targets_write(rg_graph *g, rg_pass p, const gbuffer_targets *t)
 {
     /* Attachment order = shader output locations (shared.h); the sky covers
-     * every pixel first, so the colour targets need no clear. */
+     * every pixel the surfaces leave, so the colour targets need no clear. */
     rg_use(g, p, t->color, RG_COLOR_WRITE);
     rg_use(g, p, t->depth, RG_COLOR_WRITE);
     rg_use(g, p, t->ids, RG_COLOR_WRITE);
@@ -168,6 +169,7 @@ vg_status gbuffer_gpu_pipelines_create(frame_ctx *fc, const char *name, bool lit
     if (st == VG_OK)
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
             .name = label, .layout = fc->scene_layout, .vert = skyv, .frag = skyf,
+            .depth_test = true, .depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL, /* where the clear's 1 is left */
             .color_formats = gbuffer_formats, .color_count = 4, .depth_format = GBUFFER_DEPTH_FORMAT}, sky);
     VkVertexInputBindingDescription vb[SCENE_BINDING_COUNT];
     VkVertexInputAttributeDescription va[8];
