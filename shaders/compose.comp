@@ -13,6 +13,11 @@ layout(set = 0, binding = 0, rgba8) uniform readonly image2D left_image;
 layout(set = 0, binding = 1, rgba8) uniform readonly image2D right_image;
 layout(set = 0, binding = 2, rgba8) uniform writeonly image2D out_image;
 layout(push_constant, scalar) uniform ComposeBlock { vg_compose_push c; };
+// The layout is fixed for a frame: specialisation constants, one pipeline
+// per layout, no branch on it at run time (a CPU rasteriser would run every
+// case of the switch below under masks).
+layout(constant_id = 0) const uint MODE = 0u;   // VG_COMPOSE_*
+layout(constant_id = 1) const uint PACKED = 0u; // 1: each eye into its rectangle
 
 vec4 L(ivec2 p) { return c.swap != 0u ? imageLoad(right_image, p) : imageLoad(left_image, p); }
 vec4 R(ivec2 p) { return c.swap != 0u ? imageLoad(left_image, p) : imageLoad(right_image, p); }
@@ -65,10 +70,10 @@ void main()
     if (any(greaterThanEqual(o, size)))
         return;
     vec4 v;
-    if (c.packed != 0u) {
+    if (PACKED != 0u) {
         v = packed(o);
     } else {
-        switch (c.mode) {
+        switch (MODE) {
         case VG_COMPOSE_ROWS:
             v = (o.y & 1) == 0 ? L(o) : R(o);
             break;

@@ -185,11 +185,11 @@ VG_STRUCT(vg_warp_edge) {
 #define VG_COMPOSE_ANAGLYPH_AMBER_BLUE 12
 #define VG_COMPOSE_FRAME_PACKING 13
 #define VG_COMPOSE_CROSS_EYED 14
+/* The mode (VG_COMPOSE_*) and whether the layout is packed are the
+ * shader's specialisation constants 0 and 1. */
 VG_STRUCT(vg_compose_push) {
-    VG_UINT mode;             /* VG_COMPOSE_* */
     VG_UINT swap;             /* 1: exchange the eyes (overlaid modes; packed ones swap rectangles) */
     VG_UINT width, height;    /* of one eye */
-    VG_UINT packed;           /* 1: each eye into its rectangle */
     VG_UINT rect[8];          /* packed: x, y, w, h of the left eye's, then the right eye's */
 };
 

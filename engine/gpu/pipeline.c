@@ -119,7 +119,7 @@ vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *d, VkPip
 }
 
 vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderModule module,
-                                      const char *name, VkPipeline *out)
+                                      const VkSpecializationInfo *spec, const char *name, VkPipeline *out)
 {
     VkComputePipelineCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
@@ -128,6 +128,7 @@ vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderM
             .stage = VK_SHADER_STAGE_COMPUTE_BIT,
             .module = module,
             .pName = "main",
+            .pSpecializationInfo = spec,
         },
         .layout = layout,
     };
@@ -177,8 +178,13 @@ vg_status gpu_compute_kit_create(gpu *g, const gpu_compute_kit_desc *d, gpu_comp
     for (int i = 0; i < GPU_KIT_MAX_KERNELS && st == VG_OK && d->kernels[i].code; i++) {
         VkShaderModule m = VK_NULL_HANDLE;
         st = gpu_shader_create(g, d->kernels[i].code, d->kernels[i].size, d->kernels[i].name, &m);
+        VkSpecializationMapEntry entries[GPU_KIT_MAX_SPEC];
+        uint32_t n = d->kernels[i].spec_count < GPU_KIT_MAX_SPEC ? d->kernels[i].spec_count : GPU_KIT_MAX_SPEC;
+        for (uint32_t c = 0; c < n; c++)
+            entries[c] = (VkSpecializationMapEntry){c, c * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+        VkSpecializationInfo spec = {n, entries, n * sizeof(uint32_t), d->kernels[i].spec};
         if (st == VG_OK)
-            st = gpu_compute_pipeline_create(g, out->layout, m, d->kernels[i].name, &out->pipeline[i]);
+            st = gpu_compute_pipeline_create(g, out->layout, m, n ? &spec : NULL, d->kernels[i].name, &out->pipeline[i]);
         if (m)
             vkDestroyShaderModule(g->device, m, g->alloc);
     }

@@ -25,8 +25,9 @@ typedef struct gpu_graphics_desc {
 } gpu_graphics_desc;
 
 vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *desc, VkPipeline *out);
+/* spec: specialisation constants, or NULL. */
 vg_status gpu_compute_pipeline_create(gpu *g, VkPipelineLayout layout, VkShaderModule module,
-                                      const char *name, VkPipeline *out);
+                                      const VkSpecializationInfo *spec, const char *name, VkPipeline *out);
 
 /* Destroys the non-null pipelines (shader modules) of an array and zeroes them. */
 void gpu_pipelines_destroy(gpu *g, VkPipeline *p, uint32_t count);
@@ -47,14 +48,21 @@ vg_status gpu_push_layout_create(gpu *g, const char *name, const VkDescriptorTyp
  * push constants), each a pipeline built from its SPIR-V. One create, one
  * bind, one NULL-safe destroy for every compute pass module. */
 #define GPU_KIT_MAX_KERNELS 8
+#define GPU_KIT_MAX_SPEC 4
 
 typedef struct gpu_kernel_code {
     const uint32_t *code;
     size_t size;                             /* bytes */
     const char *name;                        /* the pipeline's debug name */
+    const uint32_t *spec;                    /* specialisation constants 0 .. spec_count - 1 (uints), or NULL */
+    uint32_t spec_count;
 } gpu_kernel_code;
 /* A kernel from an embedded SPIR-V array: GPU_KERNEL(spv_compose_comp, "compose"). */
-#define GPU_KERNEL(spv, name) ((gpu_kernel_code){(spv), sizeof(spv), (name)})
+#define GPU_KERNEL(spv, name) ((gpu_kernel_code){(spv), sizeof(spv), (name), NULL, 0})
+/* The same with specialisation constants (a uint array): one pipeline per
+ * value, so a CPU rasteriser does not run every branch of a switch. */
+#define GPU_KERNEL_SPEC(spv, name, consts) \
+    ((gpu_kernel_code){(spv), sizeof(spv), (name), (consts), sizeof(consts) / sizeof(uint32_t)})
 
 typedef struct gpu_compute_kit_desc {
     const char *name;                        /* names the layouts */

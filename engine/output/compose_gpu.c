@@ -74,13 +74,7 @@ static void compose_execute(const rg_context *ctx, void *user)
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     const frame_desc *d = &c->fc->desc;
     frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
-    vg_compose_push push = {
-        .mode = (uint32_t)(d->compose == FRAME_COMPOSE_DEFAULT ? FRAME_COMPOSE_SBS : d->compose) - 1,
-        .swap = d->swap_eyes,
-        .width = d->width,
-        .height = d->height,
-        .packed = !l.overlaid,
-    };
+    vg_compose_push push = {.swap = d->swap_eyes, .width = d->width, .height = d->height};
     for (int e = 0; e < 2; e++) {
         const frame_eye_rect *r = &l.eye[e];
         push.rect[4 * e] = r->x, push.rect[4 * e + 1] = r->y, push.rect[4 * e + 2] = r->w, push.rect[4 * e + 3] = r->h;
@@ -121,9 +115,13 @@ vg_status compose_gpu_create(frame_ctx *fc, compose_gpu **out)
     gpu *g = fc->gpu;
     static const VkDescriptorType types[3] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+    const frame_desc *d = &fc->desc;
+    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
+    uint32_t layout[2] = {(uint32_t)(d->compose == FRAME_COMPOSE_DEFAULT ? FRAME_COMPOSE_SBS : d->compose) - 1,
+                          !l.overlaid};
     vg_status st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
         .name = "compose", .types = types, .count = 3, .push_size = sizeof(vg_compose_push),
-        .kernels = {GPU_KERNEL(spv_compose_comp, "compose")}}, &c->kit);
+        .kernels = {GPU_KERNEL_SPEC(spv_compose_comp, "compose", layout)}}, &c->kit);
     if (st != VG_OK) {
         compose_gpu_destroy(c);
         return st;

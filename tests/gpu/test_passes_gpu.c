@@ -441,7 +441,7 @@ static int curve_agrees(void)
     for (int i = 0; i < 3; i++) {
         VkShaderModule m;
         CHECK(gpu_shader_create(hs.gpu, code[i], size[i], "curve", &m) == VG_OK, "shader");
-        CHECK(gpu_compute_pipeline_create(hs.gpu, t.layout, m, "curve", &t.pipe[i]) == VG_OK, "pipeline");
+        CHECK(gpu_compute_pipeline_create(hs.gpu, t.layout, m, NULL, "curve", &t.pipe[i]) == VG_OK, "pipeline");
         vkDestroyShaderModule(hs.gpu->device, m, NULL);
     }
     t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, CV_W, CV_H, true, false);
