@@ -3,6 +3,10 @@
 #include "disparity/mid_shared.h"
 
 layout(push_constant, scalar) uniform DrawBlock { vg_draw_push d; };
+// 1: no authored saliency, the G-buffer computes it (scene_gpu's
+// computed_saliency). A specialisation constant: a CPU rasteriser would run
+// the computation under masks for every fragment of a scene that has its own.
+layout(constant_id = 0) const uint SALIENCY_COMPUTED = 0u;
 layout(set = 0, binding = VG_BINDING_SHADOW) uniform sampler2DShadow shadow_map;
 layout(set = 1, binding = 0) uniform sampler2D textures[VG_MAX_TEXTURES];
 
@@ -33,7 +37,7 @@ void main()
     o_depth = v_view_depth;
     o_id = d.instance_id;
     float saliency = d.saliency;
-    if ((d.flags & VG_DRAW_SALIENCY) != 0u) {
+    if (SALIENCY_COMPUTED != 0u) {
         // No authored saliency: computed from the surface's colour, motion
         // and depth (mid_shared.h, the CPU's formula). Speed: the larger of
         // the motions to the neighbouring keyframes, over the image width

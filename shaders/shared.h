@@ -54,7 +54,7 @@ VG_STRUCT(vg_frame_ubo) {
     VG_VEC4 display;          /* ipd e (m), distance D (m), metres per image pixel, screen vergence (arcmin) */
     VG_VEC4 warp;             /* tess px (0 = off), tess error px (0 = off), depth epsilon (relative), Halton radius px */
     VG_VEC4 warp2;            /* max tessellation level, specular (1) or diffuse only (0), measure (1), unused */
-    VG_VEC4 saliency;         /* computed saliency (VG_DRAW_SALIENCY): rgb the scene's mean base colour
+    VG_VEC4 saliency;         /* computed saliency (gbuffer.glsl): rgb the scene's mean base colour
                                  (linear), w its depth scale (m: the camera's distance to its centre) */
 };
 
@@ -68,7 +68,6 @@ VG_STRUCT(vg_frame_ubo) {
 
 /* vg_draw_push.flags */
 #define VG_DRAW_RIGHT_EYE 1u  /* warp/cameras: render the right eye */
-#define VG_DRAW_SALIENCY 2u   /* G-buffer: saliency computed (disp_saliency_computed), not authored */
 
 /* Cascade stages of the warp (paper 4.6, Fig. 5). */
 #define VG_STAGE_NONE 0

@@ -20,6 +20,7 @@ vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *d, VkPip
                 .stage = mods[i].s,
                 .module = mods[i].m,
                 .pName = "main",
+                .pSpecializationInfo = d->spec,
             };
     bool tess = d->tesc && d->tese;
     VkPipelineVertexInputStateCreateInfo vertex = {

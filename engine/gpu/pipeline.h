@@ -22,6 +22,7 @@ typedef struct gpu_graphics_desc {
     uint32_t color_count;
     VkFormat depth_format;
     uint32_t view_mask;                      /* multiview */
+    const VkSpecializationInfo *spec;        /* specialisation constants of every stage, or NULL */
 } gpu_graphics_desc;
 
 vg_status gpu_graphics_pipeline_create(gpu *g, const gpu_graphics_desc *desc, VkPipeline *out);

@@ -177,12 +177,15 @@ vg_status gbuffer_gpu_pipelines_create(frame_ctx *fc, const char *name, bool lit
     scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
     /* No culling: single-sided glTF surfaces seen from behind flip their
      * normal in the shader instead of leaving holes in depth and ids. */
+    uint32_t computed = fc->sg.computed_saliency; /* gbuffer.glsl's SALIENCY_COMPUTED */
+    VkSpecializationMapEntry entry = {0, 0, sizeof computed};
     if (st == VG_OK)
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){
             .name = name, .layout = fc->scene_layout, .vert = vert, .frag = frag, .bindings = vb,
             .binding_count = nb, .attributes = va, .attribute_count = na, .depth_test = true,
             .depth_write = true, .color_formats = gbuffer_formats, .color_count = 4,
-            .depth_format = GBUFFER_DEPTH_FORMAT}, scene);
+            .depth_format = GBUFFER_DEPTH_FORMAT, .spec = &(VkSpecializationInfo){1, &entry, sizeof computed, &computed}},
+            scene);
     gpu_shaders_destroy(g, (VkShaderModule[]){vert, frag, skyv, skyf}, 4);
     return st;
 }

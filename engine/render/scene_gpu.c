@@ -277,7 +277,7 @@ void scene_gpu_push_instance(const scene_gpu *sg, VkCommandBuffer cmd, VkPipelin
         .instance_id = in->id,
         .saliency = in->saliency,
         .texture_index = m ? m->base_color_texture : -1,
-        .flags = flags | (sg->computed_saliency ? VG_DRAW_SALIENCY : 0u),
+        .flags = flags,
     };
     if (m)
         memcpy(push.base_color.v, m->base_color, sizeof push.base_color.v);

@@ -38,8 +38,8 @@ typedef struct scene_gpu {
     float causal_step;
     scene_state before;
     scene_past past;
-    /* Computed saliency (set by the owner): every draw's push says so
-     * (VG_DRAW_SALIENCY); mean_base is the contrast's reference. */
+    /* Computed saliency (set by the owner before the G-buffer pipelines,
+     * which it specialises); mean_base is the contrast's reference. */
     bool computed_saliency;
     float mean_base[3];
 } scene_gpu;
