@@ -23,7 +23,7 @@ layout(set = 0, binding = 4, scalar) buffer TileSumBlock { uint tile_sum[]; };
 layout(set = 0, binding = 5, scalar) buffer TileOffsetBlock { uint tile_offset[]; };
 layout(push_constant, scalar) uniform CurvePush {
     float far_depth;   // background depth: pixels at or beyond it are not geometry
-    uint tiles_x, tiles_y, stage;   // range: 0 per tile, 1 over the tiles
+    uint tiles_x, tiles_y, pad;
 } pc;
 
 bool is_geometry(float z)

@@ -3,6 +3,9 @@
 #include "curve.glsl"
 layout(local_size_x = 256) in;
 shared float s_lo[256], s_hi[256];
+// 0: per tile, 1: over the tiles (a specialisation constant: a CPU
+// rasteriser would run both stages in each dispatch).
+layout(constant_id = 0) const uint STAGE = 0u;
 
 // Stage 0: each workgroup the range of its 64x64 tile, into tile_count
 // (2 values a tile, positive floats as bits). Stage 1: one workgroup the
@@ -26,7 +29,7 @@ void main()
 {
     uint t = gl_LocalInvocationID.x;
     float lo = 1e30, hi = 0.0;
-    if (pc.stage == 0u) {
+    if (STAGE == 0u) {
         ivec2 size = imageSize(depth_image);
         ivec2 origin = ivec2(gl_WorkGroupID.xy) * CURVE_TILE;
         for (uint i = t; i < CURVE_TILE * CURVE_TILE; i += 256u) {

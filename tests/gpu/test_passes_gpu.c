@@ -357,7 +357,7 @@ typedef struct curve_test {
     gpu *gpu;
     VkDescriptorSetLayout set;
     VkPipelineLayout layout;
-    VkPipeline pipe[3];
+    VkPipeline pipe[4]; /* range per tile, range over the tiles, bins, resolve */
     rg_res depth, target, curve, count, sum, offset;
     uint32_t tiles_x, tiles_y;
 } curve_test;
@@ -380,20 +380,19 @@ static void curve_execute(const rg_context *ctx, void *user, int which)
         else
             w[i].pBufferInfo = &b[i - 2];
     }
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->pipe[which]);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->pipe[which == 0 ? 0 : which + 1]);
     t->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->layout, 0, which == 2 ? 4 : 6,
                                     which == 2 ? w + 2 : w);
-    struct { float far_depth; uint32_t tiles_x, tiles_y, stage; } pc = {CV_FAR, t->tiles_x, t->tiles_y, 0};
+    struct { float far_depth; uint32_t tiles_x, tiles_y, pad; } pc = {CV_FAR, t->tiles_x, t->tiles_y, 0};
     vkCmdPushConstants(cmd, t->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
     if (which == 2) {
         vkCmdDispatch(cmd, 1, 1, 1);
         return;
     }
     vkCmdDispatch(cmd, t->tiles_x, t->tiles_y, 1);
-    if (which == 0) { /* the range: per tile, then over the tiles */
+    if (which == 0) { /* the range: per tile, then over the tiles (the shader's other specialisation) */
         gpu_compute_barrier(cmd);
-        pc.stage = 1;
-        vkCmdPushConstants(cmd, t->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->pipe[1]);
         vkCmdDispatch(cmd, 1, 1, 1);
     }
 }
@@ -436,12 +435,17 @@ static int curve_agrees(void)
                                               VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     CHECK(gpu_push_layout_create(hs.gpu, "curve test", types, 6, VK_SHADER_STAGE_COMPUTE_BIT, 16, &t.set, &t.layout) == VG_OK,
           "layout");
-    const uint32_t *code[3] = {spv_curve_range_comp, spv_curve_bins_comp, spv_curve_resolve_comp};
-    size_t size[3] = {sizeof spv_curve_range_comp, sizeof spv_curve_bins_comp, sizeof spv_curve_resolve_comp};
-    for (int i = 0; i < 3; i++) {
+    const uint32_t *code[4] = {spv_curve_range_comp, spv_curve_range_comp, spv_curve_bins_comp, spv_curve_resolve_comp};
+    size_t size[4] = {sizeof spv_curve_range_comp, sizeof spv_curve_range_comp, sizeof spv_curve_bins_comp,
+                      sizeof spv_curve_resolve_comp};
+    for (uint32_t i = 0; i < 4; i++) {
         VkShaderModule m;
+        uint32_t stage = i; /* the range's STAGE: 0 per tile, 1 over the tiles */
+        VkSpecializationMapEntry entry = {0, 0, sizeof stage};
+        VkSpecializationInfo spec = {1, &entry, sizeof stage, &stage};
         CHECK(gpu_shader_create(hs.gpu, code[i], size[i], "curve", &m) == VG_OK, "shader");
-        CHECK(gpu_compute_pipeline_create(hs.gpu, t.layout, m, NULL, "curve", &t.pipe[i]) == VG_OK, "pipeline");
+        CHECK(gpu_compute_pipeline_create(hs.gpu, t.layout, m, i < 2 ? &spec : NULL, "curve", &t.pipe[i]) == VG_OK,
+              "pipeline");
         vkDestroyShaderModule(hs.gpu->device, m, NULL);
     }
     t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, CV_W, CV_H, true, false);
@@ -513,7 +517,7 @@ static int curve_agrees(void)
     free(z);
     free(v);
     gpu_buffer_destroy(hs.gpu, &out);
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < 4; i++)
         vkDestroyPipeline(hs.gpu->device, t.pipe[i], NULL);
     vkDestroyPipelineLayout(hs.gpu->device, t.layout, NULL);
     vkDestroyDescriptorSetLayout(hs.gpu->device, t.set, NULL);

@@ -13,10 +13,11 @@
 
 typedef struct curve_push {
     float far_depth;
-    uint32_t tiles_x, tiles_y, stage; /* range: 0 per tile, 1 over the tiles */
+    uint32_t tiles_x, tiles_y, pad;
 } curve_push;
 
-enum { K_RANGE, K_BINS, K_RESOLVE };
+/* The range's two stages are one shader specialised (curve_range.comp). */
+enum { K_RANGE_TILES, K_RANGE, K_BINS, K_RESOLVE };
 
 struct curve_gpu {
     gpu *gpu;
@@ -38,9 +39,11 @@ vg_status curve_gpu_create(gpu *g, uint32_t width, uint32_t height, curve_gpu **
     static const VkDescriptorType types[6] = {
         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+    static const uint32_t k_stage0[1] = {0}, k_stage1[1] = {1};
     vg_status st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
         .name = "warp.curve", .types = types, .count = 6, .push_size = sizeof(curve_push),
-        .kernels = {[K_RANGE] = GPU_KERNEL(spv_curve_range_comp, "warp.curve.range"),
+        .kernels = {[K_RANGE_TILES] = GPU_KERNEL_SPEC(spv_curve_range_comp, "warp.curve.range.tiles", k_stage0),
+                    [K_RANGE] = GPU_KERNEL_SPEC(spv_curve_range_comp, "warp.curve.range", k_stage1),
                     [K_BINS] = GPU_KERNEL(spv_curve_bins_comp, "warp.curve.bins"),
                     [K_RESOLVE] = GPU_KERNEL(spv_curve_resolve_comp, "warp.curve.resolve")}}, &c->kit);
     if (st != VG_OK) {
@@ -61,7 +64,7 @@ void curve_gpu_destroy(curve_gpu *c)
 
 void curve_gpu_set_background(curve_gpu *c, float depth) { c->background = depth; }
 
-static void bind(const curve_gpu *c, const rg_context *ctx, uint32_t kernel, uint32_t stage)
+static void bind(const curve_gpu *c, const rg_context *ctx, uint32_t kernel)
 {
     bool images = kernel != K_RESOLVE; /* the resolve pass reads no images */
     VkDescriptorImageInfo depth = {.imageView = rg_ctx_view(ctx, c->depth), .imageLayout = rg_ctx_layout(ctx, c->depth)};
@@ -84,7 +87,7 @@ static void bind(const curve_gpu *c, const rg_context *ctx, uint32_t kernel, uin
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = 5, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &offset},
     };
-    curve_push pc = {c->background, c->tiles_x, c->tiles_y, stage};
+    curve_push pc = {c->background, c->tiles_x, c->tiles_y, 0};
     gpu_compute_kit_bind(c->gpu, rg_ctx_cmd(ctx), &c->kit, kernel, images ? wr : wr + 2, images ? 6 : 4, &pc);
 }
 
@@ -96,24 +99,24 @@ static void range_execute(const rg_context *ctx, void *user)
 {
     curve_gpu *c = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    bind(c, ctx, K_RANGE, 0);
+    bind(c, ctx, K_RANGE_TILES);
     vkCmdDispatch(cmd, c->tiles_x, c->tiles_y, 1);
     gpu_compute_barrier(cmd);
-    bind(c, ctx, K_RANGE, 1);
+    bind(c, ctx, K_RANGE);
     vkCmdDispatch(cmd, 1, 1, 1);
 }
 
 static void bins_execute(const rg_context *ctx, void *user)
 {
     curve_gpu *c = user;
-    bind(c, ctx, K_BINS, 0);
+    bind(c, ctx, K_BINS);
     vkCmdDispatch(rg_ctx_cmd(ctx), c->tiles_x, c->tiles_y, 1);
 }
 
 static void resolve_execute(const rg_context *ctx, void *user)
 {
     curve_gpu *c = user;
-    bind(c, ctx, K_RESOLVE, 0);
+    bind(c, ctx, K_RESOLVE);
     vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
 }
 
