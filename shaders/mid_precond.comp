@@ -100,15 +100,17 @@ void factor(uint head)
 void apply_chain(uint head)
 {
     int last = int(head);
+    float a_cg = OP == MID_OP_APPLY_CG ? st.a_cg : 0.0;
     float z_p1 = 0.0, z_p2 = 0.0; // y of the node before and of the one before it
     int before = 0;
     for (int i = int(head); i >= 0; i = CHAIN_NEXT(uint(i))) {
         uint u = uint(i);
-        if (OP == MID_OP_APPLY_CG) {
-            vs[u] += st.a_cg * vp[u];
-            vr[u] -= st.a_cg * vhp[u];
-        }
         float v = vr[u];
+        if (OP == MID_OP_APPLY_CG) {
+            vs[u] += a_cg * vp[u];
+            v -= a_cg * vhp[u];
+            vr[u] = v;
+        }
         if (before >= 1)
             v -= L1(u) * z_p1;
         if (before >= 2)
@@ -132,10 +134,8 @@ void apply_chain(uint head)
             v -= l2_n2 * z_n2;
         float z = v / L0(u);
         vz[u] = z;
-        if (OP == MID_OP_APPLY_CG) {
+        if (OP == MID_OP_APPLY_CG) // column 5 keeps vec.zp_init's zeros: control.rz reads column 4 only
             DOT(4u, u) = vr[u] * z;
-            DOT(5u, u) = 0.0;
-        }
         z_n2 = z_n1;
         l2_n2 = l2_n1;
         z_n1 = z;

@@ -109,7 +109,7 @@ void gather(uint j)
         } else {
             float hp = out_j * vfree[j];
             vhp[j] = hp;
-            DOT(4u, j) = vp[j] * hp;
+            DOT(4u, j) = e * hp; // e is p_j here (diff_at): one load fewer
         }
     }
 }
@@ -135,9 +135,9 @@ void diagonal(uint j)
 void direction(uint i)
 {
     float pa = link_gather_p(link[i]), pb = link_gather_p(link[pc.cap + i]);
-    float qf = Q_F(i), qb = Q_B(i);
+    float qf = Q_F(i), qb = Q_B(i), p = vp[i];
     // Linearised residuals J p; q_f, q_b are already 0 on invalid links.
-    float dd_f = pa - vp[i], dd_b = vp[i] - pb;
+    float dd_f = pa - p, dd_b = p - pb;
     float dr_t = qf * dd_f;
     float dr_a = M_A(i) * (qf * dd_f - qb * dd_b);
     ALPHA(i) = pc.grad_scale * (pc.w_temporal * dr_t + pc.w_accel * dr_a) * qf;
