@@ -10,8 +10,9 @@
 // Three kernels, so that nothing but the cracks costs more than a few loads
 // (llvmpipe runs every branch for every lane: a test behind an `if` costs
 // all pixels):
-//   warp_fill_find   every pixel: sky with geometry on both sides, across or
-//                    down, is a candidate (appended to the list)
+//   warp_fill_find   (RESET: one invocation zeroes the eye's count) every
+//                    pixel: sky with geometry on both sides, across or down,
+//                    is a candidate (appended to the list)
 //   warp_fill_test   each candidate: the whole test, on the eye as drawn
 //   warp_fill_apply  each crack: the mean of its two neighbours
 // Only sky pixels are written, and only after every test has read the eye,
@@ -22,15 +23,14 @@
 layout(set = 0, binding = 0, rgba8) uniform image2D eye_color;
 layout(set = 0, binding = 1, rgba32f) uniform image2D eye_aux;
 layout(set = 0, binding = 2, r32ui) uniform readonly uimage2D centre_ids;
-// Per eye and frame parity: the candidates' count, then the dispatch size of
-// the kernels over them (warp_fill_find counts both, and zeroes the other
-// parity's for the next frame).
+// Per eye: the candidates' count, then the dispatch size of the kernels over
+// them (warp_fill_find zeroes both with RESET set, then counts them).
 layout(set = 0, binding = 3, scalar) buffer FillHeader { uvec4 fill_header[]; };
 // Candidates: x in bits 0-15, y in bits 16-29 (Vulkan images are at most
 // 16384 high here), and from warp_fill_test the pair that closes the crack
 // in bits 30-31 (0 across, 1 down, 2 none).
 layout(set = 0, binding = 4, scalar) buffer FillList { uint fill_list[]; };
-layout(push_constant) uniform FillPush { uint slot, other; } pc;
+layout(push_constant) uniform FillPush { uint slot; } pc; // the eye's header
 
 #define FILL_NONE 2u
 

@@ -4,6 +4,9 @@
 #include "warp_fill.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
+// 1: only zero the eye's count and dispatch size (one invocation, before the
+// pass counts).
+layout(constant_id = 0) const uint RESET = 0u;
 
 bool between_geometry(ivec2 p, ivec2 d, ivec2 size)
 {
@@ -13,9 +16,12 @@ bool between_geometry(ivec2 p, ivec2 d, ivec2 size)
 
 void main()
 {
+    if (RESET != 0u) {
+        if (gl_LocalInvocationIndex == 0u)
+            fill_header[pc.slot] = uvec4(0u, 0u, 1u, 1u);
+        return;
+    }
     ivec2 p = ivec2(gl_GlobalInvocationID.xy), size = imageSize(eye_color);
-    if (p == ivec2(0))
-        fill_header[pc.other] = uvec4(0u, 0u, 1u, 1u); // the next frame's count and dispatch size
     if (any(greaterThanEqual(p, size)))
         return;
     vec4 c = imageLoad(eye_color, p);

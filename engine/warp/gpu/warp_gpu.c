@@ -47,8 +47,8 @@ struct warp_gpu {
     frame_ctx *fc;
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
     gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT */
-    gpu_compute_kit fill;        /* K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY */
-    gpu_buffer fill_header;      /* per eye and frame parity: candidates, dispatch size (warp_fill.glsl) */
+    gpu_compute_kit fill;        /* K_FILL_RESET, K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY */
+    gpu_buffer fill_header;      /* per eye: candidates, dispatch size over them (warp_fill.glsl) */
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
     gpu_buffer chunks;           /* vg_warp_chunk: 256-triangle pieces of instances */
     gpu_buffer tri_edges, edges; /* each triangle's 3 edge ids; vg_warp_edge: every edge once */
@@ -65,7 +65,7 @@ struct warp_gpu {
     struct fill_pass {
         warp_gpu *w;
         rg_res color, aux, list;
-        uint32_t eye, parity;
+        uint32_t eye;
     } fills[2];
     rg_res fill_header_res;
     /* this frame's graph resources */
@@ -78,7 +78,7 @@ struct warp_gpu {
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
 enum { K_CULL, K_VERTICES, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
-enum { K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY };             /* of the fill kit */
+enum { K_FILL_RESET, K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY }; /* of the fill kit */
 
 /* ------------------------------------------------------------------------- */
 /* Classify                                                                  */
@@ -326,18 +326,19 @@ static void fill_execute(const rg_context *ctx, void *user)
     }
     b[3] = GPU_STORAGE_BUFFER(w->fill_header.buffer);
     b[4] = GPU_STORAGE_BUFFER(rg_ctx_buffer(ctx, f->list));
-    /* Each frame counts into the other parity's slot, which the last one's find zeroed. */
-    f->parity ^= 1;
-    uint32_t push[2] = {2 * f->eye + f->parity, 2 * f->eye + (f->parity ^ 1)};
-    VkDeviceSize args = (VkDeviceSize)push[0] * 4 * sizeof(uint32_t) + sizeof(uint32_t);
+    uint32_t slot = f->eye;
+    VkDeviceSize args = (VkDeviceSize)slot * 4 * sizeof(uint32_t) + sizeof(uint32_t);
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_FIND, b, 5, push);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_RESET, b, 5, &slot);
+    vkCmdDispatch(cmd, 1, 1, 1);
+    gpu_compute_barrier(cmd);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_FIND, b, 5, &slot);
     vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
     gpu_compute_barrier_indirect(cmd);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_TEST, b, 5, push);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_TEST, b, 5, &slot);
     vkCmdDispatchIndirect(cmd, w->fill_header.buffer, args);
     gpu_compute_barrier(cmd);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_APPLY, b, 5, push);
+    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_APPLY, b, 5, &slot);
     vkCmdDispatchIndirect(cmd, w->fill_header.buffer, args);
 }
 
@@ -601,13 +602,15 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
                         [K_EDGE_LEVELS] = GPU_KERNEL(spv_warp_edge_levels_comp, "warp.edge_levels"),
                         [K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
                         [K_COMPACT] = GPU_KERNEL(spv_warp_compact_comp, "warp.compact")}}, &w->classify);
+    static const uint32_t k_reset[1] = {1};
     static const VkDescriptorType ftypes[5] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                                VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                                VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
     if (st == VG_OK)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "warp.fill", .types = ftypes, .count = 5, .push_size = 2 * sizeof(uint32_t),
-            .kernels = {[K_FILL_FIND] = GPU_KERNEL(spv_warp_fill_find_comp, "warp.fill.find"),
+            .name = "warp.fill", .types = ftypes, .count = 5, .push_size = sizeof(uint32_t),
+            .kernels = {[K_FILL_RESET] = GPU_KERNEL_SPEC(spv_warp_fill_find_comp, "warp.fill.reset", k_reset),
+                        [K_FILL_FIND] = GPU_KERNEL(spv_warp_fill_find_comp, "warp.fill.find"),
                         [K_FILL_TEST] = GPU_KERNEL(spv_warp_fill_test_comp, "warp.fill.test"),
                         [K_FILL_APPLY] = GPU_KERNEL(spv_warp_fill_apply_comp, "warp.fill.apply")}}, &w->fill);
     return st;
@@ -774,15 +777,11 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
                                                            .host_visible = true}, &w->vertex_seen);
         if (st == VG_OK)
             memset(w->vertex_seen.mapped, 0, w->vertex_seen.size);
-        /* warp.fill's counts: none yet, and dispatches of 0 x 1 x 1 over them. */
+        /* warp.fill's counts, one per eye (zeroed by the pass itself). */
         if (st == VG_OK)
-            st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "warp fill header", .size = 4 * 4 * sizeof(uint32_t),
+            st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "warp fill header", .size = 2 * 4 * sizeof(uint32_t),
                                                                .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                                                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-                                                               .host_visible = true}, &w->fill_header);
-        if (st == VG_OK)
-            for (uint32_t i = 0; i < 4; i++)
-                memcpy((uint32_t *)w->fill_header.mapped + 4 * i, (uint32_t[4]){0, 0, 1, 1}, 4 * sizeof(uint32_t));
+                                                                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT}, &w->fill_header);
     }
     if (st == VG_OK && fc->desc.curve) {
         st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vg_curve),
