@@ -376,20 +376,10 @@ static vg_status pipelines_create(solve_gpu *m)
                 if (*out)
                     continue;
                 VkSpecializationMapEntry entry = {0, 0, sizeof(uint32_t)};
-                VkComputePipelineCreateInfo info = {
-                    .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
-                    .stage = {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
-                              .stage = VK_SHADER_STAGE_COMPUTE_BIT, .module = mod[sd->kernel], .pName = "main",
-                              .pSpecializationInfo = &(VkSpecializationInfo){1, &entry, sizeof ops[v], &ops[v]}},
-                    .layout = m->layout,
-                };
-                VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &info, g->alloc, out);
-                if (r != VK_SUCCESS) {
-                    gpu_report_failure(__FILE__, __LINE__, "vkCreateComputePipelines", r);
-                    st = VG_ERR_VULKAN;
-                    break;
-                }
-                GPU_NAME(g, VK_OBJECT_TYPE_PIPELINE, *out, "%s op %u", src[sd->kernel].name, ops[v]);
+                char name[48];
+                snprintf(name, sizeof name, "%s op %u", src[sd->kernel].name, ops[v]);
+                st = gpu_compute_pipeline_create(g, m->layout, mod[sd->kernel],
+                                                 &(VkSpecializationInfo){1, &entry, sizeof ops[v], &ops[v]}, name, out);
             }
         }
     for (int k = 0; k < K_COUNT; k++)
