@@ -119,7 +119,7 @@ VG_STRUCT(vg_classify_push) {
     VG_UINT edge_count;        /* the scene's distinct triangle edges (warp.edges) */
     VG_UINT vertex_count;      /* the scene's vertices (warp.vertices) */
     VG_UINT stamp;             /* this frame's mark in vertex_seen: never 0, one more each frame */
-    VG_UINT bucket;            /* warp.edges.level: the bucket of edges it levels (VG_EDGE_BUCKETS) */
+    VG_UINT bucket;            /* warp_edge_levels: the bucket of edges it levels (VG_EDGE_BUCKETS) */
 };
 /* warp.edges: an edge of the scene's triangles, once however many triangles
  * share it. Vertices global (instance first_vertex + index); the (at most
