@@ -25,6 +25,24 @@ typedef struct vg_gmat4 { float m[16]; } vg_gmat4; /* column-major, as GLSL */
 #define VG_UINT uint32_t
 #endif
 
+/* A work list one kernel appends to and indirect dispatches of
+ * VG_WORKLIST_GROUP-invocation workgroups then cover (warp.edges' buckets,
+ * warp.fill's candidates). Its header is a uvec4: the count, then the
+ * dispatch size over it, which starts at VG_WORKLIST_EMPTY; the dispatch
+ * size is at byte VG_WORKLIST_ARGS(slot) of an array of headers. */
+#define VG_WORKLIST_GROUP 64u
+#define VG_WORKLIST_ARGS(slot) ((slot) * 4u * 4u + 4u)
+#ifdef GL_core_profile
+#define VG_WORKLIST_EMPTY uvec4(0u, 0u, 1u, 1u)
+/* index = the new item's place; the last workgroup grows when it starts one. */
+#define VG_WORKLIST_APPEND(header, index)                    \
+    {                                                        \
+        index = atomicAdd((header).x, 1u);                   \
+        if (index % VG_WORKLIST_GROUP == 0u)                 \
+            atomicAdd((header).y, 1u);                       \
+    }
+#endif
+
 /* Base-colour textures bound at once (must equal SCENE_MAX_TEXTURES). */
 #define VG_MAX_TEXTURES 16
 
@@ -160,8 +178,8 @@ VG_STRUCT(vg_warp_edge) {
 #define VG_BINDING_VERTEX_SEEN 21 /* warp.classify: per scene vertex, the stamp of the last frame a visible
                                      triangle used it (so nothing is cleared between frames) */
 /* warp.classify: the edges to sample, by their number of samples (6, 12,
- * VGX_EDGE_SAMPLES: bucket 0, 1, 2); per bucket a count and the dispatch
- * size over it (uvec4), then edge_count ids per bucket. */
+ * VGX_EDGE_SAMPLES: bucket 0, 1, 2); a work-list header per bucket, then
+ * edge_count ids per bucket. */
 #define VG_BINDING_EDGE_WORK 22
 #define VG_EDGE_BUCKETS 3u
 

@@ -20,7 +20,7 @@ void main()
     uint t = gl_LocalInvocationID.x;
     if (gl_GlobalInvocationID.x == 0u) // warp_edges counts this frame's edges to sample from here
         for (uint k = 0u; k < VG_EDGE_BUCKETS; k++)
-            edge_buckets[k] = uvec4(0u, 0u, 1u, 1u);
+            edge_buckets[k] = VG_WORKLIST_EMPTY;
     if (t >= ch.triangle_count)
         return;
     uint tri = ch.first_triangle + t, first = inst.first_index + 3u * tri;

@@ -8,7 +8,7 @@
 #include "cascade.glsl"
 #include "classify.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = VG_WORKLIST_GROUP) in;
 
 void main()
 {

@@ -31,9 +31,8 @@ void main()
         int m;
         level = vgx_edge_prepare(a, b, ca, cb, max_level, m);
         if (level == 0.0) {
-            uint k = m == 6 ? 0u : m == 12 ? 1u : 2u, i = atomicAdd(edge_buckets[k].x, 1u);
-            if (i % 64u == 0u)
-                atomicAdd(edge_buckets[k].y, 1u);
+            uint k = m == 6 ? 0u : m == 12 ? 1u : 2u, i;
+            VG_WORKLIST_APPEND(edge_buckets[k], i);
             edge_work[k * pc.edge_count + i] = e;
             return; // warp_edge_levels writes its level
         }

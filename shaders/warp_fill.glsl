@@ -23,8 +23,8 @@
 layout(set = 0, binding = 0, rgba8) uniform image2D eye_color;
 layout(set = 0, binding = 1, rgba32f) uniform image2D eye_aux;
 layout(set = 0, binding = 2, r32ui) uniform readonly uimage2D centre_ids;
-// Per eye: the candidates' count, then the dispatch size of the kernels over
-// them (warp_fill_find zeroes both with RESET set, then counts them).
+// Per eye, the candidates' work-list header (shared.h: warp_fill_find
+// empties it with RESET set, then appends).
 layout(set = 0, binding = 3, scalar) buffer FillHeader { uvec4 fill_header[]; };
 // Candidates: x in bits 0-15, y in bits 16-29 (Vulkan images are at most
 // 16384 high here), and from warp_fill_test the pair that closes the crack

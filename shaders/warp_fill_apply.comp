@@ -4,7 +4,7 @@
 // pair that closes it (geometry, which no step writes).
 #include "warp_fill.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = VG_WORKLIST_GROUP) in;
 
 void main()
 {

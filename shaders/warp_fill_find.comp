@@ -18,7 +18,7 @@ void main()
 {
     if (RESET != 0u) {
         if (gl_LocalInvocationIndex == 0u)
-            fill_header[pc.slot] = uvec4(0u, 0u, 1u, 1u);
+            fill_header[pc.slot] = VG_WORKLIST_EMPTY;
         return;
     }
     ivec2 p = ivec2(gl_GlobalInvocationID.xy), size = imageSize(eye_color);
@@ -28,9 +28,8 @@ void main()
     if (geometry(c) || c.a <= 0.25) // only sky, not an empty pixel
         return;
     if (between_geometry(p, ivec2(1, 0), size) || between_geometry(p, ivec2(0, 1), size)) {
-        uint i = atomicAdd(fill_header[pc.slot].x, 1u);
-        if (i % 64u == 0u)
-            atomicAdd(fill_header[pc.slot].y, 1u);
+        uint i;
+        VG_WORKLIST_APPEND(fill_header[pc.slot], i);
         fill_list[i] = uint(p.x) | uint(p.y) << 16;
     }
 }

@@ -3,7 +3,7 @@
 // warp.fill, step 2 of 3 (warp_fill.glsl): the whole test on each candidate.
 #include "warp_fill.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = VG_WORKLIST_GROUP) in;
 
 // Sky at p between a and b that should be one surface.
 bool torn(ivec2 p, ivec2 a, ivec2 b, ivec2 size)

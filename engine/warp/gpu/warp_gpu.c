@@ -159,7 +159,7 @@ static void classify_execute(const rg_context *ctx, void *user)
         /* The edges to sample, bucket by bucket (warp_edges.comp). */
         for (uint32_t k = 0; k < VG_EDGE_BUCKETS; k++) {
             bind_classify(w, ctx, K_EDGE_LEVELS, k);
-            vkCmdDispatchIndirect(cmd, w->edge_work.buffer, (VkDeviceSize)k * 4 * sizeof(uint32_t) + sizeof(uint32_t));
+            vkCmdDispatchIndirect(cmd, w->edge_work.buffer, VG_WORKLIST_ARGS(k));
         }
         gpu_compute_barrier(cmd);
     }
@@ -327,7 +327,7 @@ static void fill_execute(const rg_context *ctx, void *user)
     b[3] = GPU_STORAGE_BUFFER(w->fill_header.buffer);
     b[4] = GPU_STORAGE_BUFFER(rg_ctx_buffer(ctx, f->list));
     uint32_t slot = f->eye;
-    VkDeviceSize args = (VkDeviceSize)slot * 4 * sizeof(uint32_t) + sizeof(uint32_t);
+    VkDeviceSize args = VG_WORKLIST_ARGS(slot);
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_RESET, b, 5, &slot);
     vkCmdDispatch(cmd, 1, 1, 1);
