@@ -13,9 +13,11 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     vg_log_set_silent(true);
-    static char path[64];
-    if (!path[0])
-        snprintf(path, sizeof path, "/tmp/vergence_fuzz_%ld.gltf", (long)getpid());
+    static char path[512];
+    if (!path[0]) { /* in the test's own TMPDIR (tests/tmpdir.sh), which goes with it */
+        const char *tmp = getenv("TMPDIR");
+        snprintf(path, sizeof path, "%s/vergence_fuzz_%ld.gltf", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+    }
     if (vg_file_write_atomic(path, data, size) != VG_OK)
         return 0;
     scene *s;
