@@ -43,6 +43,87 @@ layout(set = 0, binding = MID_B_PUBLISHED, scalar) buffer PublishedBlock { mid_p
 layout(set = 0, binding = MID_B_DOT) buffer DotBlock { float dot_terms[]; };
 layout(set = 0, binding = MID_B_HEADS) buffer HeadsBlock { uint heads[]; };
 
+// The same arena read through two texel views (set 1): a CPU rasteriser
+// loads a storage buffer lane by lane in a loop, a texel fetch as one gather
+// (llvmpipe: a quarter of the instructions; docs/PERFORMANCE.md). The R_*
+// forms below read an array through them; a kernel uses them only for what
+// no invocation of its own dispatch writes (a texel cache need not see
+// those writes), and the storage buffer names above for everything else.
+// W_*: each array's first 32-bit word in the arena, specialisation
+// constants 1 + MID_B_* that solve_gpu.c fills in.
+layout(set = 1, binding = 0) uniform usamplerBuffer arena_u;  // R32_UINT
+layout(set = 1, binding = 1) uniform usamplerBuffer arena_u4; // R32G32B32A32_UINT
+layout(constant_id = 1 + MID_B_FIELD) const uint W_FIELD = 0u;
+layout(constant_id = 1 + MID_B_LINK) const uint W_LINK = 0u;
+layout(constant_id = 1 + MID_B_ADJ_OFF) const uint W_ADJ_OFF = 0u;
+layout(constant_id = 1 + MID_B_ADJ) const uint W_ADJ = 0u;
+layout(constant_id = 1 + MID_B_EDGE) const uint W_EDGE = 0u;
+layout(constant_id = 1 + MID_B_TARGET) const uint W_TARGET = 0u;
+layout(constant_id = 1 + MID_B_CHAIN) const uint W_CHAIN = 0u;
+layout(constant_id = 1 + MID_B_F) const uint W_F = 0u;
+layout(constant_id = 1 + MID_B_FTRY) const uint W_FTRY = 0u;
+layout(constant_id = 1 + MID_B_GRAD) const uint W_GRAD = 0u;
+layout(constant_id = 1 + MID_B_DIAG) const uint W_DIAG = 0u;
+layout(constant_id = 1 + MID_B_S) const uint W_S = 0u;
+layout(constant_id = 1 + MID_B_R) const uint W_R = 0u;
+layout(constant_id = 1 + MID_B_Z) const uint W_Z = 0u;
+layout(constant_id = 1 + MID_B_P) const uint W_P = 0u;
+layout(constant_id = 1 + MID_B_HP) const uint W_HP = 0u;
+layout(constant_id = 1 + MID_B_FREE) const uint W_FREE = 0u;
+layout(constant_id = 1 + MID_B_L) const uint W_L = 0u;
+layout(constant_id = 1 + MID_B_LIN) const uint W_LIN = 0u;
+layout(constant_id = 1 + MID_B_DOT) const uint W_DOT = 0u;
+
+uint rd_u(uint w) { return texelFetch(arena_u, int(w)).r; }
+float rd_f(uint w) { return uintBitsToFloat(texelFetch(arena_u, int(w)).r); }
+
+#define R_F(i) rd_f(W_F + (i))
+#define R_FTRY(i) rd_f(W_FTRY + (i))
+#define R_GRAD(i) rd_f(W_GRAD + (i))
+#define R_DIAG(i) rd_f(W_DIAG + (i))
+#define R_S(i) rd_f(W_S + (i))
+#define R_R(i) rd_f(W_R + (i))
+#define R_Z(i) rd_f(W_Z + (i))
+#define R_P(i) rd_f(W_P + (i))
+#define R_HP(i) rd_f(W_HP + (i))
+#define R_FREE(i) rd_f(W_FREE + (i))
+#define R_H(i) rd_f(W_FIELD + pc.cap + (i))
+#define R_EDGE_X(i) rd_f(W_EDGE + (i))
+#define R_EDGE_Y(i) rd_f(W_EDGE + pc.cap + (i))
+#define R_PH(i) rd_f(W_TARGET + (i))
+#define R_PG(i) rd_f(W_TARGET + pc.cap + (i))
+#define R_CHAIN_NEXT(i) int(rd_u(W_CHAIN + (i)))
+#define R_CHAIN_PREV(i) int(rd_u(W_CHAIN + pc.cap + (i)))
+#define R_L0(i) rd_f(W_L + (i))
+#define R_L1(i) rd_f(W_L + pc.cap + (i))
+#define R_L2(i) rd_f(W_L + 2u * pc.cap + (i))
+#define R_Q_F(i) rd_f(W_LIN + (i))
+#define R_Q_B(i) rd_f(W_LIN + pc.cap + (i))
+#define R_M_A(i) rd_f(W_LIN + 2u * pc.cap + (i))
+#define R_ALPHA(i) rd_f(W_LIN + 3u * pc.cap + (i))
+#define R_BETA(i) rd_f(W_LIN + 4u * pc.cap + (i))
+#define R_C_F(i) rd_f(W_LIN + 5u * pc.cap + (i))
+#define R_C_B(i) rd_f(W_LIN + 6u * pc.cap + (i))
+#define R_D_SELF(i) rd_f(W_LIN + 7u * pc.cap + (i))
+#define R_DOT(c, i) rd_f(W_DOT + (c) * pc.cap + (i))
+// CSR rows of A_f^T (dir 0) and A_b^T (dir 1): row j's entries are
+// [R_ADJ_OFF(dir, j), R_ADJ_OFF(dir, j + 1)); entry q's source and weight.
+#define R_ADJ_OFF(dir, j) rd_u(W_ADJ_OFF + (dir) * (pc.cap + 1u) + (j))
+#define R_ADJ_SRC(dir, q) rd_u(W_ADJ + 2u * ((dir) * pc.adj_cap + (q)))
+#define R_ADJ_W(dir, q) rd_f(W_ADJ + 2u * ((dir) * pc.adj_cap + (q)) + 1u)
+
+// Link i of A_f (i < cap) or A_b (cap + i): one 16-byte texel.
+mid_link r_link(uint i)
+{
+    uvec4 v = texelFetch(arena_u4, int(W_LINK / 4u + i));
+    mid_link l;
+    l.base = v.x;
+    l.fx = uintBitsToFloat(v.y);
+    l.fy = uintBitsToFloat(v.z);
+    l.mask = v.w;
+    return l;
+}
+
 // Arrays of several fields, each cap long (mid_shared.h).
 #define G(i) field[(i)]
 #define H(i) field[pc.cap + (i)]
@@ -73,6 +154,11 @@ layout(set = 0, binding = MID_B_HEADS) buffer HeadsBlock { uint heads[]; };
 #define LINK_GATHER(l, arr, off)                                                          \
     mid_link_apply(mid_link_taps(l), arr[(off) + (l).base], arr[(off) + (l).base + 1u],    \
                    arr[(off) + (l).base + pc.nx], arr[(off) + (l).base + pc.nx + 1u])
+
+// The same over the texel view (an array no invocation of the dispatch writes).
+#define R_LINK_GATHER(l, R)                                                                \
+    mid_link_apply(mid_link_taps(l), R((l).base), R((l).base + 1u), R((l).base + pc.nx),  \
+                   R((l).base + pc.nx + 1u))
 
 // Per-element terms of the sums (column c of MID_DOT_COLUMNS).
 #define DOT(c, i) dot_terms[(c) * pc.cap + (i)]

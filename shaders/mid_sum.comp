@@ -19,7 +19,7 @@ void main()
     for (uint col = col0; col < col0 + cols; col++) {
         float s = 0.0;
         for (uint i = first; i < last; i++)
-            s += DOT(col, i);
+            s += R_DOT(col, i); // written by earlier dispatches: the texel view
         partial[c * MID_PARTIAL_FLOATS + col] = s;
     }
 }

@@ -15,28 +15,27 @@
 layout(constant_id = 0) const uint OP = 0u;
 MID_ELEMENT_LAYOUT;
 
+// Every array these kernels read is written by an earlier dispatch: all
+// reads go through the texel views (mid_arena.glsl R_*).
 float fin(uint i)
 {
-    return OP == MID_OP_LIN_F ? vf[i] : vftry[i];
+    return OP == MID_OP_LIN_F ? R_F(i) : R_FTRY(i);
 }
 
 float link_gather_fin(mid_link l)
 {
-    if (l.mask == 0u)
-        return 0.0;
-    return mid_link_apply(mid_link_taps(l), fin(l.base), fin(l.base + 1u), fin(l.base + pc.nx),
-                          fin(l.base + pc.nx + 1u));
+    return l.mask == 0u ? 0.0 : R_LINK_GATHER(l, fin);
 }
 
 float link_gather_p(mid_link l)
 {
-    return l.mask == 0u ? 0.0 : LINK_GATHER(l, vp, 0u);
+    return l.mask == 0u ? 0.0 : R_LINK_GATHER(l, R_P);
 }
 
 // x = f - h (gradient) or p (Hessian product).
 float diff_at(uint i)
 {
-    return OP == MID_OP_GATHER_GRAD ? vf[i] - H(i) : vp[i];
+    return OP == MID_OP_GATHER_GRAD ? R_F(i) - R_H(i) : R_P(i);
 }
 
 void linearize(uint i)
@@ -44,21 +43,21 @@ void linearize(uint i)
     vec4 sums = vec4(0.0);
     {
         uint k = ek, px = ex, py = ey;
-        float fi = fin(i), e = fi - H(i);
+        float fi = fin(i), e = fi - R_H(i);
         sums.x = e * e;
         // c_s over the edges to the right and below, each counted once.
         if (px + 1u < pc.nx) {
-            float d = (fin(i + 1u) - H(i + 1u)) - e;
-            sums.y += EDGE_X(i) * d * d;
+            float d = (fin(i + 1u) - R_H(i + 1u)) - e;
+            sums.y += R_EDGE_X(i) * d * d;
         }
         if (py + 1u < pc.ny) {
-            float d = (fin(i + pc.nx) - H(i + pc.nx)) - e;
-            sums.y += EDGE_Y(i) * d * d;
+            float d = (fin(i + pc.nx) - R_H(i + pc.nx)) - e;
+            sums.y += R_EDGE_Y(i) * d * d;
         }
-        mid_link lf = link[i], lb = link[pc.cap + i];
+        mid_link lf = r_link(i), lb = r_link(pc.cap + i);
         float m_f = lf.mask != 0u ? 1.0 : 0.0, m_b = lb.mask != 0u ? 1.0 : 0.0;
         mid_pixel r = mid_pixel_eval(fi, link_gather_fin(lf), link_gather_fin(lb), INVDT_F(k), INVDT_B(k),
-                                     m_f, m_b, PH(i), PG(i));
+                                     m_f, m_b, R_PH(i), R_PG(i));
         sums.z = r.r_t * r.r_t;
         sums.w = r.r_a * r.r_a;
         float scale = pc.grad_scale, m_a = m_f * m_b;
@@ -88,26 +87,25 @@ void gather(uint j)
         // Weighted Laplacian of (f - h): the normal equations of c_s.
         float lap = 0.0;
         if (px + 1u < pc.nx)
-            lap += EDGE_X(j) * (e - diff_at(j + 1u));
+            lap += R_EDGE_X(j) * (e - diff_at(j + 1u));
         if (px > 0u)
-            lap += EDGE_X(j - 1u) * (e - diff_at(j - 1u));
+            lap += R_EDGE_X(j - 1u) * (e - diff_at(j - 1u));
         if (py + 1u < pc.ny)
-            lap += EDGE_Y(j) * (e - diff_at(j + pc.nx));
+            lap += R_EDGE_Y(j) * (e - diff_at(j + pc.nx));
         if (py > 0u)
-            lap += EDGE_Y(j - pc.nx) * (e - diff_at(j - pc.nx));
+            lap += R_EDGE_Y(j - pc.nx) * (e - diff_at(j - pc.nx));
         float local = pc.grad_scale * (pc.w_data * e + pc.w_spatial * lap);
         // d(A_f f - f)/df_j and d(f - A_b f)/df_j, transposed (CSR, source order).
         float af = 0.0, ab = 0.0;
-        for (uint q = adj_off[j]; q < adj_off[j + 1u]; q++)
-            af += adj[q].w * ALPHA(adj[q].src);
-        uint ob = pc.cap + 1u;
-        for (uint q = adj_off[ob + j]; q < adj_off[ob + j + 1u]; q++)
-            ab += adj[pc.adj_cap + q].w * BETA(adj[pc.adj_cap + q].src);
-        float out_j = local + (af - ALPHA(j)) + (BETA(j) - ab);
+        for (uint q = R_ADJ_OFF(0u, j); q < R_ADJ_OFF(0u, j + 1u); q++)
+            af += R_ADJ_W(0u, q) * R_ALPHA(R_ADJ_SRC(0u, q));
+        for (uint q = R_ADJ_OFF(1u, j); q < R_ADJ_OFF(1u, j + 1u); q++)
+            ab += R_ADJ_W(1u, q) * R_BETA(R_ADJ_SRC(1u, q));
+        float out_j = local + (af - R_ALPHA(j)) + (R_BETA(j) - ab);
         if (OP == MID_OP_GATHER_GRAD) {
             vgrad[j] = out_j;
         } else {
-            float hp = out_j * vfree[j];
+            float hp = out_j * R_FREE(j);
             vhp[j] = hp;
             DOT(4u, j) = e * hp; // e is p_j here (diff_at): one load fewer
         }
@@ -117,29 +115,28 @@ void gather(uint j)
 void diagonal(uint j)
 {
     uint px = ex, py = ey;
-    float edges = (px + 1u < pc.nx ? EDGE_X(j) : 0.0) + (px > 0u ? EDGE_X(j - 1u) : 0.0) +
-                  (py + 1u < pc.ny ? EDGE_Y(j) : 0.0) + (py > 0u ? EDGE_Y(j - pc.nx) : 0.0);
-    float d = pc.grad_scale * (pc.w_data + pc.w_spatial * edges) + D_SELF(j);
-    for (uint q = adj_off[j]; q < adj_off[j + 1u]; q++) {
-        mid_adj_entry e = adj[q];
-        d += e.w * e.w * C_F(e.src);
+    float edges = (px + 1u < pc.nx ? R_EDGE_X(j) : 0.0) + (px > 0u ? R_EDGE_X(j - 1u) : 0.0) +
+                  (py + 1u < pc.ny ? R_EDGE_Y(j) : 0.0) + (py > 0u ? R_EDGE_Y(j - pc.nx) : 0.0);
+    float d = pc.grad_scale * (pc.w_data + pc.w_spatial * edges) + R_D_SELF(j);
+    for (uint q = R_ADJ_OFF(0u, j); q < R_ADJ_OFF(0u, j + 1u); q++) {
+        float w = R_ADJ_W(0u, q);
+        d += w * w * R_C_F(R_ADJ_SRC(0u, q));
     }
-    uint ob = pc.cap + 1u;
-    for (uint q = adj_off[ob + j]; q < adj_off[ob + j + 1u]; q++) {
-        mid_adj_entry e = adj[pc.adj_cap + q];
-        d += e.w * e.w * C_B(e.src);
+    for (uint q = R_ADJ_OFF(1u, j); q < R_ADJ_OFF(1u, j + 1u); q++) {
+        float w = R_ADJ_W(1u, q);
+        d += w * w * R_C_B(R_ADJ_SRC(1u, q));
     }
     vdiag[j] = d;
 }
 
 void direction(uint i)
 {
-    float pa = link_gather_p(link[i]), pb = link_gather_p(link[pc.cap + i]);
-    float qf = Q_F(i), qb = Q_B(i), p = vp[i];
+    float pa = link_gather_p(r_link(i)), pb = link_gather_p(r_link(pc.cap + i));
+    float qf = R_Q_F(i), qb = R_Q_B(i), p = R_P(i);
     // Linearised residuals J p; q_f, q_b are already 0 on invalid links.
     float dd_f = pa - p, dd_b = p - pb;
     float dr_t = qf * dd_f;
-    float dr_a = M_A(i) * (qf * dd_f - qb * dd_b);
+    float dr_a = R_M_A(i) * (qf * dd_f - qb * dd_b);
     ALPHA(i) = pc.grad_scale * (pc.w_temporal * dr_t + pc.w_accel * dr_a) * qf;
     BETA(i) = -pc.grad_scale * pc.w_accel * dr_a * qb;
 }

@@ -4,6 +4,8 @@
 // per-element terms where the CPU keeps block sums, plus the solve's start
 // (f0 = h or the warm start, paper 4.5).
 #include "mid_arena.glsl"
+// Reads go through the texel views (mid_arena.glsl R_*); a value this
+// invocation writes and uses again is kept in a register.
 // The operation is a specialization constant: one pipeline per operation,
 // no branch on it at run time.
 layout(constant_id = 0) const uint OP = 0u;
@@ -20,7 +22,7 @@ void main()
         case MID_OP_CG_START: {
             // Projected Newton (Bertsekas 1982): a variable at a bound whose
             // gradient pushes outward stays there this iteration.
-            float f = vf[i], g = vgrad[i];
+            float f = R_F(i), g = R_GRAD(i);
             bool held = (f <= lo + MID_BOUND_EPS && g > 0.0) || (f >= hi - MID_BOUND_EPS && g < 0.0);
             float m = held ? 0.0 : 1.0;
             vfree[i] = m;
@@ -30,33 +32,42 @@ void main()
             acc1 = pg * pg;
             break;
         }
-        case MID_OP_ZP_INIT:
+        case MID_OP_ZP_INIT: {
+            float r = R_R(i), z = pc.jacobi != 0u ? r / R_DIAG(i) : R_Z(i);
             if (pc.jacobi != 0u)
-                vz[i] = vr[i] / vdiag[i];
-            vp[i] = vz[i];
-            acc0 = vr[i] * vz[i];
+                vz[i] = z;
+            vp[i] = z;
+            acc0 = r * z;
             break;
-        case MID_OP_CG_UPDATE:
-            vs[i] += st.a_cg * vp[i];
-            vr[i] -= st.a_cg * vhp[i];
+        }
+        case MID_OP_CG_UPDATE: {
+            vs[i] = R_S(i) + st.a_cg * R_P(i);
+            float r = R_R(i) - st.a_cg * R_HP(i);
+            vr[i] = r;
             if (pc.jacobi != 0u) {
-                vz[i] = vr[i] / vdiag[i];
-                acc0 = vr[i] * vz[i];
+                float z = r / R_DIAG(i);
+                vz[i] = z;
+                acc0 = r * z;
             }
             break;
+        }
         case MID_OP_P_UPDATE:
-            vp[i] = vz[i] + st.b_cg * vp[i];
+            vp[i] = R_Z(i) + st.b_cg * R_P(i);
             break;
-        case MID_OP_TRIAL:
-            vftry[i] = clamp(vf[i] + pc.scalar * vs[i], lo, hi);
-            acc0 = vgrad[i] * (vftry[i] - vf[i]);
+        case MID_OP_TRIAL: {
+            float f = R_F(i), t = clamp(f + pc.scalar * R_S(i), lo, hi);
+            vftry[i] = t;
+            acc0 = R_GRAD(i) * (t - f);
             break;
-        case MID_OP_DESCENT:
-            vftry[i] = clamp(vf[i] - pc.scalar * vgrad[i] / vdiag[i], lo, hi);
-            acc0 = vgrad[i] * (vftry[i] - vf[i]);
+        }
+        case MID_OP_DESCENT: {
+            float f = R_F(i), g = R_GRAD(i), t = clamp(f - pc.scalar * g / R_DIAG(i), lo, hi);
+            vftry[i] = t;
+            acc0 = g * (t - f);
             break;
+        }
         case MID_OP_COMMIT:
-            vf[i] = vftry[i];
+            vf[i] = R_FTRY(i);
             break;
         case MID_OP_INIT: {
             // f0 = h (Sec. 4.5), or the last solution where the slid window

@@ -44,14 +44,17 @@ rg_state rg_usage_state(rg_usage usage, rg_pass_type type, bool is_image, VkForm
                           rg_format_is_depth(format) ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL
                                                      : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                           true, false};
+    /* A buffer's reads include those through a texel view of it (the solver
+     * reads its arena so: shaders/mid_arena.glsl). */
     case RG_STORAGE_READ:
-        return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+        return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | (is_image ? 0 : VK_ACCESS_2_SHADER_SAMPLED_READ_BIT),
                           is_image ? VK_IMAGE_LAYOUT_GENERAL : none, true, false};
     case RG_STORAGE_WRITE:
         return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                           is_image ? VK_IMAGE_LAYOUT_GENERAL : none, false, true};
     case RG_STORAGE_READ_WRITE:
-        return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+        return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                                       (is_image ? 0 : VK_ACCESS_2_SHADER_SAMPLED_READ_BIT),
                           is_image ? VK_IMAGE_LAYOUT_GENERAL : none, true, true};
     case RG_UNIFORM:
         return (rg_state){shaders, VK_ACCESS_2_UNIFORM_READ_BIT, none, true, false};

@@ -174,7 +174,10 @@ struct solve_gpu {
     VkDeviceSize offset[MID_B_COUNT], bytes[MID_B_COUNT];
     VkDescriptorBufferInfo infos[MID_B_COUNT];
     VkWriteDescriptorSet writes[MID_B_COUNT];
-    VkDescriptorSetLayout set_layout;
+    VkDescriptorSetLayout set_layout, view_layout;
+    VkDescriptorPool view_pool;
+    VkDescriptorSet view_set;
+    VkBufferView views[2];              /* the arena as R32_UINT and as R32G32B32A32_UINT texels */
     VkPipelineLayout layout;
     VkPipeline pipe[K_COUNT][MID_OP_COUNT]; /* one per kernel and operation (specialisation) */
     rg_graph *graph[G_COUNT];
@@ -201,6 +204,7 @@ static void step_execute(const rg_context *ctx, void *user)
     p.op = s->op == MID_OP_GATHER && !pr->gather ? MID_OP_PREPARE : s->op;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipe[s->kernel][s->kernel == K_CONTROL ? 0 : p.op]);
     m->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 0, MID_B_COUNT, m->writes);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 1, 1, &m->view_set, 0, NULL);
     if (s->op == MID_OP_TRIAL)
         p.scalar = m->trial_t;
     else if (s->op == MID_OP_DESCENT)
@@ -325,6 +329,51 @@ static void descriptors_init(solve_gpu *m)
     }
 }
 
+/* The arena's texel views (set 1, shaders/mid_arena.glsl): the kernels read
+ * through them what earlier dispatches wrote; llvmpipe fetches a texel as
+ * one gather, a storage buffer value in a loop over the lanes. */
+static vg_status views_create(solve_gpu *m)
+{
+    gpu *g = m->gpu;
+    uint32_t limit = g->props.limits.maxTexelBufferElements;
+    if (m->arena.size / 4 > limit) {
+        vg_error("GPU MID window: %dx%d x %d keyframes need a %.0f MB arena; this device reads at most %.0f MB "
+                 "through a texel view (fewer keyframes: a shorter window, or a coarser grid)",
+                 m->d.nx, m->d.ny, m->d.max_keyframes, (double)m->arena.size / 1048576.0, 4.0 * limit / 1048576.0);
+        return VG_ERR_DEVICE;
+    }
+    VkDescriptorSetLayoutBinding bindings[2] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL},
+        {1, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, NULL}};
+    VK_TRY(vkCreateDescriptorSetLayout(g->device, &(VkDescriptorSetLayoutCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, .bindingCount = 2, .pBindings = bindings},
+        g->alloc, &m->view_layout));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, m->view_layout, "mid arena views layout");
+    static const VkFormat formats[2] = {VK_FORMAT_R32_UINT, VK_FORMAT_R32G32B32A32_UINT};
+    for (int v = 0; v < 2; v++) {
+        VK_TRY(vkCreateBufferView(g->device, &(VkBufferViewCreateInfo){
+            .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO, .buffer = m->arena.buffer, .format = formats[v],
+            .range = m->arena.size}, g->alloc, &m->views[v]));
+        GPU_NAME(g, VK_OBJECT_TYPE_BUFFER_VIEW, m->views[v], v ? "mid arena (uvec4)" : "mid arena (uint)");
+    }
+    VK_TRY(vkCreateDescriptorPool(g->device, &(VkDescriptorPoolCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, .maxSets = 1, .poolSizeCount = 1,
+        .pPoolSizes = &(VkDescriptorPoolSize){VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2}}, g->alloc, &m->view_pool));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_POOL, m->view_pool, "mid arena views pool");
+    VK_TRY(vkAllocateDescriptorSets(g->device, &(VkDescriptorSetAllocateInfo){
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, .descriptorPool = m->view_pool,
+        .descriptorSetCount = 1, .pSetLayouts = &m->view_layout}, &m->view_set));
+    GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET, m->view_set, "mid arena views");
+    VkWriteDescriptorSet writes[2];
+    for (uint32_t v = 0; v < 2; v++)
+        writes[v] = (VkWriteDescriptorSet){.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = m->view_set,
+                                           .dstBinding = v, .descriptorCount = 1,
+                                           .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+                                           .pTexelBufferView = &m->views[v]};
+    vkUpdateDescriptorSets(g->device, 2, writes, 0, NULL);
+    return VG_OK;
+}
+
 static vg_status pipelines_create(solve_gpu *m)
 {
     /* Every binding a storage buffer (more than gpu_push_layout_create takes). */
@@ -338,8 +387,12 @@ static vg_status pipelines_create(solve_gpu *m)
         .flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR,
         .bindingCount = MID_B_COUNT, .pBindings = bindings}, g->alloc, &m->set_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, m->set_layout, "mid set layout");
+    vg_status st = views_create(m);
+    if (st != VG_OK)
+        return st;
+    VkDescriptorSetLayout sets[2] = {m->set_layout, m->view_layout};
     VK_TRY(vkCreatePipelineLayout(g->device, &(VkPipelineLayoutCreateInfo){
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, .setLayoutCount = 1, .pSetLayouts = &m->set_layout,
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, .setLayoutCount = 2, .pSetLayouts = sets,
         .pushConstantRangeCount = 1,
         .pPushConstantRanges = &(VkPushConstantRange){VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(mid_push)}},
         g->alloc, &m->layout));
@@ -359,13 +412,13 @@ static vg_status pipelines_create(solve_gpu *m)
         [K_SUM] = {spv_mid_sum_comp, sizeof spv_mid_sum_comp, "mid.sum"},
     };
     VkShaderModule mod[K_COUNT] = {0};
-    vg_status st = VG_OK;
     for (int k = 0; k < K_COUNT && st == VG_OK; k++)
         st = gpu_shader_create(g, src[k].code, src[k].size, src[k].name, &mod[k]);
     /* Every (kernel, operation) the steps use; the control kernel branches
      * at run time (one workgroup: cheap), the element kernels get their
      * operation as a specialisation constant (a CPU rasteriser would run
-     * every branch of a switch under masks). */
+     * every branch of a switch under masks), and every array's first word
+     * in the arena (constant 1 + MID_B_*: the texel views' W_*). */
     for (int gi = 0; gi < G_COUNT && st == VG_OK; gi++)
         for (int i = 0; i < k_graphs[gi].count && st == VG_OK; i++) {
             const step_def *sd = &k_graphs[gi].steps[i];
@@ -375,11 +428,18 @@ static vg_status pipelines_create(solve_gpu *m)
                 VkPipeline *out = &m->pipe[sd->kernel][ops[v]];
                 if (*out)
                     continue;
-                VkSpecializationMapEntry entry = {0, 0, sizeof(uint32_t)};
+                VkSpecializationMapEntry entry[1 + MID_B_COUNT];
+                uint32_t data[1 + MID_B_COUNT];
+                data[0] = ops[v];
+                for (uint32_t b = 0; b <= MID_B_COUNT; b++) {
+                    entry[b] = (VkSpecializationMapEntry){b, b * 4, sizeof(uint32_t)};
+                    if (b)
+                        data[b] = (uint32_t)(m->offset[b - 1] / 4);
+                }
                 char name[48];
                 snprintf(name, sizeof name, "%s op %u", src[sd->kernel].name, ops[v]);
                 st = gpu_compute_pipeline_create(g, m->layout, mod[sd->kernel],
-                                                 &(VkSpecializationInfo){1, &entry, sizeof ops[v], &ops[v]}, name, out);
+                                                 &(VkSpecializationInfo){1 + MID_B_COUNT, entry, sizeof data, data}, name, out);
             }
         }
     for (int k = 0; k < K_COUNT; k++)
@@ -407,7 +467,8 @@ vg_status solve_gpu_create(gpu *g, const solve_gpu_desc *desc, solve_gpu **out)
     arena_layout(m);
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     vg_status st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid arena", .size = m->arena.size,
-                                                           .usage = usage, .host_visible = desc->host_visible},
+                                                           .usage = usage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                                                           .host_visible = desc->host_visible},
                                      &m->arena);
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid dispatch sizes",
@@ -456,6 +517,13 @@ void solve_gpu_destroy(solve_gpu *m)
         vkDestroyPipelineLayout(dev, m->layout, m->gpu->alloc);
     if (m->set_layout)
         vkDestroyDescriptorSetLayout(dev, m->set_layout, m->gpu->alloc);
+    if (m->view_layout)
+        vkDestroyDescriptorSetLayout(dev, m->view_layout, m->gpu->alloc);
+    if (m->view_pool)
+        vkDestroyDescriptorPool(dev, m->view_pool, m->gpu->alloc);
+    for (int v = 0; v < 2; v++)
+        if (m->views[v])
+            vkDestroyBufferView(dev, m->views[v], m->gpu->alloc);
     gpu_buffer_destroy(m->gpu, &m->arena);
     gpu_buffer_destroy(m->gpu, &m->args);
     gpu_buffer_destroy(m->gpu, &m->own_store);
