@@ -21,9 +21,9 @@ layout(set = 0, binding = VG_BINDING_EDGES, scalar) readonly buffer EdgeBlock { 
 layout(set = 0, binding = VG_BINDING_EDGE_LEVELS, scalar) buffer EdgeLevelBlock { uint edge_levels[]; };
 layout(set = 0, binding = VG_BINDING_VERTEX_WARP, scalar) writeonly buffer VertexWarpBlock { vec2 vertex_warp[]; };
 layout(set = 0, binding = VG_BINDING_VERTEX_SEEN, scalar) buffer VertexSeenBlock { uint vertex_seen[]; };
-layout(set = 0, binding = VG_BINDING_EDGE_WORK, scalar) buffer EdgeWorkBlock {
-    uvec4 edge_buckets[VG_EDGE_BUCKETS];
-    uint edge_work[];
+layout(set = 0, binding = VG_BINDING_CLASSIFY_WORK, scalar) buffer EdgeWorkBlock {
+    uvec4 work_lists[VG_CLASSIFY_LISTS];
+    uint work_items[];
 };
 layout(push_constant, scalar) uniform ClassifyBlock { vg_classify_push pc; };
 

@@ -177,11 +177,15 @@ VG_STRUCT(vg_warp_edge) {
 #define VG_BINDING_VERTEX_WARP 20
 #define VG_BINDING_VERTEX_SEEN 21 /* warp.classify: per scene vertex, the stamp of the last frame a visible
                                      triangle used it (so nothing is cleared between frames) */
-/* warp.classify: the edges to sample, by their number of samples (6, 12,
- * VGX_EDGE_SAMPLES: bucket 0, 1, 2); a work-list header per bucket, then
- * edge_count ids per bucket. */
-#define VG_BINDING_EDGE_WORK 22
+/* warp.classify's work lists: the edges to sample, by their number of
+ * samples (6, 12, VGX_EDGE_SAMPLES: lists 0, 1, 2), then the vertices whose
+ * warp needs the cascade's Halton search (list VG_HALTON_LIST). A work-list
+ * header per list, then edge_count ids per edge list, then vertex_count
+ * vertex ids. */
+#define VG_BINDING_CLASSIFY_WORK 22
 #define VG_EDGE_BUCKETS 3u
+#define VG_HALTON_LIST VG_EDGE_BUCKETS
+#define VG_CLASSIFY_LISTS (VG_EDGE_BUCKETS + 1u)
 
 /* compose modes (frame_compose minus one) and push constants. The packed
  * layouts (side by side, top-bottom, their halves, frame packing,

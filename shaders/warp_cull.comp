@@ -18,9 +18,9 @@ void main()
     vg_warp_chunk ch = chunks[gl_WorkGroupID.x];
     vg_warp_instance inst = instances[ch.instance];
     uint t = gl_LocalInvocationID.x;
-    if (gl_GlobalInvocationID.x == 0u) // warp_edges counts this frame's edges to sample from here
-        for (uint k = 0u; k < VG_EDGE_BUCKETS; k++)
-            edge_buckets[k] = VG_WORKLIST_EMPTY;
+    if (gl_GlobalInvocationID.x == 0u) // warp_vertices and warp_edges count this frame's lists from here
+        for (uint k = 0u; k < VG_CLASSIFY_LISTS; k++)
+            work_lists[k] = VG_WORKLIST_EMPTY;
     if (t >= ch.triangle_count)
         return;
     uint tri = ch.first_triangle + t, first = inst.first_index + 3u * tri;

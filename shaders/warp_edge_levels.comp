@@ -13,9 +13,9 @@ layout(local_size_x = VG_WORKLIST_GROUP) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= edge_buckets[pc.bucket].x)
+    if (i >= work_lists[pc.bucket].x)
         return;
-    uint e = edge_work[pc.bucket * pc.edge_count + i];
+    uint e = work_items[pc.bucket * pc.edge_count + i];
     vg_warp_edge ed = edges[e];
     edge_levels[e] = uint(vgx_edge_level(position(ed.v0), position(ed.v1)));
 }

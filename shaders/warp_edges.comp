@@ -32,8 +32,8 @@ void main()
         level = vgx_edge_prepare(a, b, ca, cb, max_level, m);
         if (level == 0.0) {
             uint k = m == 6 ? 0u : m == 12 ? 1u : 2u, i;
-            VG_WORKLIST_APPEND(edge_buckets[k], i);
-            edge_work[k * pc.edge_count + i] = e;
+            VG_WORKLIST_APPEND(work_lists[k], i);
+            work_items[k * pc.edge_count + i] = e;
             return; // warp_edge_levels writes its level
         }
     }

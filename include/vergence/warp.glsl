@@ -234,6 +234,27 @@ vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
 
 vec2 vgx_cascade(vec2 px, float z) { return vgx_cascade_stages(px, z, true); }
 
+// vgx_warp_disparity below, with the cascade's Halton search only when
+// `halton` (see vgx_cascade_stages). Without it, a point the 3x3
+// neighbourhood leaves unresolved comes back at VGX_STAGE_CURVE, as does
+// one nearer than the depth map (clip.w * vgx_curve.inv_depth_near <= 1):
+// a host can warp the rest, and run the search over only the unresolved
+// ones (vergence does: shaders/warp_vertices.comp), with the same bits.
+float vgx_warp_disparity_search(vec4 clip, bool halton, out int stage)
+{
+    precise float d_times_w;
+    if (clip.w * vgx_curve.inv_depth_near > 1.0) {
+        vec2 c = vgx_cascade_stages(vgx_centre_pixel(clip), clip.w, halton);
+        d_times_w = vgx_px_from_vergence(c.x) * clip.w;
+        stage = int(c.y);
+    } else {
+        // Nearer than every pixel, or behind the camera: only the curve knows.
+        d_times_w = vgx_near_disparity_times_depth(clip.w);
+        stage = VGX_STAGE_CURVE;
+    }
+    return d_times_w;
+}
+
 // The disparity of one vertex as the warp adds it (image pixels times the
 // centre view's clip w) and its cascade stage (VGX_STAGE_*), from its
 // centre-view clip position: the part of vgx_warp_vertex that is the same
@@ -244,20 +265,7 @@ vec2 vgx_cascade(vec2 px, float z) { return vgx_cascade_stages(px, z, true); }
 // tessellation evaluation shader and a compute pass run this on the same
 // corners, and must give the same bits (no contraction into fused
 // multiply-adds in one stage and not another).
-float vgx_warp_disparity(vec4 clip, out int stage)
-{
-    precise float d_times_w;
-    if (clip.w * vgx_curve.inv_depth_near > 1.0) {
-        vec2 c = vgx_cascade(vgx_centre_pixel(clip), clip.w);
-        d_times_w = vgx_px_from_vergence(c.x) * clip.w;
-        stage = int(c.y);
-    } else {
-        // Nearer than every pixel, or behind the camera: only the curve knows.
-        d_times_w = vgx_near_disparity_times_depth(clip.w);
-        stage = VGX_STAGE_CURVE;
-    }
-    return d_times_w;
-}
+float vgx_warp_disparity(vec4 clip, out int stage) { return vgx_warp_disparity_search(clip, true, stage); }
 
 // One eye's clip position: the centre view's moved horizontally by half the
 // disparity, away from the other eye. NDC spans 2 over W pixels, so x moves

@@ -30,6 +30,7 @@
 #include "warp_fill_apply_comp.h"
 #include "warp_fill_find_comp.h"
 #include "warp_fill_test_comp.h"
+#include "warp_vertex_search_comp.h"
 #include "warp_vertices_comp.h"
 #include "warp_flat_vert.h"
 #include "warp_vert.h"
@@ -46,7 +47,7 @@ typedef struct eye_pass {
 struct warp_gpu {
     frame_ctx *fc;
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
-    gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT */
+    gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_VERTEX_SEARCH, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT */
     gpu_compute_kit fill;        /* K_FILL_RESET, K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY */
     gpu_buffer fill_header;      /* per eye: candidates, dispatch size over them (warp_fill.glsl) */
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
@@ -54,7 +55,7 @@ struct warp_gpu {
     gpu_buffer tri_edges, edges; /* each triangle's 3 edge ids; vg_warp_edge: every edge once */
     uint32_t edge_count;
     gpu_buffer vertex_seen;      /* per scene vertex: the stamp of the last frame that used it */
-    gpu_buffer edge_work;        /* the edges to sample, by bucket (VG_BINDING_EDGE_WORK) */
+    gpu_buffer classify_work;    /* the edges to sample, by bucket, and the vertices to search (VG_BINDING_CLASSIFY_WORK) */
     uint32_t stamp;              /* this frame's (warp.cull) */
     gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
@@ -72,12 +73,12 @@ struct warp_gpu {
     frame_resources *res;
     rg_res target;
     rg_res flat_indices, tess_indices, tess_levels, args, kinds, counts, edge_levels, vertex_warp, vertex_seen_res;
-    rg_res edge_work_res;
+    rg_res classify_work_res;
 };
 
 static const VkFormat k_eye_formats[2] = {WARP_COLOR_FORMAT, WARP_AUX_FORMAT};
 
-enum { K_CULL, K_VERTICES, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
+enum { K_CULL, K_VERTICES, K_VERTEX_SEARCH, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT }; /* of the classify kit */
 enum { K_FILL_RESET, K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY }; /* of the fill kit */
 
 /* ------------------------------------------------------------------------- */
@@ -109,13 +110,13 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel, u
         {rg_ctx_buffer(ctx, w->edge_levels), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->vertex_warp), 0, VK_WHOLE_SIZE},
         {rg_ctx_buffer(ctx, w->vertex_seen_res), 0, VK_WHOLE_SIZE},
-        {rg_ctx_buffer(ctx, w->edge_work_res), 0, VK_WHOLE_SIZE},
+        {rg_ctx_buffer(ctx, w->classify_work_res), 0, VK_WHOLE_SIZE},
     };
     static const uint32_t buffer_bindings[NB] = {
         VG_BINDING_CURVE, VG_BINDING_VERTICES, VG_BINDING_INDICES, VG_BINDING_INSTANCES, VG_BINDING_FLAT,
         VG_BINDING_TESS, VG_BINDING_ARGS, VG_BINDING_CHUNKS, VG_BINDING_KINDS, VG_BINDING_COUNTS,
         VG_BINDING_TESS_LEVELS, VG_BINDING_TRI_EDGES, VG_BINDING_EDGES, VG_BINDING_EDGE_LEVELS,
-        VG_BINDING_VERTEX_WARP, VG_BINDING_VERTEX_SEEN, VG_BINDING_EDGE_WORK};
+        VG_BINDING_VERTEX_WARP, VG_BINDING_VERTEX_SEEN, VG_BINDING_CLASSIFY_WORK};
     VkWriteDescriptorSet wr[3 + NB] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstBinding = VG_BINDING_FRAME, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &ubo},
@@ -155,14 +156,18 @@ static void classify_execute(const rg_context *ctx, void *user)
     if (w->edge_count) {
         bind_classify(w, ctx, K_EDGES, 0);
         vkCmdDispatch(cmd, (w->edge_count + 63) / 64, 1, 1);
-        gpu_compute_barrier_indirect(cmd);
-        /* The edges to sample, bucket by bucket (warp_edges.comp). */
-        for (uint32_t k = 0; k < VG_EDGE_BUCKETS; k++) {
-            bind_classify(w, ctx, K_EDGE_LEVELS, k);
-            vkCmdDispatchIndirect(cmd, w->edge_work.buffer, VG_WORKLIST_ARGS(k));
-        }
-        gpu_compute_barrier(cmd);
     }
+    gpu_compute_barrier_indirect(cmd);
+    /* The edges to sample, bucket by bucket, then the vertices the 3x3
+     * neighbourhood left to the Halton search (warp_edges.comp,
+     * warp_vertices.glsl). */
+    for (uint32_t k = 0; k < VG_EDGE_BUCKETS && w->edge_count; k++) {
+        bind_classify(w, ctx, K_EDGE_LEVELS, k);
+        vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(k));
+    }
+    bind_classify(w, ctx, K_VERTEX_SEARCH, 0);
+    vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(VG_HALTON_LIST));
+    gpu_compute_barrier(cmd);
     bind_classify(w, ctx, K_CLASSIFY, 0);
     vkCmdDispatch(cmd, w->chunk_count, 1, 1);
 }
@@ -420,7 +425,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         w->vertex_seen_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.vertex_seen", w->vertex_seen.size},
                                               &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
                                                                 .final = RG_STORAGE_READ_WRITE});
-        w->edge_work_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.edge_work", w->edge_work.size},
+        w->classify_work_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.classify_work", w->classify_work.size},
                                             &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
                                                               .final = RG_STORAGE_READ_WRITE});
         /* Both passes push the same descriptors; each declares what it touches. */
@@ -438,7 +443,7 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         rg_use(g, cls, w->edge_levels, RG_STORAGE_WRITE);
         rg_use(g, cls, w->vertex_warp, RG_STORAGE_WRITE);
         rg_use(g, cls, w->vertex_seen_res, RG_STORAGE_READ_WRITE);
-        rg_use(g, cls, w->edge_work_res, RG_STORAGE_READ_WRITE);
+        rg_use(g, cls, w->classify_work_res, RG_STORAGE_READ_WRITE);
         rg_pass cpt = rg_pass_add(g, &(rg_pass_desc){.name = "warp.compact", .type = RG_PASS_COMPUTE,
                                                      .execute = compact_execute, .user = w});
         rg_use(g, cpt, res->depth, RG_SAMPLED);
@@ -587,17 +592,18 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     /* warp.classify: the scene bindings of set 0 plus its own buffers; the
      * frame constants as a storage buffer (shaders/common.glsl,
      * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
-    VkDescriptorType ctypes[VG_BINDING_EDGE_WORK + 1];
-    for (int i = 0; i <= VG_BINDING_EDGE_WORK; i++)
+    VkDescriptorType ctypes[VG_BINDING_CLASSIFY_WORK + 1];
+    for (int i = 0; i <= VG_BINDING_CLASSIFY_WORK; i++)
         ctypes[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     ctypes[VG_BINDING_SHADOW] = ctypes[VG_BINDING_DEPTH] = ctypes[VG_BINDING_TARGET] = ctypes[5] = ctypes[6] =
         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     if (st == VG_OK)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_EDGE_WORK + 1,
+            .name = "warp.classify", .types = ctypes, .count = VG_BINDING_CLASSIFY_WORK + 1,
             .push_size = sizeof(vg_classify_push),
             .kernels = {[K_CULL] = GPU_KERNEL(spv_warp_cull_comp, "warp.cull"),
                         [K_VERTICES] = GPU_KERNEL(spv_warp_vertices_comp, "warp.vertices"),
+                        [K_VERTEX_SEARCH] = GPU_KERNEL(spv_warp_vertex_search_comp, "warp.vertex_search"),
                         [K_EDGES] = GPU_KERNEL(spv_warp_edges_comp, "warp.edges"),
                         [K_EDGE_LEVELS] = GPU_KERNEL(spv_warp_edge_levels_comp, "warp.edge_levels"),
                         [K_CLASSIFY] = GPU_KERNEL(spv_warp_classify_comp, "warp.classify"),
@@ -680,11 +686,12 @@ static vg_status create_edge_table(warp_gpu *w)
     }
     if (st == VG_OK)
         memcpy(w->edges.mapped, list, (size_t)n * sizeof(vg_warp_edge));
-    /* warp.cull resets the buckets' counts every frame. */
+    /* warp.cull resets the lists' counts every frame. */
     if (st == VG_OK)
         st = gpu_buffer_create(w->fc->gpu, &(gpu_buffer_desc){
-            .name = "warp edges to sample", .size = (VG_EDGE_BUCKETS * 4 + VG_EDGE_BUCKETS * (n ? n : 1)) * sizeof(uint32_t),
-            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT}, &w->edge_work);
+            .name = "warp classify work lists",
+            .size = (VG_CLASSIFY_LISTS * 4 + VG_EDGE_BUCKETS * (n ? n : 1) + (uint64_t)s->vertex_count) * sizeof(uint32_t),
+            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT}, &w->classify_work);
     free(keys);
     free(slot_edge);
     free(list);
@@ -743,8 +750,8 @@ void warp_gpu_bind(warp_gpu *w, rg_graph *g)
         rg_bind_buffer(g, w->res->curve, w->baked.buffer);
     if (w->vertex_seen.buffer)
         rg_bind_buffer(g, w->vertex_seen_res, w->vertex_seen.buffer);
-    if (w->edge_work_res.id)
-        rg_bind_buffer(g, w->edge_work_res, w->edge_work.buffer);
+    if (w->classify_work_res.id)
+        rg_bind_buffer(g, w->classify_work_res, w->classify_work.buffer);
     if (w->fill_header_res.id)
         rg_bind_buffer(g, w->fill_header_res, w->fill_header.buffer);
 }
@@ -819,6 +826,6 @@ void warp_gpu_destroy(warp_gpu *w)
     gpu_buffer_destroy(w->fc->gpu, &w->baked);
     gpu_buffer_destroy(w->fc->gpu, &w->vertex_seen);
     gpu_buffer_destroy(w->fc->gpu, &w->fill_header);
-    gpu_buffer_destroy(w->fc->gpu, &w->edge_work);
+    gpu_buffer_destroy(w->fc->gpu, &w->classify_work);
     free(w);
 }
