@@ -54,12 +54,15 @@ layout(set = 0, binding = MID_B_HEADS) buffer HeadsBlock { uint heads[]; };
 layout(set = 1, binding = 0) uniform usamplerBuffer arena_u;  // R32_UINT
 layout(set = 1, binding = 1) uniform usamplerBuffer arena_u4; // R32G32B32A32_UINT
 layout(constant_id = 1 + MID_B_FIELD) const uint W_FIELD = 0u;
+layout(constant_id = 1 + MID_B_FLOW) const uint W_FLOW = 0u;
 layout(constant_id = 1 + MID_B_LINK) const uint W_LINK = 0u;
 layout(constant_id = 1 + MID_B_ADJ_OFF) const uint W_ADJ_OFF = 0u;
 layout(constant_id = 1 + MID_B_ADJ) const uint W_ADJ = 0u;
 layout(constant_id = 1 + MID_B_EDGE) const uint W_EDGE = 0u;
 layout(constant_id = 1 + MID_B_TARGET) const uint W_TARGET = 0u;
+layout(constant_id = 1 + MID_B_INVDT) const uint W_INVDT = 0u;
 layout(constant_id = 1 + MID_B_CHAIN) const uint W_CHAIN = 0u;
+layout(constant_id = 1 + MID_B_HEAVY) const uint W_HEAVY = 0u;
 layout(constant_id = 1 + MID_B_F) const uint W_F = 0u;
 layout(constant_id = 1 + MID_B_FTRY) const uint W_FTRY = 0u;
 layout(constant_id = 1 + MID_B_GRAD) const uint W_GRAD = 0u;
@@ -87,7 +90,14 @@ float rd_f(uint w) { return uintBitsToFloat(texelFetch(arena_u, int(w)).r); }
 #define R_P(i) rd_f(W_P + (i))
 #define R_HP(i) rd_f(W_HP + (i))
 #define R_FREE(i) rd_f(W_FREE + (i))
+#define R_G(i) rd_f(W_FIELD + (i))
 #define R_H(i) rd_f(W_FIELD + pc.cap + (i))
+#define R_DEPTH(i) rd_f(W_FIELD + 2u * pc.cap + (i))
+#define R_ID(i) rd_f(W_FIELD + 3u * pc.cap + (i))
+#define R_FLOW(i) vec2(rd_f(W_FLOW + 2u * (i)), rd_f(W_FLOW + 2u * (i) + 1u))
+#define R_INVDT_F(k) rd_f(W_INVDT + (k))
+#define R_INVDT_B(k) rd_f(W_INVDT + MID_MAX_KEYFRAMES + (k))
+#define R_HEAVY(i) int(rd_u(W_HEAVY + (i)))
 #define R_EDGE_X(i) rd_f(W_EDGE + (i))
 #define R_EDGE_Y(i) rd_f(W_EDGE + pc.cap + (i))
 #define R_PH(i) rd_f(W_TARGET + (i))

@@ -8,6 +8,8 @@
 // has the CPU's order), edge weights, the targets of c_t and c_a, and the
 // flow chains of the line preconditioner.
 #include "mid_arena.glsl"
+// Each step reads what the steps before it wrote through the texel views
+// (mid_arena.glsl R_*), except the sort, which reads its own rows back.
 // The operation is a specialization constant: one pipeline per operation,
 // no branch on it at run time.
 layout(constant_id = 0) const uint OP = 0u;
@@ -25,7 +27,7 @@ bool same_surface(float z0, float z1)
 // The flows there and back cancel (keeps fast motion in depth linked).
 bool round_trip(uint there, uint back)
 {
-    vec2 a = flow[there], b = flow[back];
+    vec2 a = R_FLOW(there), b = R_FLOW(back);
     float dx = a.x + b.x, dy = a.y + b.y;
     float lim = pc.flow_tol + 0.1 * (abs(a.x) + abs(a.y));
     return dx * dx + dy * dy <= lim * lim;
@@ -43,7 +45,7 @@ mid_link link_make(uint i, int x, int y, int k, uint dir)
     if (kk < 0 || kk >= int(pc.nt))
         return l;
     uint there = dir * pc.cap + i, back_off = (1u - dir) * pc.cap;
-    vec2 u = flow[there];
+    vec2 u = R_FLOW(there);
     float tx = float(x) + u.x, ty = float(y) + u.y;
     if (!(tx >= -0.5 && tx <= float(pc.nx) - 0.5 && ty >= -0.5 && ty <= float(pc.ny) - 0.5))
         return l; // out of frame, or NaN
@@ -55,10 +57,10 @@ mid_link link_make(uint i, int x, int y, int k, uint dir)
     l.base = uint(kk) * pc.ns + uint(y0) * pc.nx + uint(x0);
     float raw[4] = float[4]((1.0 - l.fx) * (1.0 - l.fy), l.fx * (1.0 - l.fy), (1.0 - l.fx) * l.fy, l.fx * l.fy);
     uint idx[4] = uint[4](l.base, l.base + 1u, l.base + pc.nx, l.base + pc.nx + 1u);
-    float kept = 0.0, z0 = DEPTH(i), id = ID(i);
+    float kept = 0.0, z0 = R_DEPTH(i), id = R_ID(i);
     for (uint t = 0u; t < 4u; t++)
-        if (raw[t] > 0.0 && ID(idx[t]) == id &&
-            (same_surface(z0, DEPTH(idx[t])) || round_trip(there, back_off + idx[t]))) {
+        if (raw[t] > 0.0 && R_ID(idx[t]) == id &&
+            (same_surface(z0, R_DEPTH(idx[t])) || round_trip(there, back_off + idx[t]))) {
             l.mask |= 1u << t;
             kept += raw[t];
         }
@@ -84,12 +86,12 @@ int heaviest_tap(mid_link l)
 
 float link_gather_g(mid_link l)
 {
-    return l.mask == 0u ? 0.0 : LINK_GATHER(l, field, 0u);
+    return l.mask == 0u ? 0.0 : R_LINK_GATHER(l, R_G);
 }
 
 float link_gather_h(mid_link l)
 {
-    return l.mask == 0u ? 0.0 : LINK_GATHER(l, field, pc.cap);
+    return l.mask == 0u ? 0.0 : R_LINK_GATHER(l, R_H);
 }
 
 void main()
@@ -131,7 +133,7 @@ void main()
         }
     } else if (OP == MID_OP_FILL) {
         for (uint dir = 0u; dir < 2u; dir++) {
-            mid_link l = link[dir * pc.cap + i];
+            mid_link l = r_link(dir * pc.cap + i);
             if (l.mask == 0u)
                 continue;
             mid_taps tw = mid_link_taps(l);
@@ -143,7 +145,7 @@ void main()
                     mid_adj_entry e;
                     e.src = i;
                     e.w = wt[t];
-                    adj[dir * pc.adj_cap + adj_off[dir * (pc.cap + 1u) + idx[t]] + slot] = e;
+                    adj[dir * pc.adj_cap + R_ADJ_OFF(dir, idx[t]) + slot] = e;
                 }
         }
     } else if (OP == MID_OP_SORT) {
@@ -164,31 +166,32 @@ void main()
     } else if (OP == MID_OP_TARGETS) {
         // Sec. 4.1: a = exp(-10 |dh|), h normalised over the target range;
         // c_s uses a^2 per edge.
-        float ax = ex + 1u < pc.nx ? mid_edge_weight((H(i + 1u) - H(i)) * st.inv_range) : 0.0;
-        float ay = ey + 1u < pc.ny ? mid_edge_weight((H(i + pc.nx) - H(i)) * st.inv_range) : 0.0;
+        float hi = R_H(i);
+        float ax = ex + 1u < pc.nx ? mid_edge_weight((R_H(i + 1u) - hi) * st.inv_range) : 0.0;
+        float ay = ey + 1u < pc.ny ? mid_edge_weight((R_H(i + pc.nx) - hi) * st.inv_range) : 0.0;
         EDGE_X(i) = ax * ax;
         EDGE_Y(i) = ay * ay;
-        mid_link lf = link[i], lb = link[pc.cap + i];
+        mid_link lf = r_link(i), lb = r_link(pc.cap + i);
         float mf = lf.mask != 0u ? 1.0 : 0.0, mb = lb.mask != 0u ? 1.0 : 0.0;
-        float idf = INVDT_F(k), idb = INVDT_B(k);
-        float ha = link_gather_h(lf), ga = link_gather_g(lf), gb = link_gather_g(lb);
-        PH(i) = mf * mid_p((ha - H(i)) * idf);
-        PG(i) = mf * mb * (mid_p((ga - G(i)) * idf) - mid_p((G(i) - gb) * idb));
+        float idf = R_INVDT_F(k), idb = R_INVDT_B(k);
+        float ha = link_gather_h(lf), ga = link_gather_g(lf), gb = link_gather_g(lb), gi = R_G(i);
+        PH(i) = mf * mid_p((ha - hi) * idf);
+        PG(i) = mf * mb * (mid_p((ga - gi) * idf) - mid_p((gi - gb) * idb));
         heavy[i] = heaviest_tap(lf);
         heavy[pc.cap + i] = heaviest_tap(lb);
         CHAIN_NEXT(i) = -1;
         CHAIN_PREV(i) = -1;
     } else if (OP == MID_OP_CHAINS) {
         // Mutual heaviest taps make disjoint chains along the flow.
-        int j = heavy[i];
-        if (j >= 0 && heavy[pc.cap + uint(j)] == int(i)) {
+        int j = R_HEAVY(i);
+        if (j >= 0 && R_HEAVY(pc.cap + uint(j)) == int(i)) {
             CHAIN_NEXT(i) = j;
             CHAIN_PREV(uint(j)) = int(i);
         }
     } else if (OP == MID_OP_HEADS) {
         // The heads the line preconditioner walks from, so its walks run
         // over heads only (any order: the chains are disjoint).
-        if (CHAIN_PREV(i) < 0)
+        if (R_CHAIN_PREV(i) < 0)
             heads[atomicAdd(st.heads, 1u)] = i;
     }
 }
