@@ -159,13 +159,8 @@ mid_link r_link(uint i)
 #define C_B(i) lin[6u * pc.cap + (i)]
 #define D_SELF(i) lin[7u * pc.cap + (i)]
 
-// (A x)_i of a link over one of the arrays (dir 0: A_f, 1: A_b); taps
-// outside the mask have weight 0 and a valid index.
-#define LINK_GATHER(l, arr, off)                                                          \
-    mid_link_apply(mid_link_taps(l), arr[(off) + (l).base], arr[(off) + (l).base + 1u],    \
-                   arr[(off) + (l).base + pc.nx], arr[(off) + (l).base + pc.nx + 1u])
-
-// The same over the texel view (an array no invocation of the dispatch writes).
+// (A x)_i of a link, x read by R (through the texel views: an array no invocation of the
+// dispatch writes); taps outside the mask have weight 0 and a valid index.
 #define R_LINK_GATHER(l, R)                                                                \
     mid_link_apply(mid_link_taps(l), R((l).base), R((l).base + 1u), R((l).base + pc.nx),  \
                    R((l).base + pc.nx + 1u))

@@ -47,7 +47,8 @@ rg_state rg_usage_state(rg_usage usage, rg_pass_type type, bool is_image, VkForm
     /* A buffer's reads include those through a texel view of it (the solver
      * reads its arena so: shaders/mid_arena.glsl). */
     case RG_STORAGE_READ:
-        return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | (is_image ? 0 : VK_ACCESS_2_SHADER_SAMPLED_READ_BIT),
+        return (rg_state){shaders,
+                          VK_ACCESS_2_SHADER_STORAGE_READ_BIT | (is_image ? 0 : VK_ACCESS_2_SHADER_SAMPLED_READ_BIT),
                           is_image ? VK_IMAGE_LAYOUT_GENERAL : none, true, false};
     case RG_STORAGE_WRITE:
         return (rg_state){shaders, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

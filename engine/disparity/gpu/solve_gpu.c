@@ -438,8 +438,8 @@ static vg_status pipelines_create(solve_gpu *m)
                 }
                 char name[48];
                 snprintf(name, sizeof name, "%s op %u", src[sd->kernel].name, ops[v]);
-                st = gpu_compute_pipeline_create(g, m->layout, mod[sd->kernel],
-                                                 &(VkSpecializationInfo){1 + MID_B_COUNT, entry, sizeof data, data}, name, out);
+                VkSpecializationInfo spec = {1 + MID_B_COUNT, entry, sizeof data, data};
+                st = gpu_compute_pipeline_create(g, m->layout, mod[sd->kernel], &spec, name, out);
             }
         }
     for (int k = 0; k < K_COUNT; k++)

@@ -47,7 +47,8 @@ typedef struct eye_pass {
 struct warp_gpu {
     frame_ctx *fc;
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
-    gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_VERTEX_SEARCH, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY, K_COMPACT */
+    gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_VERTEX_SEARCH, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY,
+                                    K_COMPACT */
     gpu_compute_kit fill;        /* K_FILL_RESET, K_FILL_FIND, K_FILL_TEST, K_FILL_APPLY */
     gpu_buffer fill_header;      /* per eye: candidates, dispatch size over them (warp_fill.glsl) */
     gpu_buffer instances;        /* vg_warp_instance per scene instance */
@@ -55,7 +56,8 @@ struct warp_gpu {
     gpu_buffer tri_edges, edges; /* each triangle's 3 edge ids; vg_warp_edge: every edge once */
     uint32_t edge_count;
     gpu_buffer vertex_seen;      /* per scene vertex: the stamp of the last frame that used it */
-    gpu_buffer classify_work;    /* the edges to sample, by bucket, and the vertices to search (VG_BINDING_CLASSIFY_WORK) */
+    gpu_buffer classify_work;    /* the edges to sample, by bucket, and the vertices to search
+                                    (VG_BINDING_CLASSIFY_WORK) */
     uint32_t stamp;              /* this frame's (warp.cull) */
     gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
     uint32_t chunk_count;
