@@ -167,8 +167,12 @@ static void classify_execute(const rg_context *ctx, void *user)
         bind_classify(w, ctx, K_EDGE_LEVELS, k);
         vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(k));
     }
-    bind_classify(w, ctx, K_VERTEX_SEARCH, 0);
-    vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(VG_HALTON_LIST));
+    /* Only warp_cull resets the lists: with no chunk (no whole triangle) it
+     * never runs, and the list's header holds whatever the memory held. */
+    if (w->chunk_count) {
+        bind_classify(w, ctx, K_VERTEX_SEARCH, 0);
+        vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(VG_HALTON_LIST));
+    }
     gpu_compute_barrier(cmd);
     bind_classify(w, ctx, K_CLASSIFY, 0);
     vkCmdDispatch(cmd, w->chunk_count, 1, 1);
