@@ -204,7 +204,6 @@ static void step_execute(const rg_context *ctx, void *user)
     p.op = s->op == MID_OP_GATHER && !pr->gather ? MID_OP_PREPARE : s->op;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipe[s->kernel][s->kernel == K_CONTROL ? 0 : p.op]);
     m->gpu->cmd_push_descriptor_set(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 0, MID_B_COUNT, m->writes);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 1, 1, &m->view_set, 0, NULL);
     if (s->op == MID_OP_TRIAL)
         p.scalar = m->trial_t;
     else if (s->op == MID_OP_DESCENT)
@@ -620,6 +619,9 @@ double solve_gpu_item_cost(const solve_gpu *m, int i)
 static void record(solve_gpu *m, const program *pr, VkCommandBuffer cmd, uint32_t slot, int first, int last)
 {
     m->rec = pr;
+    /* The arena's views (set 1) stay bound across the steps' pipelines: they share one layout. */
+    if (first < last && first < pr->count)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->layout, 1, 1, &m->view_set, 0, NULL);
     for (int i = first < 0 ? 0 : first; i < last && i < pr->count; i++) {
         const item *it = &pr->items[i];
         m->trial_t = ldexpf(1.0f, -(int)it->trial); /* t = 1, 1/2, 1/4, ... as the CPU's t *= 0.5f */
