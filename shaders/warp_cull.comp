@@ -15,12 +15,15 @@ layout(local_size_x = 256) in;
 
 void main()
 {
-    vg_warp_chunk ch = chunks[gl_WorkGroupID.x];
-    vg_warp_instance inst = instances[ch.instance];
-    uint t = gl_LocalInvocationID.x;
     if (gl_GlobalInvocationID.x == 0u) // warp_vertices and warp_edges count this frame's lists from here
         for (uint k = 0u; k < VG_CLASSIFY_LISTS; k++)
             work_lists[k] = VG_WORKLIST_EMPTY;
+    // One group at least, for the reset: a scene without a whole triangle has no chunk.
+    if (gl_WorkGroupID.x >= pc.chunk_count)
+        return;
+    vg_warp_chunk ch = chunks[gl_WorkGroupID.x];
+    vg_warp_instance inst = instances[ch.instance];
+    uint t = gl_LocalInvocationID.x;
     if (t >= ch.triangle_count)
         return;
     uint tri = ch.first_triangle + t, first = inst.first_index + 3u * tri;

@@ -151,7 +151,7 @@ static void classify_execute(const rg_context *ctx, void *user)
     if (++w->stamp == 0) /* 0 is what vertex_seen starts as */
         w->stamp = 1;
     bind_classify(w, ctx, K_CULL, 0);
-    vkCmdDispatch(cmd, w->chunk_count, 1, 1);
+    vkCmdDispatch(cmd, w->chunk_count ? w->chunk_count : 1, 1, 1); /* one group resets the work lists */
     gpu_compute_barrier(cmd);
     bind_classify(w, ctx, K_VERTICES, 0);
     vkCmdDispatch(cmd, (w->fc->scene->vertex_count + 63) / 64, 1, 1);
@@ -167,12 +167,8 @@ static void classify_execute(const rg_context *ctx, void *user)
         bind_classify(w, ctx, K_EDGE_LEVELS, k);
         vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(k));
     }
-    /* Only warp_cull resets the lists: with no chunk (no whole triangle) it
-     * never runs, and the list's header holds whatever the memory held. */
-    if (w->chunk_count) {
-        bind_classify(w, ctx, K_VERTEX_SEARCH, 0);
-        vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(VG_HALTON_LIST));
-    }
+    bind_classify(w, ctx, K_VERTEX_SEARCH, 0);
+    vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(VG_HALTON_LIST));
     gpu_compute_barrier(cmd);
     bind_classify(w, ctx, K_CLASSIFY, 0);
     vkCmdDispatch(cmd, w->chunk_count, 1, 1);
