@@ -655,18 +655,6 @@ void *solve_gpu_host(const solve_gpu *m, int binding, VkDeviceSize *bytes)
     return (uint8_t *)m->arena.mapped + m->offset[binding];
 }
 
-int solve_gpu_graph_count(void) { return G_COUNT; }
-const char *solve_gpu_graph_name(int graph) { return graph >= 0 && graph < G_COUNT ? k_graphs[graph].name : "?"; }
-
-uint32_t solve_gpu_step_timings(const solve_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap)
-{
-    if (graph < 0 || graph >= G_COUNT)
-        return 0;
-    uint32_t n = rg_timings(m->graph[graph], slot, ms, cap);
-    for (uint32_t i = 0; i < n; i++)
-        names[i] = rg_pass_name(m->graph[graph], rg_order_pass(m->graph[graph], i));
-    return n;
-}
 
 void solve_gpu_dump(const solve_gpu *m, FILE *out)
 {

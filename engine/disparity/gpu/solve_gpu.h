@@ -82,11 +82,5 @@ void *solve_gpu_host(const solve_gpu *m, int binding, VkDeviceSize *bytes);
 uint32_t solve_gpu_capacity(const solve_gpu *m);
 uint32_t solve_gpu_adj_capacity(const solve_gpu *m);
 
-/* GPU ms of each step of step graph `graph` (0 .. solve_gpu_graph_count() - 1)
- * at its last execution in the given slot; returns the steps written. */
-int solve_gpu_graph_count(void);
-const char *solve_gpu_graph_name(int graph);
-uint32_t solve_gpu_step_timings(const solve_gpu *m, int graph, uint32_t slot, const char **names, double *ms, uint32_t cap);
-
 /* The step graphs, for the documentation's dumps. */
 void solve_gpu_dump(const solve_gpu *m, FILE *out);
