@@ -259,9 +259,21 @@ def validation_count(p, out_dir=None):
 
 
 class Sweep:
-    def __init__(self):
+    """Runs of vergence with validation on, each of which must exit 0 with zero messages."""
+
+    def __init__(self, prefix):
         self.runs, self.failures = [], []
         self.t0 = time.time()
+        self.tmp = tempfile.mkdtemp(prefix=prefix)
+        # The canary: a layer setting from outside makes the layer talk; the
+        # sweep must see the messages and the non-zero exit, or it proves nothing.
+        p = subprocess.run([VERGENCE, "info", "--validate"], capture_output=True, text=True, timeout=300,
+                           env=dict(os.environ, **SWEEP_ENV, **CANARY_ENV))
+        n = validation_count(p)
+        print(f"{'canary (best practices on)':44s} exit {p.returncode}, {n} validation message(s)")
+        if n == 0 or p.returncode == 0:
+            sys.exit(f"FAIL: the canary's validation messages went unseen (exit {p.returncode}, {n} counted):\n"
+                     f"{p.stderr}")
 
     def run(self, what, args, out_dir=None, env=None, prefix=(), check=None):
         e = dict(os.environ, **SWEEP_ENV, **(env or {}))
@@ -281,21 +293,19 @@ class Sweep:
         self.runs.append(what)
         return p
 
+    def finish(self):
+        print(f"{len(self.runs)} runs in {time.time() - self.t0:.1f} s")
+        if self.failures:
+            sys.exit(f"FAIL ({len(self.failures)} of {len(self.runs)} runs; files kept in {self.tmp}):\n"
+                     + "\n".join(self.failures))
+        shutil.rmtree(self.tmp)
+
 
 def case_validation_sweep():
-    tmp = tempfile.mkdtemp(prefix="vergence_sweep_")
-    sw = Sweep()
+    """Every subcommand and mode but the studies and the demo (validation_sweep_studies)."""
+    sw = Sweep("vergence_sweep_")
+    tmp = sw.tmp
     V = ["--validate"]
-
-    # The canary: a layer setting from outside makes the layer talk; the
-    # sweep must see the messages and the non-zero exit, or it proves nothing.
-    p = subprocess.run([VERGENCE, "info", "--validate"], capture_output=True, text=True, timeout=300,
-                       env=dict(os.environ, **SWEEP_ENV, **CANARY_ENV))
-    n = validation_count(p)
-    print(f"{'canary (best practices on)':44s} exit {p.returncode}, {n} validation message(s)")
-    if n == 0 or p.returncode == 0:
-        sys.exit(f"FAIL: the canary's validation messages went unseen (exit {p.returncode}, {n} counted):\n"
-                 f"{p.stderr}")
 
     sw.run("info", ["info"] + V, check=lambda p: None
            if re.search(r"validation +on \(with synchronization validation\)", p.stdout)
@@ -353,17 +363,6 @@ def case_validation_sweep():
     sw.run("optimize", ["optimize", "--g", os.path.join(tmp, "ft", "d%d.pfm"), "--frames", "0:2", "--g-units", "px",
                         "--keyframe-stride", "1", "--operator", "linear", "--out", os.path.join(tmp, "optimize")])
 
-    # The studies with the simulated observer (headless).
-    sw.run("study hit --observer model", ["study", "hit", "--observer", "model", "--participant", "sweep",
-                                          "--trials", "6", "--out", os.path.join(tmp, "hit.csv")] + V)
-    sw.run("study preference --observer model", ["study", "preference", "--observer", "model", "--participant",
-                                                 "sweep", "--trials", "1", "--out", os.path.join(tmp, "pref.csv")]
-           + V)
-
-    # demo: one scene, a few frames, every mode.
-    sw.run("demo", ["demo", "--out", os.path.join(tmp, "demo"), "--scenes", "cubes", "--size", "160x90",
-                    "--seconds", "0.2", "--stills", "1", "--no-video"] + V)
-
     # bench: the smallest sizes, one frame, no 1-px tessellation or CPU solver.
     sw.run("bench", ["bench", "--scene", "content/cubes.gltf", "--sizes", "96x54,128x72", "--frames", "1",
                      "--tess", "8", "--no-solver", "--markdown", os.path.join(tmp, "bench.md")] + V,
@@ -397,12 +396,25 @@ def case_validation_sweep():
                else "the replay did not reach the optimized mode and its end")
     else:
         print("play: skipped (no xvfb-run for a virtual display)")
+    sw.finish()
 
-    print(f"{len(sw.runs)} runs in {time.time() - sw.t0:.1f} s")
-    if sw.failures:
-        sys.exit(f"FAIL ({len(sw.failures)} of {len(sw.runs)} runs; files kept in {tmp}):\n"
-                 + "\n".join(sw.failures))
-    shutil.rmtree(tmp)
+
+def case_validation_sweep_studies():
+    """The sweep's longest runs, apart: the studies with the simulated observer
+    (headless) and the demo (not with VG_SWEEP_NO_DEMO=1: the sanitizer build
+    runs it in demo.*)."""
+    sw = Sweep("vergence_sweep_studies_")
+    V = ["--validate"]
+    sw.run("study hit --observer model", ["study", "hit", "--observer", "model", "--participant", "sweep",
+                                          "--trials", "6", "--out", os.path.join(sw.tmp, "hit.csv")] + V)
+    sw.run("study preference --observer model", ["study", "preference", "--observer", "model", "--participant",
+                                                 "sweep", "--trials", "1", "--out", os.path.join(sw.tmp, "pref.csv")]
+           + V)
+    # demo: one scene, a few frames, every mode.
+    if os.environ.get("VG_SWEEP_NO_DEMO") != "1":
+        sw.run("demo", ["demo", "--out", os.path.join(sw.tmp, "demo"), "--scenes", "cubes", "--size", "160x90",
+                        "--seconds", "0.2", "--stills", "1", "--no-video"] + V)
+    sw.finish()
 
 
 # ---------------------------------------------------------------------------

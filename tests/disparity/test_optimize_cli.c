@@ -183,8 +183,9 @@ static int operator_none_keeps_g(void)
         vg_imagef f, g;
         snprintf(path, sizeof path, "%s/f_%04d.pfm", out, t);
         CHECK(vg_pfm_read(path, &f) == VG_OK, "%s", path);
-        path_in(path, sizeof path, "g_0000.pfm");
-        snprintf(path + strlen(path) - 8, 9, "%04d.pfm", t);
+        char name[32];
+        snprintf(name, sizeof name, "g_%04d.pfm", t);
+        path_in(path, sizeof path, name);
         CHECK(vg_pfm_read(path, &g) == VG_OK, "%s", path);
         for (int i = 0; i < W * H; i++)
             worst = fmax(worst, fabs((double)f.data[i] - g.data[i]));

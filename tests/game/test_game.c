@@ -376,6 +376,7 @@ static int pref_clip(void)
     clip_f c = {calloc((size_t)n, sizeof(float *)), (size_t)fd.width * fd.height};
     CHECK(c.f, "memory");
     CHECK(pref_clip_render(g, s, &fd, keep_f, &c) == VG_OK, "the clip renders");
+    fd.maps_only = true; /* the reference: f of every frame (the eyes do not change it) */
     CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
     double worst = 0;
     long worst_at = -1;
