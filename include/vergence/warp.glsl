@@ -150,6 +150,37 @@ float vgx_radical_inverse(uint i, uint base)
     return r;
 }
 
+// The Halton search's 64 offsets over its radius: r_i^2 (cos 2 pi a_i,
+// sin 2 pi a_i), r_i = vgx_radical_inverse(i, 2), a_i = vgx_radical_inverse(i, 3),
+// i = 1 .. 64, to float precision (tests/warp/warp_test.py halton_table
+// checks them). A table: a CPU rasteriser runs the search for a whole row
+// of lanes when one needs it, and the sines, cosines and radical inverses
+// were most of it.
+const vec2 VGX_HALTON_OFFSETS[64] = vec2[](
+    vec2(-0.125, 0.21650635), vec2(-0.03125, -0.054126587), vec2(0.4309, 0.36156803),
+    vec2(-0.014682697, 0.005344065), vec2(0.06783132, -0.38469052), vec2(0.024419274, 0.13848859),
+    vec2(-0.71945214, -0.26185918), vec2(0.002992361, -0.0025108892), vec2(0.30787748, 0.072968304),
+    vec2(-0.06701578, 0.07103258), vec2(-0.18933494, -0.63242275), vec2(0.020993857, 0.028199643),
+    vec2(-0.4694603, 0.05487204), vec2(0.075812146, -0.1757523), vec2(-0.051103853, 0.8774193),
+    vec2(-0.00081590604, -0.0005366299), vec2(0.25220686, -0.12666304), vec2(0.07068774, 0.035500716),
+    vec2(-0.5099413, 0.33539367), vec2(-0.0014195514, -0.024372758), vec2(0.17057732, 0.39544266),
+    vec2(-0.16392313, -0.019159866), vec2(0.49043983, -0.65877503), vec2(-0.0025207317, 0.008419829),
+    vec2(-0.24192698, -0.25642762), vec2(0.11497893, -0.027250508), vec2(0.7097733, 0.055167943),
+    vec2(-0.027065173, 0.03946199), vec2(-0.22285472, -0.46606112), vec2(0.15686932, 0.15385635),
+    vec2(-0.904101, 0.2516737), vec2(6.0898717e-05, -0.00023642334), vec2(0.025739023, 0.2646203),
+    vec2(-0.06423215, -0.029197095), vec2(0.47688928, -0.34085998), vec2(0.018831074, 0.0060379407),
+    vec2(-0.30391955, 0.2757923), vec2(-0.03230345, -0.14912932), vec2(0.42294464, 0.67104733),
+    vec2(-0.0060989256, 0.00023666608), vec2(0.15576503, -0.29571262), vec2(-0.014570582, 0.10667553),
+    vec2(-0.54204416, -0.42011595), vec2(0.038195156, -0.015604437), vec2(0.42327586, 0.2554483),
+    vec2(-0.1797716, 0.099193774), vec2(0.017616002, -0.90827644), vec2(0.00071132946, 0.0020789388),
+    vec2(-0.29346624, -0.057634894), vec2(0.057950493, -0.066403896), vec2(-0.22871637, 0.59239024),
+    vec2(-0.018546207, -0.02299369), vec2(0.44599444, -0.06975226), vec2(0.17584097, 0.027501026),
+    vec2(-0.53354836, 0.66149616), vec2(-0.0043087667, -0.011159985), vec2(0.2441626, 0.2797793),
+    vec2(-0.1267295, 0.024888864), vec2(0.23908573, -0.69875443), vec2(0.0010651976, 0.05492131),
+    vec2(-0.47219437, -0.26054582), vec2(0.20087314, -0.12122756), vec2(0.8970211, 0.36647344),
+    vec2(-4.824174e-05, 3.739017e-05)
+);
+
 // x: vergence (arcmin), y: stage (VGX_STAGE_*). Without `halton` a point the
 // 3x3 neighbourhood does not resolve goes straight to the vgx_curve.
 //
@@ -211,9 +242,8 @@ vec2 vgx_cascade_stages(vec2 px, float z, bool halton)
         }
     }
     bool near = best < VGX_CONSTANTS.warp.z * z;
-    for (uint i = 1u; i <= 64u && halton && !direct && !near; i++) {
-        float r = vgx_radical_inverse(i, 2u), a = vgx_radical_inverse(i, 3u);
-        vec2 s = px + r * r * VGX_CONSTANTS.warp.w * vec2(cos(6.2831853 * a), sin(6.2831853 * a));
+    for (int i = 0; i < 64 && halton && !direct && !near; i++) {
+        vec2 s = px + VGX_CONSTANTS.warp.w * VGX_HALTON_OFFSETS[i];
         ivec2 n = clamp(ivec2(floor(s)), ivec2(0), size - 1);
         float zh = texelFetch(vgx_depth_map, n, 0).r, diff = abs(zh - z);
         if (diff < best) {

@@ -292,6 +292,40 @@ def case_bake_curve():
         sys.exit(f"FAIL: a broken curve file gives exit {p.returncode} and {p.stderr!r}")
 
 
+def case_halton_table():
+    """The public header's Halton offsets are the sequence they say they are:
+    r^2 (cos 2 pi a, sin 2 pi a), r and a the radical inverses of i = 1..64 in
+    bases 2 and 3, each within a float's rounding."""
+    import math
+    import re
+    header = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "include", "vergence", "warp.glsl")
+    text = open(header).read()
+    body = re.search(r"VGX_HALTON_OFFSETS\[64\] = vec2\[\]\((.*?)\);", text, re.S)
+    if not body:
+        sys.exit("FAIL: no VGX_HALTON_OFFSETS[64] table in include/vergence/warp.glsl")
+    pairs = re.findall(r"vec2\(([^,]+),([^)]+)\)", body.group(1))
+
+    def radical_inverse(i, base):
+        r, f = 0.0, 1.0 / base
+        while i:
+            r += f * (i % base)
+            i //= base
+            f /= base
+        return r
+
+    if len(pairs) != 64:
+        sys.exit(f"FAIL: {len(pairs)} offsets in the table, not 64")
+    worst = 0.0  # in units of the float's last place (2^-23 relative)
+    for i, (x, y) in enumerate(pairs, start=1):
+        r, a = radical_inverse(i, 2), radical_inverse(i, 3)
+        want = (r * r * math.cos(2 * math.pi * a), r * r * math.sin(2 * math.pi * a))
+        for got, w in ((float(x), want[0]), (float(y), want[1])):
+            worst = max(worst, abs(got - w) / (abs(w) * 2.0 ** -23))
+    print(f"64 Halton offsets, worst |table - definition| {worst:.2f} of a float's last place")
+    if worst > 1.0:
+        sys.exit(f"FAIL: the table is {worst:.2f} last places off its definition (bound 1: float rounding)")
+
+
 if __name__ == "__main__":
     VERGENCE = os.path.abspath(sys.argv[1])
     fn = globals()["case_" + sys.argv[2]]
