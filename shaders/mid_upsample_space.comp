@@ -10,7 +10,9 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 0, r32f) uniform readonly image2D h_image;
 layout(set = 0, binding = 1, scalar) readonly buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
-layout(set = 0, binding = 2) readonly buffer RatioBlock { float ratio_t[]; };
+// An image, not a buffer: a CPU rasteriser loads a storage buffer at a
+// varying index lane by lane, an image with one gather (docs/PERFORMANCE.md).
+layout(set = 0, binding = 2, r32f) uniform readonly image2D ratio_image; // the coarse grid
 layout(set = 0, binding = 3, r32f) uniform writeonly image2D f_image;
 
 void main()
@@ -30,7 +32,7 @@ void main()
         float b = ((t & 1) != 0 ? fx : 1.0 - fx) * ((t & 2) != 0 ? fy : 1.0 - fy);
         float dr = hv - imageLoad(h_image, ivec2(grid_px(qx), grid_py(qy))).r;
         float w = b * exp(-dr * dr * up.inv_2sr);
-        tacc += w * ratio_t[qy * int(up.nx) + qx];
+        tacc += w * imageLoad(ratio_image, ivec2(qx, qy)).r;
         tsum += w;
     }
     int bx = int(floor(cx)) - 1, by = int(floor(cy)) - 1;
@@ -47,7 +49,7 @@ void main()
             // The guide of a coarse sample is h at its full-resolution pixel.
             float dr = hv - imageLoad(h_image, ivec2(grid_px(qx), grid_py(qy))).r;
             float w = exp(-d2 * up.inv_2ss - dr * dr * up.inv_2sr);
-            float r = ratio_t[qy * int(up.nx) + qx];
+            float r = imageLoad(ratio_image, ivec2(qx, qy)).r;
             acc += w * r;
             wsum += w;
             if (d2 < best_d) {

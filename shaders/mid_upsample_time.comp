@@ -13,7 +13,7 @@ layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
 layout(set = 0, binding = 1, rgba32f) uniform readonly image2D motion_image;
 layout(set = 0, binding = 2) readonly buffer StoreBlock { float store[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
-layout(set = 0, binding = 4) writeonly buffer RatioBlock { float ratio_t[]; };
+layout(set = 0, binding = 4, r32f) uniform writeonly image2D ratio_image; // the coarse grid
 layout(set = 0, binding = 5, r32ui) uniform readonly uimage2D id_image;
 
 const float LOST = -1.0e30;
@@ -86,7 +86,7 @@ void main()
     int q = int(gl_GlobalInvocationID.x);
     if (q >= int(up.nx * up.ny))
         return;
-    ivec2 x = ivec2(grid_px(q % int(up.nx)), grid_py(q / int(up.nx)));
+    ivec2 c = ivec2(q % int(up.nx), q / int(up.nx)), x = ivec2(grid_px(c.x), grid_py(c.y));
     float z = imageLoad(depth_image, x).r, id = float(imageLoad(id_image, x).r);
     vec4 m = imageLoad(motion_image, x);
     // At a keyframe only k0 counts, at the sample itself.
@@ -103,11 +103,11 @@ void main()
     // the other fails.
     bool ok0 = a.y >= MID_LINK_MIN_WEIGHT && up.tau < 1.0, ok1 = b.y >= MID_LINK_MIN_WEIGHT && up.tau > 0.0;
     if (ok0 && ok1) {
-        ratio_t[q] = mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span);
+        imageStore(ratio_image, c, vec4(mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span)));
         return;
     }
     if (ok0 || ok1) {
-        ratio_t[q] = ok0 ? a.x : b.x;
+        imageStore(ratio_image, c, vec4(ok0 ? a.x : b.x));
         return;
     }
     // Both lost (disocclusion, or out of frame for both): the temporally
@@ -116,5 +116,5 @@ void main()
     vec2 pos = near0 ? pos0 : pos1;
     if (pos.x == LOST)
         pos = vec2(x);
-    ratio_t[q] = sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false).x;
+    imageStore(ratio_image, c, vec4(sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false).x));
 }

@@ -174,16 +174,17 @@ static void time_execute(const rg_context *ctx, void *user)
     alone *a = user;
     upsample_gpu_frame fr = ups_frame(a);
     VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion), id = image_of(ctx, a->ids);
+    VkDescriptorImageInfo r = image_of(ctx, a->ratio);
     upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, &id, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
-                        rg_ctx_buffer(ctx, a->ratio));
+                        &r);
 }
 
 static void space_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
     upsample_gpu_frame fr = ups_frame(a);
-    VkDescriptorImageInfo h = image_of(ctx, a->hmap), f = image_of(ctx, a->fmap);
-    upsample_gpu_record_space(a->ups, rg_ctx_cmd(ctx), &fr, &h, rg_ctx_buffer(ctx, a->r_pub), rg_ctx_buffer(ctx, a->ratio), &f);
+    VkDescriptorImageInfo h = image_of(ctx, a->hmap), f = image_of(ctx, a->fmap), r = image_of(ctx, a->ratio);
+    upsample_gpu_record_space(a->ups, rg_ctx_cmd(ctx), &fr, &h, rg_ctx_buffer(ctx, a->r_pub), &r, &f);
 }
 
 static void fit_execute(const rg_context *ctx, void *user)
@@ -213,7 +214,7 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
     a->g = rg_image(g, &(rg_image_desc){"disparity.g", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
     a->color = rg_image(g, &(rg_image_desc){"gbuffer.color", VK_FORMAT_R8G8B8A8_UNORM, a->w, a->h, 1});
     a->fmap = rg_image(g, &(rg_image_desc){"disparity.f", VK_FORMAT_R32_SFLOAT, a->w, a->h, 1});
-    a->ratio = rg_buffer(g, &(rg_buffer_desc){"mid.ratio", (uint64_t)a->nx * a->ny * sizeof(float)});
+    a->ratio = rg_image(g, &(rg_image_desc){"mid.ratio", VK_FORMAT_R32_SFLOAT, a->nx, a->ny, 1});
     rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
     a->r_store = rg_import_buffer(g, &(rg_buffer_desc){"mid.store", a->store.size}, &rw);
     a->r_pub = rg_import_buffer(g, &(rg_buffer_desc){"mid.published", a->published.size}, &rw);

@@ -160,16 +160,16 @@ static void up_time_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
     VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion), id = image_info(ctx, t->ids);
+    VkDescriptorImageInfo r = image_info(ctx, t->ratio);
     upsample_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, &id, rg_ctx_buffer(ctx, t->store),
-                        rg_ctx_buffer(ctx, t->published), rg_ctx_buffer(ctx, t->ratio));
+                        rg_ctx_buffer(ctx, t->published), &r);
 }
 
 static void up_space_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
-    VkDescriptorImageInfo h = image_info(ctx, t->h), f = image_info(ctx, t->f);
-    upsample_gpu_record_space(t->u, rg_ctx_cmd(ctx), &t->fr, &h, rg_ctx_buffer(ctx, t->published),
-                         rg_ctx_buffer(ctx, t->ratio), &f);
+    VkDescriptorImageInfo h = image_info(ctx, t->h), f = image_info(ctx, t->f), r = image_info(ctx, t->ratio);
+    upsample_gpu_record_space(t->u, rg_ctx_cmd(ctx), &t->fr, &h, rg_ctx_buffer(ctx, t->published), &r, &f);
 }
 
 /* A frame between two keyframes: a far slanted background, a near box and a
@@ -291,7 +291,7 @@ static int upsample_agrees(float tau, bool at_key)
     rg_import_desc rw = {.initial = RG_STORAGE_READ_WRITE, .final = RG_STORAGE_READ_WRITE};
     t.store = rg_import_buffer(hs.graph, &(rg_buffer_desc){"mid.store", store.size}, &rw);
     t.published = rg_import_buffer(hs.graph, &(rg_buffer_desc){"mid.published", pub.size}, &rw);
-    t.ratio = rg_buffer(hs.graph, &(rg_buffer_desc){"mid.ratio", (uint64_t)nc * sizeof(float)});
+    t.ratio = rg_image(hs.graph, &(rg_image_desc){"mid.ratio", VK_FORMAT_R32_SFLOAT, grid.nx, grid.ny, 1});
     rg_pass time = rg_pass_add(hs.graph, &(rg_pass_desc){.name = "mid.upsample.time", .type = RG_PASS_COMPUTE,
                                                           .execute = up_time_execute, .user = &t});
     rg_use(hs.graph, time, t.depth, RG_STORAGE_READ);

@@ -153,17 +153,16 @@ static void time_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
     VkDescriptorImageInfo z = image_of(ctx, d->res->depth), m = image_of(ctx, d->res->motion);
-    VkDescriptorImageInfo ids = image_of(ctx, d->res->ids);
+    VkDescriptorImageInfo ids = image_of(ctx, d->res->ids), ratio = image_of(ctx, d->ratio);
     upsample_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, &ids, rg_ctx_buffer(ctx, d->r_store),
-                        rg_ctx_buffer(ctx, d->r_published), rg_ctx_buffer(ctx, d->ratio));
+                        rg_ctx_buffer(ctx, d->r_published), &ratio);
 }
 
 static void space_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo h = image_of(ctx, d->res->h), f = image_of(ctx, d->res->f);
-    upsample_gpu_record_space(d->ups, rg_ctx_cmd(ctx), &d->up, &h, rg_ctx_buffer(ctx, d->r_published),
-                         rg_ctx_buffer(ctx, d->ratio), &f);
+    VkDescriptorImageInfo h = image_of(ctx, d->res->h), f = image_of(ctx, d->res->f), ratio = image_of(ctx, d->ratio);
+    upsample_gpu_record_space(d->ups, rg_ctx_cmd(ctx), &d->up, &h, rg_ctx_buffer(ctx, d->r_published), &ratio, &f);
 }
 
 static rg_pass compute_pass(rg_graph *g, const char *name, rg_execute_fn fn, disparity_gpu *d)
@@ -203,7 +202,7 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res, cons
     d->arena = rg_import_buffer(g, &(rg_buffer_desc){"mid.arena", solve_gpu_arena_size(d->mid)}, &rw);
     d->args = rg_import_buffer(g, &(rg_buffer_desc){"mid.args", MID_ARGS_COUNT * 12},
                                &(rg_import_desc){.initial = RG_INDIRECT, .final = RG_INDIRECT});
-    d->ratio = rg_buffer(g, &(rg_buffer_desc){"mid.ratio", (uint64_t)d->ns * sizeof(float)});
+    d->ratio = rg_image(g, &(rg_image_desc){"mid.ratio", VK_FORMAT_R32_SFLOAT, d->nx, d->ny, 1});
 
     rg_pass p = compute_pass(g, "disparity.original", original_execute, d);
     rg_use(g, p, res->ubo, RG_UNIFORM);

@@ -29,14 +29,14 @@ typedef struct upsample_gpu_frame {
 vg_status upsample_gpu_create(gpu *g, upsample_gpu **out);
 void upsample_gpu_destroy(upsample_gpu *u);
 
-/* Coarse ratio of the frame (nx * ny floats in ratio) from depth, motion
+/* Coarse ratio of the frame (an R32F image of nx x ny) from depth, motion
  * (RGBA32F: px to the previous keyframe xy, to the next zw), instance ids
  * (R32_UINT), the keyframe store and the published ratios and slopes
  * (mid_published, then slots x nx x ny ratios, then as many slopes per
  * second). */
 void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, const VkDescriptorImageInfo *ids, VkBuffer store,
-                         VkBuffer published, VkBuffer ratio);
+                         VkBuffer published, const VkDescriptorImageInfo *ratio);
 /* Full-resolution f from h and the coarse ratio, clamped to the published range. */
 void upsample_gpu_record_space(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *h,
-                          VkBuffer published, VkBuffer ratio, const VkDescriptorImageInfo *out);
+                          VkBuffer published, const VkDescriptorImageInfo *ratio, const VkDescriptorImageInfo *out);
