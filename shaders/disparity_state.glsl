@@ -1,15 +1,19 @@
 // vergence — the operator's mapping entries (see disparity_operator.glsl);
-// needs `op` and `state` declared.
+// needs `op` and `state` declared, or OP_STATE(i) defined (the state's float
+// i: disparity_map.comp reads it through a texel view).
 // Mapping entry e: header at e * DISP_OP_STATE_FLOATS, knots after it.
-#define ST_DOM_LO(e) state[(e) * DISP_OP_STATE_FLOATS + 0u]
-#define ST_DOM_HI(e) state[(e) * DISP_OP_STATE_FLOATS + 1u]
-#define ST_OUT_LO(e) state[(e) * DISP_OP_STATE_FLOATS + 2u]
-#define ST_OUT_HI(e) state[(e) * DISP_OP_STATE_FLOATS + 3u]
-#define ST_SCALE(e) state[(e) * DISP_OP_STATE_FLOATS + 4u]
-#define ST_HAS_PREV(e) state[(e) * DISP_OP_STATE_FLOATS + 5u]
-#define ST_LO(e) state[(e) * DISP_OP_STATE_FLOATS + 6u]
-#define ST_HI(e) state[(e) * DISP_OP_STATE_FLOATS + 7u]
-#define ST_KNOT(e, b) state[(e) * DISP_OP_STATE_FLOATS + 8u + (b)]
+#ifndef OP_STATE
+#define OP_STATE(i) state[i]
+#endif
+#define ST_DOM_LO(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 0u)
+#define ST_DOM_HI(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 1u)
+#define ST_OUT_LO(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 2u)
+#define ST_OUT_HI(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 3u)
+#define ST_SCALE(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 4u)
+#define ST_HAS_PREV(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 5u)
+#define ST_LO(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 6u)
+#define ST_HI(e) OP_STATE((e) * DISP_OP_STATE_FLOATS + 7u)
+#define ST_KNOT(e, b) OP_STATE((e) * DISP_OP_STATE_FLOATS + 8u + (b))
 
 // The mapping of entry e at vergence x (disp_operator_map).
 float op_map(uint e, float x)

@@ -150,6 +150,12 @@ typedef struct gpu_image {
 
 vg_status gpu_buffer_create(gpu *g, const gpu_buffer_desc *desc, gpu_buffer *out);
 void gpu_buffer_destroy(gpu *g, gpu_buffer *b);
+/* A texel view of a buffer's first `range` bytes (created with a TEXEL_BUFFER
+ * usage): shaders read it with texelFetch, which lavapipe gathers where it
+ * loads a storage buffer at a varying index lane by lane
+ * (docs/PERFORMANCE.md). VG_ERR_DEVICE past maxTexelBufferElements. */
+vg_status gpu_buffer_view_create(gpu *g, VkBuffer buffer, VkFormat format, VkDeviceSize range, const char *name,
+                                 VkBufferView *out);
 vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out);
 void gpu_image_destroy(gpu *g, gpu_image *img);
 VkImageAspectFlags gpu_format_aspect(VkFormat f);

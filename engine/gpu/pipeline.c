@@ -250,6 +250,8 @@ void gpu_compute_kit_bind_list(const gpu *g, VkCommandBuffer cmd, const gpu_comp
                                       .descriptorCount = 1, .descriptorType = b[i].type};
         if (b[i].image)
             w[i].pImageInfo = b[i].image;
+        else if (b[i].view)
+            w[i].pTexelBufferView = b[i].view;
         else
             w[i].pBufferInfo = &bufs[i];
     }

@@ -93,15 +93,17 @@ void gpu_compute_barrier(VkCommandBuffer cmd);
 /* The same, also to the indirect dispatch sizes read after it. */
 void gpu_compute_barrier_indirect(VkCommandBuffer cmd);
 
-/* The descriptor of one binding: an image, or a whole buffer. */
+/* The descriptor of one binding: an image, a whole buffer or a texel view. */
 typedef struct gpu_binding {
     VkDescriptorType type;
     const VkDescriptorImageInfo *image;
     VkBuffer buffer;
+    const VkBufferView *view;
 } gpu_binding;
-#define GPU_STORAGE_IMAGE(info) ((gpu_binding){VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (info), VK_NULL_HANDLE})
-#define GPU_STORAGE_BUFFER(buf) ((gpu_binding){VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf)})
-#define GPU_UNIFORM_BUFFER(buf) ((gpu_binding){VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, (buf)})
+#define GPU_STORAGE_IMAGE(info) ((gpu_binding){VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (info), VK_NULL_HANDLE, NULL})
+#define GPU_STORAGE_BUFFER(buf) ((gpu_binding){VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, NULL, (buf), NULL})
+#define GPU_UNIFORM_BUFFER(buf) ((gpu_binding){VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, NULL, (buf), NULL})
+#define GPU_UNIFORM_TEXEL(view) ((gpu_binding){VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, NULL, VK_NULL_HANDLE, (view)})
 #define GPU_MAX_BINDINGS 8
 /* The same with bindings 0..count-1 given as b[0..count-1] (count <= GPU_MAX_BINDINGS). */
 void gpu_compute_kit_bind_list(const gpu *g, VkCommandBuffer cmd, const gpu_compute_kit *k, uint32_t kernel,

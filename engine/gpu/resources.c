@@ -86,6 +86,24 @@ void gpu_buffer_destroy(gpu *g, gpu_buffer *b)
     *b = (gpu_buffer){0};
 }
 
+vg_status gpu_buffer_view_create(gpu *g, VkBuffer buffer, VkFormat format, VkDeviceSize range, const char *name,
+                                 VkBufferView *out)
+{
+    *out = VK_NULL_HANDLE;
+    uint32_t texel = gpu_format_size(format);
+    uint64_t elements = range / (texel ? texel : 1), limit = g->props.limits.maxTexelBufferElements;
+    if (elements > limit) {
+        vg_error("%s: %llu texels, more than the device's texel buffer limit (%llu)", name,
+                 (unsigned long long)elements, (unsigned long long)limit);
+        return VG_ERR_DEVICE;
+    }
+    VK_TRY(vkCreateBufferView(g->device, &(VkBufferViewCreateInfo){.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+                                                                   .buffer = buffer, .format = format, .range = range},
+                              g->alloc, out));
+    GPU_NAME(g, VK_OBJECT_TYPE_BUFFER_VIEW, *out, "%s", name);
+    return VG_OK;
+}
+
 /* ------------------------------------------------------------------------- */
 /* Images                                                                    */
 /* ------------------------------------------------------------------------- */
@@ -114,7 +132,7 @@ uint32_t gpu_format_size(VkFormat f)
     case VK_FORMAT_D32_SFLOAT: case VK_FORMAT_R16G16_SFLOAT: case VK_FORMAT_A2B10G10R10_UNORM_PACK32:
         return 4;
     case VK_FORMAT_R32G32_SFLOAT: case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
-    case VK_FORMAT_R32G32B32A32_SFLOAT: return 16;
+    case VK_FORMAT_R32G32B32A32_SFLOAT: case VK_FORMAT_R32G32B32A32_UINT: return 16;
     default: return 0;
     }
 }

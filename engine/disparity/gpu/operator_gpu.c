@@ -26,6 +26,7 @@ struct operator_gpu {
     bool reset_frame, reset_tiles;
     int chain_from;                /* state entry the next tiles fit chains from, -1: its own chain */
     gpu_buffer state;
+    VkBufferView state_view;       /* the state as R32F texels: what disparity.operator reads */
     gpu_compute_kit kit[P_COUNT];
 };
 
@@ -88,15 +89,20 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
     size_t entries = DISP_OP_ENTRY_TILE0 + desc->max_tiles + desc->ring;
     st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "disparity.operator state",
                                                  .size = entries * DISP_OP_STATE_FLOATS * sizeof(float),
-                                                 .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
+                                                 .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                                          VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+                                                 .host_visible = true},
                            &o->state);
     if (st == VG_OK)
         memset(o->state.mapped, 0, entries * DISP_OP_STATE_FLOATS * sizeof(float));
+    if (st == VG_OK)
+        st = gpu_buffer_view_create(g, o->state.buffer, VK_FORMAT_R32_SFLOAT, o->state.size,
+                                    "disparity.operator state (texels)", &o->state_view);
 
     static const VkDescriptorType IMG = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, BUF = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                  UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+                                  UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, TEXELS = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     static const VkDescriptorType types[P_COUNT][6] = {
-        [P_FIT] = {IMG, IMG, BUF}, [P_MAP] = {IMG, BUF, IMG},
+        [P_FIT] = {IMG, IMG, BUF}, [P_MAP] = {IMG, TEXELS, IMG},
         [P_TILES_FIT] = {UBO, IMG, IMG, BUF}, [P_TILES_STORE] = {UBO, IMG, IMG, BUF, BUF, IMG}};
     static const uint32_t counts[P_COUNT] = {3, 3, 4, 6};
     const gpu_kernel_code kernels[P_COUNT] = {
@@ -123,6 +129,8 @@ void operator_gpu_destroy(operator_gpu *o)
         return;
     for (int p = 0; p < P_COUNT; p++)
         gpu_compute_kit_destroy(o->gpu, &o->kit[p]);
+    if (o->state_view)
+        vkDestroyBufferView(o->gpu->device, o->state_view, o->gpu->alloc);
     gpu_buffer_destroy(o->gpu, &o->state);
     free(o);
 }
@@ -185,7 +193,7 @@ void operator_gpu_record_map(operator_gpu *o, VkCommandBuffer cmd, const VkDescr
     pc.width = width;
     pc.height = height;
     pc.entry = DISP_OP_ENTRY_FRAME;
-    gpu_binding b[3] = {IMG(g), BUF(o->state.buffer), IMG(h)};
+    gpu_binding b[3] = {IMG(g), GPU_UNIFORM_TEXEL(&o->state_view), IMG(h)};
     gpu_compute_kit_bind_list(o->gpu, cmd, &o->kit[P_MAP], 0, b, 3, &pc);
     vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
 }

@@ -350,10 +350,10 @@ static vg_status views_create(solve_gpu *m)
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, m->view_layout, "mid arena views layout");
     static const VkFormat formats[2] = {VK_FORMAT_R32_UINT, VK_FORMAT_R32G32B32A32_UINT};
     for (int v = 0; v < 2; v++) {
-        VK_TRY(vkCreateBufferView(g->device, &(VkBufferViewCreateInfo){
-            .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO, .buffer = m->arena.buffer, .format = formats[v],
-            .range = m->arena.size}, g->alloc, &m->views[v]));
-        GPU_NAME(g, VK_OBJECT_TYPE_BUFFER_VIEW, m->views[v], v ? "mid arena (uvec4)" : "mid arena (uint)");
+        vg_status st = gpu_buffer_view_create(g, m->arena.buffer, formats[v], m->arena.size,
+                                              v ? "mid arena (uvec4)" : "mid arena (uint)", &m->views[v]);
+        if (st != VG_OK)
+            return st;
     }
     VK_TRY(vkCreateDescriptorPool(g->device, &(VkDescriptorPoolCreateInfo){
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, .maxSets = 1, .poolSizeCount = 1,
