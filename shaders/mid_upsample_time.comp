@@ -116,5 +116,6 @@ void main()
     vec2 pos = near0 ? pos0 : pos1;
     if (pos.x == LOST)
         pos = vec2(x);
-    imageStore(ratio_image, c, vec4(sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false).x));
+    vec3 k = sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false);
+    imageStore(ratio_image, c, vec4(k.x));
 }

@@ -78,8 +78,9 @@ static void report(const char *name, const science_metrics_result *m)
  * the eyes, which would take a quarter of the time. */
 static frame_desc measured(void)
 {
-    return (frame_desc){.width = 320, .height = 180, .readback = true, .stereo = FRAME_STEREO_CAMERAS, .maps_only = true,
-                        .shadow_size = 512, .mode = FRAME_MODE_OPTIMIZED, .op = DISP_OPERATOR_LANG};
+    return (frame_desc){.width = 320, .height = 180, .readback = true, .stereo = FRAME_STEREO_CAMERAS,
+                        .maps_only = true, .shadow_size = 512, .mode = FRAME_MODE_OPTIMIZED,
+                        .op = DISP_OPERATOR_LANG};
 }
 
 /* A measured capture of a scene: silent validation, f inside the range, f's

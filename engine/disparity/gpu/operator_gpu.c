@@ -100,7 +100,8 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
                                     "disparity.operator state (texels)", &o->state_view);
 
     static const VkDescriptorType IMG = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, BUF = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                  UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, TEXELS = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+                                  UBO = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                                  TEXELS = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     static const VkDescriptorType types[P_COUNT][6] = {
         [P_FIT] = {IMG, IMG, BUF}, [P_MAP] = {IMG, TEXELS, IMG},
         [P_TILES_FIT] = {UBO, IMG, IMG, BUF}, [P_TILES_STORE] = {UBO, IMG, IMG, BUF, BUF, IMG}};

@@ -655,7 +655,6 @@ void *solve_gpu_host(const solve_gpu *m, int binding, VkDeviceSize *bytes)
     return (uint8_t *)m->arena.mapped + m->offset[binding];
 }
 
-
 void solve_gpu_dump(const solve_gpu *m, FILE *out)
 {
     for (int gi = 0; gi < G_COUNT; gi++) {
