@@ -71,6 +71,9 @@ struct frame {
     frame_outputs outputs;
     double pass_ms[RG_MAX_PASSES];   /* the last completed frame */
     uint32_t pass_count;
+    double host_t0;                      /* the CPU clock when this frame's host part began */
+    double host_ms[VG_FRAMES_IN_FLIGHT]; /* per slot: the host part of the frame in flight there */
+    double host_done_ms;                 /* that of the last completed frame (beside pass_ms) */
     bool timed;                      /* the pass clock is on (frame_time_passes) */
 };
 
@@ -667,6 +670,7 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
 static void read_timestamps(frame *f, int slot)
 {
     f->pass_count = f->fc.gpu->is_cpu ? 0 : rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
+    f->host_done_ms = f->host_ms[slot];
 }
 
 /* Takes the next slot once the GPU is done with it, evaluates the scene
@@ -683,6 +687,7 @@ static vg_status frame_begin(frame *f, long index)
         f->submitted[slot] = false;
         read_timestamps(f, slot);
     }
+    f->host_t0 = vg_now_ms(); /* the host part starts once the slot is free */
     fc->times = frame_times_at(index, fc->desc.fps, fc->desc.keyframe_stride);
     scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
     float aspect = (float)fc->desc.width / (float)fc->desc.height;
@@ -774,6 +779,7 @@ static vg_status submit_timed(frame *f, const frame_target *target)
     VkCommandBuffer cmd = f->cmd[slot];
     VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     uint32_t n = rg_order_count(f->graph);
+    f->host_done_ms = vg_now_ms() - f->host_t0; /* each pass's recording is in that pass's ms */
     for (uint32_t o = 0; o < n && o < RG_MAX_PASSES; o++) {
         double t0 = vg_now_ms();
         VK_TRY(vkResetCommandBuffer(cmd, 0));
@@ -807,6 +813,7 @@ static vg_status submit_frame(frame *f, const frame_target *target, bool wait_do
     VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     VkSubmitInfo submit = submit_info(&cmd, target, true, true, &wait_stage);
     VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
+    f->host_ms[slot] = vg_now_ms() - f->host_t0;
     f->submitted[slot] = true;
     if (!wait_done)
         return VG_OK;
@@ -921,6 +928,10 @@ uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t c
     for (uint32_t i = 0; i < n; i++) {
         names[i] = rg_pass_name(f->graph, rg_order_pass(f->graph, i));
         ms[i] = f->pass_ms[i];
+    }
+    if (n && n < cap) {
+        names[n] = FRAME_PASS_HOST;
+        ms[n++] = f->host_done_ms;
     }
     return n;
 }

@@ -58,7 +58,13 @@ vg_status frame_wait_idle(frame *f);
  * with GPU timestamps, on or off. */
 void frame_time_passes(frame *f, bool on);
 /* ms of each pass of the last completed frame (the pass clock); returns the
- * number of passes, 0 when none were timed. */
+ * number of passes, 0 when none were timed. The last entry is the host's
+ * part, FRAME_PASS_HOST: the CPU's ms from the frame's start (its slot free)
+ * to its submission (the scene's evaluation, the constants, the SDK's plan,
+ * recording, vkQueueSubmit; on a CPU device with the clock on, each pass's
+ * recording is in that pass's ms instead). The GPU works after it, so the
+ * passes and the host part add up to a headless frame's wall time. */
+#define FRAME_PASS_HOST "host"
 uint32_t frame_pass_timings(frame *f, const char **names, double *ms, uint32_t cap);
 
 /* What the frame resolved beyond its desc (frame_get_desc: every default

@@ -71,9 +71,10 @@ static const vg_opt k_opts[] = {
 /* ------------------------------------------------------------------------- */
 
 /* The columns of the per-pass table: frame graph passes by name prefix. */
-enum { G_GBUFFER, G_OPERATOR, G_WINDOW, G_SOLVE, G_UPSAMPLE, G_CURVE, G_WARP, G_COMPOSE, G_OTHER, G_COUNT };
-static const char *const k_group_names[G_COUNT] = {"gbuffer", "operator", "window", "solve",  "upsample",
-                                                   "curve",   "warp",     "compose", "other"};
+enum { G_GBUFFER, G_OPERATOR, G_WINDOW, G_SOLVE, G_UPSAMPLE, G_CURVE, G_WARP, G_COMPOSE, G_HOST, G_OTHER, G_COUNT };
+static const char *const k_group_names[G_COUNT] = {"gbuffer", "operator", "window",  "solve",
+                                                   "upsample", "curve",   "warp",    "compose",
+                                                   "host (CPU: begin, record, submit)", "other"};
 
 static int group_of(const char *pass)
 {
@@ -84,7 +85,7 @@ static int group_of(const char *pass)
         {"shadow", G_GBUFFER},        {"gbuffer", G_GBUFFER},  {"disparity.", G_OPERATOR},
         {"mid.keyframes", G_WINDOW},  {"mid.window", G_WINDOW}, {"mid.solve", G_SOLVE},
         {"mid.upsample", G_UPSAMPLE}, {"warp.curve", G_CURVE},  {"warp.", G_WARP},
-        {"cameras.", G_WARP},         {"compose", G_COMPOSE},
+        {"cameras.", G_WARP},         {"compose", G_COMPOSE},  {FRAME_PASS_HOST, G_HOST},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++)
         if (!strncmp(pass, k[i].prefix, strlen(k[i].prefix)))
