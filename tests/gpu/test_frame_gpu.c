@@ -22,6 +22,7 @@
 typedef struct run_result {
     science_metrics_result m;
     int validation;
+    bool reference;   /* the device is a CPU rasteriser (lavapipe, where CI runs) */
 } run_result;
 
 /* Renders frames 0 .. frames - 1 of a scene; metrics of h and f when asked. */
@@ -32,6 +33,7 @@ static int run(const char *scene_path, frame_desc fd, long frames, bool measure,
     scene *s;
     frame *f;
     CHECK(gpu_create(&(gpu_desc){0}, &g) == VG_OK, "gpu_create");
+    out->reference = g->is_cpu;
     CHECK(scene_load(scene_path, &s) == VG_OK, "scene_load(%s)", scene_path);
     CHECK(frame_create(g, s, &fd, &f) == VG_OK, "frame_create");
     science_metrics *gm = NULL;
@@ -83,10 +85,24 @@ static frame_desc measured(void)
                         .op = DISP_OPERATOR_LANG};
 }
 
+/* The balloon's bound below is the reference device's figure (lavapipe:
+ * the same bits every run) with a hundredth to spare. Another driver
+ * rasterises the G-buffer's depth a little differently and fuses multiplies
+ * and adds, so h itself moves (640x360: h 7.078 JND on an H200 against
+ * 7.128), and f, three solver iterations a window move from its optimum,
+ * follows: f / h was 0.543 and 0.591 there at 320x180 and 640x360 (0.569 on
+ * an earlier tree that lavapipe rendered bit for bit alike), 0.552 on
+ * lavapipe. On another driver the figure may reach OTHER_DRIVER_BOUND: a
+ * regression is caught where the bits are fixed, the reduction itself
+ * everywhere (docs/PERFORMANCE.md, the GPU section). */
+#define OTHER_DRIVER_BOUND 0.62
+
 /* A measured capture of a scene: silent validation, f inside the range, f's
- * MID distortion at most `bound` of h's, no kink of f - h at keyframes, and,
+ * MID distortion at most `bound` of h's (`other_bound` on a driver other than
+ * the reference), no kink of f - h at keyframes, and,
  * when asked, no pop: f changes no more at keyframe boundaries than between. */
-static int measured_capture(const char *name, const char *scene_path, frame_desc fd, double bound, bool pop)
+static int measured_capture(const char *name, const char *scene_path, frame_desc fd, double bound, double other_bound,
+                            bool pop)
 {
     run_result r;
     if (run(scene_path, fd, FRAMES, true, &r))
@@ -94,6 +110,8 @@ static int measured_capture(const char *name, const char *scene_path, frame_desc
     report(name, &r.m);
     CHECK(r.validation == 0, "%d validation messages", r.validation);
     CHECK(r.m.f_range_violation == 0, "f leaves the range at %g of the pixels", r.m.f_range_violation);
+    if (!r.reference)
+        bound = other_bound;
     CHECK(r.m.f.mid_distortion_jnd <= bound * r.m.h.mid_distortion_jnd, "f's MID distortion is more than %.2f of h's",
           bound);
     CHECK(!pop || r.m.f_d2.boundary <= r.m.f_d2.between,
@@ -104,7 +122,7 @@ static int measured_capture(const char *name, const char *scene_path, frame_desc
 
 /* The issue's figures: f at most half of h's MID distortion, inside the
  * range, and no pop at keyframe boundaries. */
-static int mid_cubes(void) { return measured_capture("cubes", "content/cubes.gltf", measured(), 0.5, true); }
+static int mid_cubes(void) { return measured_capture("cubes", "content/cubes.gltf", measured(), 0.5, 0.5, true); }
 
 /* Balloon's f / h: the pipeline reaches 0.552 at 320 x 180 and 640 x 360
  * (the same bits every run); a regression of a hundredth fails. */
@@ -118,7 +136,7 @@ static int mid_cubes(void) { return measured_capture("cubes", "content/cubes.glt
  * kink at keyframes. The boundary figure is mid_balloon_640's. */
 static int mid_balloon(void)
 {
-    return measured_capture("balloon", "content/balloon.gltf", measured(), BALLOON_BOUND, false);
+    return measured_capture("balloon", "content/balloon.gltf", measured(), BALLOON_BOUND, OTHER_DRIVER_BOUND, false);
 }
 
 /* The balloon's boundary figure at 640 x 360. At 320 x 180 the balloon
@@ -132,7 +150,7 @@ static int mid_balloon_640(void)
     frame_desc fd = measured();
     fd.width = 640;
     fd.height = 360;
-    return measured_capture("balloon 640x360", "content/balloon.gltf", fd, BALLOON_BOUND, true);
+    return measured_capture("balloon 640x360", "content/balloon.gltf", fd, BALLOON_BOUND, OTHER_DRIVER_BOUND, true);
 }
 
 /* Validation stays silent over 240 frames with the tessellated warp showing g, h or f. */
