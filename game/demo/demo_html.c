@@ -160,7 +160,7 @@ static void passes_table(demo_buf *b, const demo_scene *sc)
             base = &sc->runs[m];
     if (!base)
         return;
-    P("<table class=\"passes\"><thead><tr><th>pass (GPU ms, median)</th>");
+    P("<table class=\"passes\"><thead><tr><th>pass (ms, median; host: the CPU's part)</th>");
     for (int m = 0; m < DEMO_MODES; m++)
         if (sc->runs[m].available)
             P("<th>%s</th>", frame_mode_names[sc->runs[m].mode]);
