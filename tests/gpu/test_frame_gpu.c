@@ -98,9 +98,9 @@ static frame_desc measured(void)
 #define OTHER_DRIVER_BOUND 0.62
 
 /* A measured capture of a scene: silent validation, f inside the range, f's
- * MID distortion at most `bound` of h's (`other_bound` on a driver other than
- * the reference), no kink of f - h at keyframes, and,
- * when asked, no pop: f changes no more at keyframe boundaries than between. */
+ * MID distortion at most `bound` of h's (`other_bound` on a driver other
+ * than the reference), no kink of f - h at keyframes, and, when asked, no
+ * pop: f changes no more at keyframe boundaries than between. */
 static int measured_capture(const char *name, const char *scene_path, frame_desc fd, double bound, double other_bound,
                             bool pop)
 {
