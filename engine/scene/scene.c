@@ -30,6 +30,13 @@ static void *zalloc(size_t count, size_t size)
     return calloc(count ? count : 1, size);
 }
 
+/* Forgets where the instances were placed: the next evaluation places all. */
+static void unplace(const scene *s, scene_state *st)
+{
+    for (size_t i = 0; i < (size_t)s->instance_count * 16; i++)
+        st->placed[i] = NAN;
+}
+
 vg_status scene_state_init(const scene *s, scene_state *st)
 {
     memset(st, 0, sizeof *st);
@@ -42,7 +49,10 @@ vg_status scene_state_init(const scene *s, scene_state *st)
     st->normals = zalloc(vc * 3, sizeof(float));
     st->morph_offset = zalloc(nc + 1, sizeof(int));
     st->joint_matrices = zalloc(joints * 16, sizeof(float));
-    if (!st->world || !st->local || !st->positions || !st->normals || !st->morph_offset || !st->joint_matrices) {
+    st->placed = zalloc((size_t)s->instance_count * 16, sizeof(float));
+    st->instance_bounds = zalloc((size_t)s->instance_count * 6, sizeof(float));
+    if (!st->world || !st->local || !st->positions || !st->normals || !st->morph_offset || !st->joint_matrices ||
+        !st->placed || !st->instance_bounds) {
         scene_state_free(st);
         return VG_ERR_NOMEM;
     }
@@ -57,6 +67,7 @@ vg_status scene_state_init(const scene *s, scene_state *st)
         scene_state_free(st);
         return VG_ERR_NOMEM;
     }
+    unplace(s, st);
     return VG_OK;
 }
 
@@ -66,6 +77,7 @@ void scene_state_free(scene_state *st)
         return;
     free(st->world), free(st->local), free(st->positions), free(st->normals);
     free(st->morph_weights), free(st->morph_offset), free(st->joint_matrices);
+    free(st->placed), free(st->instance_bounds);
     memset(st, 0, sizeof *st);
 }
 
@@ -238,6 +250,22 @@ static void skin_vertices(const scene_primitive *p, const float *joints, const f
     }
 }
 
+/* The bounds of n positions (xyz); +-infinity when n is 0. */
+static void bounds_of(const float *pos, size_t n, float lo[3], float hi[3])
+{
+    for (int k = 0; k < 3; k++)
+        lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            float v = pos[i * 3 + (size_t)k];
+            lo[k] = fminf(lo[k], v);
+            hi[k] = fmaxf(hi[k], v);
+        }
+}
+
+/* An instance's vertices in world space. A rigid one (no morph weights, no
+ * skin) whose world matrix is the one it was last placed with keeps its
+ * vertices: the same inputs, the same bits (most of a scene stands still). */
 static void place_instances(const scene *s, scene_state *st)
 {
     for (int i = 0; i < s->instance_count; i++) {
@@ -248,8 +276,15 @@ static void place_instances(const scene *s, scene_state *st)
         float *pos = st->positions + (size_t)in->first_vertex * 3;
         float *nrm = st->normals + (size_t)in->first_vertex * 3;
         int wc = st->morph_offset[in->node + 1] - st->morph_offset[in->node];
+        bool skinned = n->skin >= 0 && p->joints && p->weights;
+        float *placed = st->placed + (size_t)i * 16;
+        if (wc == 0 && !skinned && !isnan(placed[0]) && !memcmp(placed, world, 16 * sizeof(float)))
+            continue;
+        memcpy(placed, world, 16 * sizeof(float));
+        if (wc > 0 || skinned)
+            placed[0] = NAN; /* animated vertices: placed every time */
         morph(p, st->morph_weights + st->morph_offset[in->node], wc, pos, nrm);
-        if (n->skin >= 0 && p->joints && p->weights) {
+        if (skinned) {
             size_t first = 0;
             for (int k = 0; k < n->skin; k++)
                 first += (size_t)s->skins[k].joint_count;
@@ -260,6 +295,7 @@ static void place_instances(const scene *s, scene_state *st)
             for (uint32_t v = 0; v < p->vertex_count; v++)
                 transform(world, nm, pos + (size_t)v * 3, nrm + (size_t)v * 3);
         }
+        bounds_of(pos, p->vertex_count, st->instance_bounds + (size_t)i * 6, st->instance_bounds + (size_t)i * 6 + 3);
     }
 }
 
@@ -268,6 +304,7 @@ static void place_instances(const scene *s, scene_state *st)
 /* ------------------------------------------------------------------------- */
 
 static void state_bounds(const scene *s, scene_state *st);
+static void state_bounds_of_instances(const scene *s, scene_state *st);
 
 void scene_evaluate(const scene *s, float t, scene_state *st)
 {
@@ -281,7 +318,7 @@ void scene_evaluate(const scene *s, float t, scene_state *st)
     pose_world(s, st);
     pose_joints(s, st);
     place_instances(s, st);
-    state_bounds(s, st);
+    state_bounds_of_instances(s, st);
 }
 
 void scene_evaluate_known(const scene *s, const scene_past *past, float t, scene_state *st)
@@ -304,22 +341,33 @@ void scene_evaluate_known(const scene *s, const scene_past *past, float t, scene
     for (size_t i = 0; i < nv; i++)
         st->positions[i] = b->positions[i] + u * (b->positions[i] - a->positions[i]);
     memcpy(st->normals, b->normals, nv * sizeof(float));
+    unplace(s, st); /* its vertices are no instance's placement */
     state_bounds(s, st);
 }
 
+/* The bounds of all positions (0 for a scene without vertices). */
 static void state_bounds(const scene *s, scene_state *st)
 {
-    size_t n = (size_t)s->vertex_count;
-    for (int k = 0; k < 3; k++) {
-        st->bounds_min[k] = n ? INFINITY : 0.0f;
-        st->bounds_max[k] = n ? -INFINITY : 0.0f;
-    }
-    for (size_t i = 0; i < n; i++)
+    bounds_of(st->positions, s->vertex_count, st->bounds_min, st->bounds_max);
+    if (!s->vertex_count)
+        for (int k = 0; k < 3; k++)
+            st->bounds_min[k] = st->bounds_max[k] = 0.0f;
+}
+
+/* The same from the instances' bounds (their vertices are all the scene's,
+ * and a minimum of minima is the minimum). */
+static void state_bounds_of_instances(const scene *s, scene_state *st)
+{
+    for (int k = 0; k < 3; k++)
+        st->bounds_min[k] = INFINITY, st->bounds_max[k] = -INFINITY;
+    for (int i = 0; i < s->instance_count; i++)
         for (int k = 0; k < 3; k++) {
-            float v = st->positions[i * 3 + (size_t)k];
-            st->bounds_min[k] = fminf(st->bounds_min[k], v);
-            st->bounds_max[k] = fmaxf(st->bounds_max[k], v);
+            st->bounds_min[k] = fminf(st->bounds_min[k], st->instance_bounds[(size_t)i * 6 + (size_t)k]);
+            st->bounds_max[k] = fmaxf(st->bounds_max[k], st->instance_bounds[(size_t)i * 6 + 3 + (size_t)k]);
         }
+    if (!s->vertex_count)
+        for (int k = 0; k < 3; k++)
+            st->bounds_min[k] = st->bounds_max[k] = 0.0f;
 }
 
 bool scene_has_saliency(const scene *s)

@@ -47,6 +47,7 @@ void test_skin_bind_pose(void);
 void test_skin_reference(void);
 void test_hierarchy(void);
 void test_predict(void);
+void test_placement_cache(void);
 void test_sparse(void);
 void test_interleaved(void);
 void test_no_indices(void);

@@ -526,3 +526,64 @@ void test_predict(void)
     scene_state_free(&truth);
     scene_destroy(s);
 }
+
+/* A state evaluated again and again keeps the vertices of a rigid instance
+ * that did not move (scene_state.placed); every evaluation must still give
+ * the bits a fresh state gives: positions, normals, bounds. Times forwards,
+ * repeated, backwards and across a clip's end, a prediction in between
+ * (scene_evaluate_known writes vertices no placement made), and a pose hook
+ * that moves one node at some times only. Rigid, hierarchical, morphed and
+ * skinned scenes, and the game's and the demo's. */
+static void hook_nudge(void *user, const scene *s, float t, float *local)
+{
+    (void)s;
+    if (t > 0.55f && t < 0.95f)
+        local[10 * *(const int *)user + 1] += 0.25f; /* the node's translation y */
+}
+
+void test_placement_cache(void)
+{
+    const char *paths[] = {unit_asset("BoxAnimated/glTF/BoxAnimated.gltf"),
+                           unit_asset("AnimatedMorphCube/glTF/AnimatedMorphCube.gltf"),
+                           unit_asset("CesiumMan/glTF/CesiumMan.gltf"), "content/arena.gltf", "content/balloon.gltf"};
+    const float times[] = {0.0f, 0.0f, 0.1f, 0.6f, 0.6f, 0.2f, 0.7f, 0.7f, 5.0f, 40.0f, 0.0f};
+    for (size_t p = 0; p < sizeof paths / sizeof paths[0]; p++) {
+        scene *s = unit_load(paths[p]);
+        if (!s)
+            continue;
+        int node = s->node_count - 1;
+        if (p == 0)
+            scene_set_pose_hook(s, hook_nudge, &node);
+        scene_state kept, now, before, fresh;
+        EXPECT(scene_state_init(s, &kept) == VG_OK && scene_state_init(s, &now) == VG_OK &&
+                   scene_state_init(s, &before) == VG_OK,
+               "states");
+        size_t bytes = 3 * sizeof(float) * s->vertex_count;
+        int skipped_somewhere = 0;
+        for (size_t i = 0; i < sizeof times / sizeof times[0]; i++) {
+            if (i == 7) { /* a prediction into the kept state, then the time it was last evaluated at */
+                scene_evaluate(s, times[i] - 0.1f, &now);
+                scene_evaluate(s, times[i] - 0.2f, &before);
+                scene_past past = {.now = &now, .before = &before};
+                scene_evaluate_known(s, &past, times[i] + 0.3f, &kept);
+            }
+            scene_evaluate(s, times[i], &kept);
+            EXPECT(scene_state_init(s, &fresh) == VG_OK, "state");
+            scene_evaluate(s, times[i], &fresh);
+            EXPECT(!memcmp(kept.positions, fresh.positions, bytes) && !memcmp(kept.normals, fresh.normals, bytes),
+                   "%s at %.2f s (step %zu): the kept state's vertices differ from a fresh one's", paths[p],
+                   times[i], i);
+            EXPECT(!memcmp(kept.bounds_min, fresh.bounds_min, sizeof kept.bounds_min) &&
+                       !memcmp(kept.bounds_max, fresh.bounds_max, sizeof kept.bounds_max),
+                   "%s at %.2f s: bounds differ", paths[p], times[i]);
+            for (int k = 0; k < s->instance_count; k++)
+                skipped_somewhere += !isnan(kept.placed[16 * k]);
+            scene_state_free(&fresh);
+        }
+        EXPECT(p == 1 || p == 2 || skipped_somewhere > 0, "%s: no rigid instance was ever kept", paths[p]);
+        scene_state_free(&kept);
+        scene_state_free(&now);
+        scene_state_free(&before);
+        scene_destroy(s);
+    }
+}

@@ -250,7 +250,7 @@ static const struct {
     {"morph", test_morph},                   {"morph_override", test_morph_override},
     {"skin", test_skin},                     {"skin_bind_pose", test_skin_bind_pose}, {"skin_reference", test_skin_reference},
     {"hierarchy", test_hierarchy},           {"sparse", test_sparse},
-    {"predict", test_predict},
+    {"predict", test_predict},              {"placement_cache", test_placement_cache},
     {"interleaved", test_interleaved},       {"no_indices", test_no_indices},
     {"topology", test_topology}, {"normals", test_normals}, {"colors", test_colors}, {"magic", test_magic},             {"saliency", test_saliency},
     {"textures", test_textures},             {"cameras", test_cameras},
