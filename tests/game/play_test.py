@@ -9,7 +9,7 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
   play_replay        a replay file drives the same at a fixed time step, with
                      the same result every time
   golden             a paused frame of a replayed game matches
-                     tests/golden/game_play.png (VG_UPDATE_GOLDEN=1 rewrites it)
+                     tests/golden/game_play.png (VG_UPDATE_GOLDENS=1 rewrites it, as for the warp's)
   preference_window  the side-by-side preference study answers a replayed key
                      press
   study_window       the same for the hit study with a replayed click; the
@@ -304,7 +304,7 @@ def case_golden():
     g.finish()
     from matplotlib import image
     from PIL import Image
-    if os.environ.get("VG_UPDATE_GOLDEN"):
+    if os.environ.get("VG_UPDATE_GOLDENS"):
         Image.fromarray(img).save(GOLDEN, optimize=True)
         print(f"wrote {GOLDEN}")
         return
