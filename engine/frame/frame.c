@@ -585,7 +585,7 @@ void frame_destroy(frame *f)
 
 /* Sun: low in the sky to the left and behind the viewer, so shadows fall
  * into the scene and give depth cues (a fixed light keeps captures stable). */
-static void light_setup(const frame_ctx *fc, vg_frame_ubo *u)
+static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
 {
     vec3 sun = {-0.42f, 0.74f, 0.52f};
     glm_vec3_normalize(sun);
@@ -605,7 +605,8 @@ static void light_setup(const frame_ctx *fc, vg_frame_ubo *u)
     glm_ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius, proj);
     glm_mat4_mul(proj, view, vp);
     memcpy(u->light_view_proj.m, vp, sizeof vp);
-    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], 2.0f * radius / (float)fc->desc.shadow_size}, 16);
+    fc->shadow_texel_m = 2.0f * radius / (float)fc->desc.shadow_size;
+    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], fc->shadow_texel_m}, 16);
     memcpy(u->sun_color.v, (float[4]){3.1f, 2.9f, 2.6f, 0.55f}, 16);
     memcpy(u->sky_zenith.v, (float[4]){0.23f, 0.42f, 0.78f, 0.0035f}, 16);
     memcpy(u->sky_horizon.v, (float[4]){0.78f, 0.86f, 0.95f, 0.85f}, 16);
@@ -695,6 +696,7 @@ static vg_status frame_begin(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
     fill_ubo(fc, fc->ubo[slot].mapped);
+    f->outputs.shadow_texel_m = fc->shadow_texel_m;
     if (!f->vgx)
         return VG_OK;
     vgx_frame_plan plan;

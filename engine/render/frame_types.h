@@ -136,6 +136,7 @@ typedef struct frame_outputs {
     const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
     uint32_t stereo_width, stereo_height;
     const struct vg_curve *curve; /* the global depth -> vergence curve the warp used */
+    float shadow_texel_m;        /* the shadow map's texel in world metres (its sharpness: capture.json "shadow") */
 } frame_outputs;
 
 /* The times a frame was rendered at. */

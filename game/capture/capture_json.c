@@ -93,6 +93,17 @@ void capture_json_passes(vg_json *j, const capture_log *log)
     vg_json_num(j, "frame_ms_median", capture_log_frame_median(log));
 }
 
+void capture_json_shadow(vg_json *j, const capture_log *log)
+{
+    double m, px;
+    capture_log_shadow(log, &m, &px);
+    vg_json_object_begin(j, "shadow");
+    vg_json_int(j, "map_px", log->shadow_map_px);
+    vg_json_num(j, "texel_m", m);
+    vg_json_num(j, "texel_px_median", px);
+    vg_json_object_end(j);
+}
+
 void capture_json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m)
 {
     bool cameras = fd->stereo == FRAME_STEREO_CAMERAS; /* the reference itself */

@@ -14,6 +14,9 @@ void capture_json_header(vg_json *j, const char *scene_path, const scene *s, con
 void capture_json_cameras(vg_json *j, const capture_log *log);
 /* Per pass: median and mean ms over the frames; the frame's median wall ms. */
 void capture_json_passes(vg_json *j, const capture_log *log);
+/* The shadow map: its size, its texel in metres and in the screen pixels it
+ * covers where it lands ("shadow"; capture_log_shadow). */
+void capture_json_shadow(vg_json *j, const capture_log *log);
 /* The stereo pair: how it was made, the cascade's stages, the warp's error,
  * holes and PSNR against the two-camera reference (m). */
 void capture_json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m);

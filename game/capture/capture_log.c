@@ -17,12 +17,39 @@ vg_status capture_log_begin(capture_log *log, const frame *f, const capture_log_
     log->cpu_ms = calloc(n, sizeof(double));
     log->cameras = calloc(n, sizeof(vg_camera));
     log->times = calloc(n, sizeof(frame_times));
-    if (!log->pass_ms || !log->cpu_ms || !log->cameras || !log->times)
+    log->shadow_m = calloc(n, sizeof(double));
+    log->shadow_px = calloc(n, sizeof(double));
+    if (!log->pass_ms || !log->cpu_ms || !log->cameras || !log->times || !log->shadow_m || !log->shadow_px)
         return VG_ERR_NOMEM;
     for (size_t i = 0; i < n * RG_MAX_PASSES; i++)
         log->pass_ms[i] = NAN;
     frame_get_info(f, &log->info);
+    log->shadow_map_px = frame_get_desc(f)->shadow_size;
     return desc->science && log->info.disparity ? science_metrics_create_for(f, &log->science) : VG_OK;
+}
+
+/* How many screen pixels a shadow texel covers where it lands: the texel's
+ * world size over a pixel's at each geometry pixel's depth (a texel of
+ * several pixels shows the shadow map's staircase along shadow edges through
+ * the 3x3 filter), the median over the image; NAN without depth. */
+static double shadow_texel_px(const frame_outputs *fo, const vg_camera *cam, uint32_t w, uint32_t h)
+{
+    if (!fo->depth || !fo->ids || !(fo->shadow_texel_m > 0.0f))
+        return NAN;
+    /* A pixel's world size at depth 1 (orthographic: at every depth). */
+    double px_at_1m = cam->orthographic ? 2.0 * cam->ymag / h : 2.0 * tan(0.5 * cam->yfov) / h;
+    double *v = malloc((size_t)w * h * sizeof(double));
+    if (!v)
+        return NAN;
+    size_t n = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        double z = cam->orthographic ? 1.0 : fo->depth[i];
+        if (fo->ids[i] && z > 0.0 && isfinite(z))
+            v[n++] = fo->shadow_texel_m / (px_at_1m * z);
+    }
+    double m = vg_median(v, n, 1);
+    free(v);
+    return m;
 }
 
 /* The column of a pass: its name's, added when first seen. */
@@ -58,6 +85,8 @@ vg_status capture_log_render(capture_log *log, frame *f, long index)
     log->times[i] = *frame_get_times(f);
     const frame_outputs *fo = frame_get_outputs(f);
     const frame_desc *d = frame_get_desc(f);
+    log->shadow_m[i] = fo->shadow_texel_m;
+    log->shadow_px[i] = shadow_texel_px(fo, &log->cameras[i], d->width, d->height);
     if (log->warp_every_frame && d->stereo != FRAME_STEREO_OFF)
         st = warp_metrics_add(&log->warp, fo, d->width, d->height);
     if (st == VG_OK && log->science && fo->h && fo->f)
@@ -80,6 +109,8 @@ void capture_log_free(capture_log *log)
     free(log->cpu_ms);
     free(log->cameras);
     free(log->times);
+    free(log->shadow_m);
+    free(log->shadow_px);
     *log = (capture_log){0};
 }
 
@@ -89,3 +120,9 @@ double capture_log_pass_median(const capture_log *log, uint32_t pass)
 }
 
 double capture_log_frame_median(const capture_log *log) { return vg_median(log->cpu_ms, (size_t)log->frames, 1); }
+
+void capture_log_shadow(const capture_log *log, double *texel_m, double *texel_px)
+{
+    *texel_m = vg_median(log->shadow_m, (size_t)log->frames, 1);
+    *texel_px = vg_median(log->shadow_px, (size_t)log->frames, 1);
+}

@@ -261,6 +261,7 @@ static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, 
     capture_json_header(&j, o.scene, s, fd, g, log);
     capture_json_cameras(&j, log);
     capture_json_passes(&j, log);
+    capture_json_shadow(&j, log);
     if (fd->stereo != FRAME_STEREO_OFF)
         capture_json_stereo(&j, fd, &log->warp);
     if (o.throw_no >= 0)

@@ -134,6 +134,31 @@ def case_deterministic():
     if ja != jb:
         sys.exit("FAIL: capture.json differs beyond the timings")
     print(f"{len(match)} frame files byte-identical; capture.json identical but for timings")
+    check_shadow_figure(ja, a, frames=3)
+
+
+def check_shadow_figure(j, out, frames):
+    """capture.json's shadow texel in screen pixels, recomputed from the depth maps: the texel's metres over a
+    pixel's at each geometry pixel's depth (the background is at the far plane), the median a frame, then over
+    the frames."""
+    import math
+    sh = j.get("shadow")
+    if not sh or sh.get("map_px") != 2048 or not sh.get("texel_m", 0) > 0:
+        sys.exit(f"FAIL: capture.json has no usable shadow figure: {sh}")
+    def median(v):
+        v = sorted(v)
+        n = len(v)
+        return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+    per_frame = []
+    for i in range(frames):
+        rows = read_pfm(os.path.join(out, f"frame_{i:04d}_depth.pfm"))
+        px_at_1m = 2 * math.tan(0.5 * j["camera"]["yfov"]) / len(rows)
+        far = j["camera"]["zfar"]
+        per_frame.append(median([sh["texel_m"] / (px_at_1m * z) for row in rows for z in row if 0 < z < 0.999 * far]))
+    want = median(per_frame)
+    if abs(sh["texel_px_median"] - want) > 0.01 * want:
+        sys.exit(f"FAIL: shadow texel {sh['texel_px_median']:.3f} px in capture.json, {want:.3f} from the depth maps")
+    print(f"shadow texel {sh['texel_m'] * 100:.1f} cm, {sh['texel_px_median']:.2f} px (depth maps: {want:.2f})")
 
 
 def gltf_json(path):
