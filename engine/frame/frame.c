@@ -584,8 +584,9 @@ void frame_destroy(frame *f)
 /* ------------------------------------------------------------------------- */
 
 /* Sun: low in the sky to the left and behind the viewer, so shadows fall
- * into the scene and give depth cues (a fixed light keeps captures stable). */
-static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
+ * into the scene and give depth cues (a fixed light keeps captures stable).
+ * Returns the shadow map's texel in world metres. */
+static float light_setup(const frame_ctx *fc, vg_frame_ubo *u)
 {
     vec3 sun = {-0.42f, 0.74f, 0.52f};
     glm_vec3_normalize(sun);
@@ -605,12 +606,13 @@ static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
     glm_ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius, proj);
     glm_mat4_mul(proj, view, vp);
     memcpy(u->light_view_proj.m, vp, sizeof vp);
-    fc->shadow_texel_m = 2.0f * radius / (float)fc->desc.shadow_size;
-    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], fc->shadow_texel_m}, 16);
+    float texel_m = 2.0f * radius / (float)fc->desc.shadow_size;
+    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], texel_m}, 16);
     memcpy(u->sun_color.v, (float[4]){3.1f, 2.9f, 2.6f, 0.55f}, 16);
     memcpy(u->sky_zenith.v, (float[4]){0.23f, 0.42f, 0.78f, 0.0035f}, 16);
     memcpy(u->sky_horizon.v, (float[4]){0.78f, 0.86f, 0.95f, 0.85f}, 16);
     memcpy(u->ground_color.v, (float[4]){0.30f, 0.27f, 0.22f, 0.0f}, 16);
+    return texel_m;
 }
 
 /* The original rig follows the render camera: its field of view and the
@@ -641,7 +643,8 @@ static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->warp2.v, (float[4]){(float)d->max_tess_level, d->diffuse ? 0.0f : 1.0f, d->measure ? 1.0f : 0.0f, 0}, 16);
 }
 
-static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
+/* The frame's constants; returns the shadow map's texel in metres. */
+static float fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
 {
     memset(u, 0, sizeof *u);
     memcpy(u->view_proj.m, fc->cam.view_proj, 64);
@@ -655,7 +658,7 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->camera_pos.v, (float[4]){fc->cam.position[0], fc->cam.position[1], fc->cam.position[2], fc->cam.zfar}, 16);
     memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
                                      1.0f / (float)fc->desc.height}, 16);
-    light_setup(fc, u);
+    float shadow_texel_m = light_setup(fc, u);
     stereo_setup(fc, u);
     /* Computed saliency: the contrast's reference colour and the depth
      * scale, the camera's distance to the scene's centre. */
@@ -664,6 +667,7 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
                    0.5f * (lo[2] + hi[2]) - fc->cam.position[2]};
     memcpy(u->saliency.v, (float[4]){fc->sg.mean_base[0], fc->sg.mean_base[1], fc->sg.mean_base[2],
                                      sqrtf(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]) + 1e-3f}, 16);
+    return shadow_texel_m;
 }
 
 /* The timestamps of a completed slot; a CPU device writes none (the pass
@@ -695,8 +699,7 @@ static vg_status frame_begin(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.now, fc->desc.camera, aspect, &fc->cam);
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
-    fill_ubo(fc, fc->ubo[slot].mapped);
-    f->outputs.shadow_texel_m = fc->shadow_texel_m;
+    f->outputs.shadow_texel_m = fill_ubo(fc, fc->ubo[slot].mapped);
     if (!f->vgx)
         return VG_OK;
     vgx_frame_plan plan;

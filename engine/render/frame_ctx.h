@@ -28,7 +28,6 @@ typedef struct frame_ctx {
     int slot;
     frame_times times;
     vg_camera cam, cam_prev, cam_next;
-    float shadow_texel_m;        /* the shadow map's texel, world metres (the light's box over its pixels) */
 } frame_ctx;
 
 /* Resources of the frame graph, by name, for pass modules to connect. */

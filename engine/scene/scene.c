@@ -281,8 +281,6 @@ static void place_instances(const scene *s, scene_state *st)
         if (wc == 0 && !skinned && !isnan(placed[0]) && !memcmp(placed, world, 16 * sizeof(float)))
             continue;
         memcpy(placed, world, 16 * sizeof(float));
-        if (wc > 0 || skinned)
-            placed[0] = NAN; /* animated vertices: placed every time */
         morph(p, st->morph_weights + st->morph_offset[in->node], wc, pos, nrm);
         if (skinned) {
             size_t first = 0;

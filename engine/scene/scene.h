@@ -192,7 +192,8 @@ typedef struct scene_state {
     int *morph_offset;       /* node_count + 1 offsets; node n has morph_offset[n+1] - morph_offset[n] weights */
     float *joint_matrices;   /* per skin, in skin order: joint_count * 16, world(joint) * inverseBind */
     float *placed;           /* instance_count * 16: the world matrix an instance's vertices were last placed
-                              * with (NaN: not placed), so a rigid instance that did not move is not placed again */
+                              * with (NaN: not placed), so a rigid instance that did not move is not placed again
+                              * (morphed and skinned ones are placed every time) */
     float *instance_bounds;  /* instance_count * 6: min xyz, max xyz of each instance's placed vertices */
 } scene_state;
 

@@ -142,13 +142,10 @@ def check_shadow_figure(j, out, frames):
     pixel's at each geometry pixel's depth (the background is at the far plane), the median a frame, then over
     the frames."""
     import math
+    from statistics import median
     sh = j.get("shadow")
     if not sh or sh.get("map_px") != 2048 or not sh.get("texel_m", 0) > 0:
         sys.exit(f"FAIL: capture.json has no usable shadow figure: {sh}")
-    def median(v):
-        v = sorted(v)
-        n = len(v)
-        return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
     per_frame = []
     for i in range(frames):
         rows = read_pfm(os.path.join(out, f"frame_{i:04d}_depth.pfm"))

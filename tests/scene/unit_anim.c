@@ -559,7 +559,7 @@ void test_placement_cache(void)
                    scene_state_init(s, &before) == VG_OK,
                "states");
         size_t bytes = 3 * sizeof(float) * s->vertex_count;
-        int rigid_placed = 0;
+        int placements = 0;
         for (size_t i = 0; i < sizeof times / sizeof times[0]; i++) {
             if (i == 7) { /* a prediction into the kept state, then the time it was last evaluated at */
                 scene_evaluate(s, times[i] - 0.1f, &now);
@@ -577,10 +577,10 @@ void test_placement_cache(void)
                        !memcmp(kept.bounds_max, fresh.bounds_max, sizeof kept.bounds_max),
                    "%s at %.2f s: bounds differ", paths[p], times[i]);
             for (int k = 0; k < s->instance_count; k++)
-                rigid_placed += !isnan(kept.placed[16 * k]);
+                placements += !isnan(kept.placed[16 * k]);
             scene_state_free(&fresh);
         }
-        EXPECT(p == 1 || p == 2 || rigid_placed > 0, "%s: no rigid instance was ever kept", paths[p]);
+        EXPECT(placements > 0, "%s: the state recorded no placement to keep", paths[p]);
         scene_state_free(&kept);
         scene_state_free(&now);
         scene_state_free(&before);
