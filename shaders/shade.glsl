@@ -6,16 +6,25 @@
 // texels with the separable weights (1 - f, 1, 1, f) of the taps' common
 // fraction f, so the block's 16 compares give the same sum (up to the
 // sampler's rounding of f) for 16 texel reads instead of 36 and no filter.
+//
+// Two cascades (frame.c light_setup): points nearer the centre camera than
+// u.shadow.x (view depth) read the near one, the rest the whole scene's.
+// The choice is arithmetic: lavapipe compiles a shader again for every new
+// value of a uniform that alone decides a branch (common.glsl).
 float sun_visibility(vec3 world, vec3 n)
 {
     float ndl = dot(n, u.sun_dir.xyz);
-    // Normal offset against acne, scaled by the shadow texel's world size.
-    vec3 p = world + n * u.sun_dir.w * 1.5 * (1.0 - ndl);
-    vec4 c = u.light_view_proj * vec4(p, 1.0);
+    uint cascade = -(u.view * vec4(world, 1.0)).z < u.shadow.x ? 1u : 0u;
+    // Normal offset against acne, scaled by the cascade's texel (world size).
+    vec3 p = world + n * u.shadow[1u + cascade] * 1.5 * (1.0 - ndl);
+    vec4 c = u.light_view_proj[cascade] * vec4(p, 1.0);
     vec3 s = vec3(c.xy * 0.5 + 0.5, c.z);
     if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0))) || s.z > 1.0)
         return 1.0;
-    vec2 size = vec2(textureSize(shadow_map, 0)), t = s.xy * size - 0.5, i = floor(t), f = t - i;
+    // The cascade's square in the atlas: texel coordinates of the whole map.
+    float side = float(textureSize(shadow_map, 0).y);
+    vec2 size = vec2(textureSize(shadow_map, 0)), t = s.xy * side - 0.5 + vec2(float(cascade) * side, 0.0);
+    vec2 i = floor(t), f = t - i;
     // Each gather at a texel corner reads the 2x2 texels around it (texel
     // centres sit at k + 0.5): w, z on the row below the corner, x, y above.
     float ref = s.z - 0.0015;

@@ -59,9 +59,11 @@ VG_STRUCT(vg_frame_ubo) {
     VG_MAT4 view_proj_next;   /* at the next keyframe's time */
     VG_MAT4 view;             /* world -> view (linear depth = -z) */
     VG_MAT4 inv_view_proj;    /* clip -> world, for the sky */
-    VG_MAT4 light_view_proj;  /* world -> shadow map clip */
+    VG_MAT4 light_view_proj[2]; /* world -> shadow clip of each cascade: [0] the whole scene, [1] the near one */
     VG_VEC4 camera_pos;       /* xyz eye; w = far plane (background depth) */
-    VG_VEC4 sun_dir;          /* xyz unit vector toward the sun; w = shadow texel size (world) */
+    VG_VEC4 sun_dir;          /* xyz unit vector toward the sun; w unused */
+    VG_VEC4 shadow;           /* x: view depth (m) below which the near cascade shades (0: one cascade);
+                                 y, z: texel of cascade 0 / 1 in world metres; w unused */
     VG_VEC4 sun_color;        /* rgb radiance; w = ambient strength */
     VG_VEC4 sky_zenith;       /* rgb; w = fog density (1/m) */
     VG_VEC4 sky_horizon;      /* rgb; w = exposure */
@@ -86,6 +88,10 @@ VG_STRUCT(vg_frame_ubo) {
 
 /* vg_draw_push.flags */
 #define VG_DRAW_RIGHT_EYE 1u  /* warp/cameras: render the right eye */
+#define VG_DRAW_CASCADE 1u    /* shadow: which cascade (light_view_proj[flags & 1]) */
+/* The shadow map is an atlas of VG_SHADOW_CASCADES square maps side by side,
+ * cascade c in [c / N, (c + 1) / N) of its width. */
+#define VG_SHADOW_CASCADES 2
 
 /* Cascade stages of the warp (paper 4.6, Fig. 5). */
 #define VG_STAGE_NONE 0
@@ -113,7 +119,7 @@ VG_STRUCT(vg_draw_push) {
     VG_UINT instance_id;      /* 1-based */
     float saliency;           /* 0..1 */
     int texture_index;        /* index into the texture array, -1 for none */
-    VG_UINT flags;            /* unused, 0 */
+    VG_UINT flags;            /* VG_DRAW_* bits */
 };
 
 /* warp.classify: one entry per scene instance. Its flat and tessellated

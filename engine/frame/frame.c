@@ -408,8 +408,11 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.fps = 60;
     if (d.keyframe_stride <= 0)
         d.keyframe_stride = 10;
+    /* A cascade's texels follow the frame's rows, so a shadow looks the same
+     * at every size (light_setup's split depth then depends on the scene
+     * alone) and costs in proportion to the pixels, as the other passes. */
     if (!d.shadow_size)
-        d.shadow_size = 2048;
+        d.shadow_size = d.height * FRAME_SHADOW_TEXELS_PER_ROW < 256 ? 256 : d.height * FRAME_SHADOW_TEXELS_PER_ROW;
     if (d.mode == FRAME_MODE_DEFAULT)
         d.mode = FRAME_MODE_OPTIMIZED; /* f: motion in depth restored (issue 4) */
     if (d.compose == FRAME_COMPOSE_DEFAULT)
@@ -508,6 +511,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     stereo_display_init(&fc->display, &fc->desc.display);
     if (fc->desc.max_tess_level > g->props.limits.maxTessellationGenerationLevel)
         fc->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
+    if (fc->desc.shadow_size * VG_SHADOW_CASCADES > g->props.limits.maxImageDimension2D)
+        fc->desc.shadow_size = g->props.limits.maxImageDimension2D / VG_SHADOW_CASCADES;
 
     vg_status st = scene_gpu_create(g, s, &fc->sg);
     if (fc->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
@@ -583,36 +588,88 @@ void frame_destroy(frame *f)
 /* Rendering                                                                 */
 /* ------------------------------------------------------------------------- */
 
+/* The shadow map's texels kept free around a cascade's content, so the 4x4
+ * block of the filter (shade.glsl) never reads the neighbouring cascade. */
+#define SHADOW_MARGIN_TEXELS 4.0f
+/* The near cascade takes over where a texel of the whole scene's would cover
+ * more than this many screen pixels (its staircase shows along shadow edges). */
+#define SHADOW_SPLIT_PX 2.0f
+
+/* An orthographic box of half-width r around (x, y) of the light's view. */
+static void shadow_cascade(mat4 light_view, float x, float y, float r, float z_lo, float z_hi, vg_gmat4 *out)
+{
+    mat4 proj, vp;
+    glm_ortho(x - r, x + r, y - r, y + r, z_lo, z_hi, proj);
+    glm_mat4_mul(proj, light_view, vp);
+    memcpy(out->m, vp, sizeof vp);
+}
+
 /* Sun: low in the sky to the left and behind the viewer, so shadows fall
  * into the scene and give depth cues (a fixed light keeps captures stable).
- * Returns the shadow map's texel in world metres. */
-static float light_setup(const frame_ctx *fc, vg_frame_ubo *u)
+ *
+ * Two cascades share one atlas (VG_SHADOW_CASCADES). Cascade 0 covers the
+ * scene's bounding sphere now. Cascade 1 covers the bounding sphere of the
+ * view frustum from the near plane to the split depth: the depth at which a
+ * texel of the scene at rest (its bounds at t = 0, so the split stays put
+ * while a ball stretches the bounds) would cover SHADOW_SPLIT_PX pixels.
+ * Its size depends on the camera's field of view only, and its centre moves
+ * in whole texels of the light's view (whose axes are fixed: the sun's), so
+ * its shadow edges do not crawl as the camera moves. Without a perspective
+ * camera, or when it would be no finer than cascade 0, there is one. */
+static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
 {
     vec3 sun = {-0.42f, 0.74f, 0.52f};
     glm_vec3_normalize(sun);
     const scene_state *st = &fc->sg.now;
-    vec3 lo, hi, centre;
+    const vg_camera *cam = &fc->cam;
+    float size = (float)fc->desc.shadow_size, keep = size / (size - 2.0f * SHADOW_MARGIN_TEXELS);
+    vec3 lo, hi, centre, up = {0, 1, 0}, origin = {0, 0, 0};
     glm_vec3_copy((float *)st->bounds_min, lo);
     glm_vec3_copy((float *)st->bounds_max, hi);
     glm_vec3_center(lo, hi, centre);
     float radius = 0.5f * glm_vec3_distance(lo, hi) + 0.01f;
-    vec3 eye, up = {0, 1, 0};
-    glm_vec3_scale(sun, 2.0f * radius, eye);
-    glm_vec3_add(centre, eye, eye);
     if (fabsf(sun[1]) > 0.99f)
         glm_vec3_copy((vec3){0, 0, 1}, up);
-    mat4 view, proj, vp;
-    glm_lookat(eye, centre, up, view);
-    glm_ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius, proj);
-    glm_mat4_mul(proj, view, vp);
-    memcpy(u->light_view_proj.m, vp, sizeof vp);
-    float texel_m = 2.0f * radius / (float)fc->desc.shadow_size;
-    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], texel_m}, 16);
+    /* The light's view: a rotation (and a shift along its axis) only. */
+    mat4 view;
+    glm_lookat(sun, origin, up, view);
+    vec3 c;
+    glm_mat4_mulv3(view, centre, 1.0f, c);
+    /* Every caster lies in the scene's sphere: one depth range for both. */
+    float z_lo = -c[2] - 2.0f * radius, z_hi = -c[2] + 2.0f * radius;
+    float r0 = radius * keep;
+    shadow_cascade(view, c[0], c[1], r0, z_lo, z_hi, &u->light_view_proj[0]);
+    float texel[2] = {2.0f * r0 / size, 0.0f}, split = 0.0f;
+
+    if (!cam->orthographic && cam->yfov > 0.0f) {
+        const scene *sc = fc->scene;
+        float rest = 0.5f * glm_vec3_distance((float *)sc->bounds_min, (float *)sc->bounds_max) + 0.01f;
+        float px_at_1m = 2.0f * tanf(0.5f * cam->yfov) / (float)fc->desc.height;
+        float d = 2.0f * rest * keep / size / (SHADOW_SPLIT_PX * px_at_1m);
+        /* The smallest sphere around the frustum's slice [near, d]: k^2 is
+         * the squared tangent of the corner rays' angle to the axis. */
+        float n = cam->znear, k2 = tanf(0.5f * cam->yfov) * tanf(0.5f * cam->yfov) * (1.0f + cam->aspect * cam->aspect);
+        float along = fminf(0.5f * (d + n) * (1.0f + k2), d);
+        float r1 = sqrtf((d - along) * (d - along) + d * d * k2) * keep;
+        if (d > n && r1 < 0.5f * r0) {
+            vec3 mid, m;
+            glm_vec3_scale((float *)cam->forward, along, mid);
+            glm_vec3_add((float *)cam->position, mid, mid);
+            glm_mat4_mulv3(view, mid, 1.0f, m);
+            float t = 2.0f * r1 / size;
+            shadow_cascade(view, t * floorf(m[0] / t + 0.5f), t * floorf(m[1] / t + 0.5f), r1, z_lo, z_hi,
+                           &u->light_view_proj[1]);
+            texel[1] = t;
+            split = d;
+        }
+    }
+    fc->shadow_cascades = split > 0.0f ? 2 : 1;
+    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], 0.0f}, 16);
+    memcpy(u->shadow.v, (float[4]){split, texel[0], texel[1], 0.0f}, 16);
     memcpy(u->sun_color.v, (float[4]){3.1f, 2.9f, 2.6f, 0.55f}, 16);
     memcpy(u->sky_zenith.v, (float[4]){0.23f, 0.42f, 0.78f, 0.0035f}, 16);
     memcpy(u->sky_horizon.v, (float[4]){0.78f, 0.86f, 0.95f, 0.85f}, 16);
     memcpy(u->ground_color.v, (float[4]){0.30f, 0.27f, 0.22f, 0.0f}, 16);
-    return texel_m;
 }
 
 /* The original rig follows the render camera: its field of view and the
@@ -643,8 +700,8 @@ static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->warp2.v, (float[4]){(float)d->max_tess_level, d->diffuse ? 0.0f : 1.0f, d->measure ? 1.0f : 0.0f, 0}, 16);
 }
 
-/* The frame's constants; returns the shadow map's texel in metres. */
-static float fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
+/* The frame's constants. */
+static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
 {
     memset(u, 0, sizeof *u);
     memcpy(u->view_proj.m, fc->cam.view_proj, 64);
@@ -658,7 +715,7 @@ static float fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->camera_pos.v, (float[4]){fc->cam.position[0], fc->cam.position[1], fc->cam.position[2], fc->cam.zfar}, 16);
     memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
                                      1.0f / (float)fc->desc.height}, 16);
-    float shadow_texel_m = light_setup(fc, u);
+    light_setup(fc, u);
     stereo_setup(fc, u);
     /* Computed saliency: the contrast's reference colour and the depth
      * scale, the camera's distance to the scene's centre. */
@@ -667,7 +724,6 @@ static float fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
                    0.5f * (lo[2] + hi[2]) - fc->cam.position[2]};
     memcpy(u->saliency.v, (float[4]){fc->sg.mean_base[0], fc->sg.mean_base[1], fc->sg.mean_base[2],
                                      sqrtf(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]) + 1e-3f}, 16);
-    return shadow_texel_m;
 }
 
 /* The timestamps of a completed slot; a CPU device writes none (the pass
@@ -699,7 +755,11 @@ static vg_status frame_begin(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.now, fc->desc.camera, aspect, &fc->cam);
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
-    f->outputs.shadow_texel_m = fill_ubo(fc, fc->ubo[slot].mapped);
+    vg_frame_ubo *u = fc->ubo[slot].mapped;
+    fill_ubo(fc, u);
+    f->outputs.shadow_texel_m[0] = u->shadow.v[1];
+    f->outputs.shadow_texel_m[1] = u->shadow.v[2];
+    f->outputs.shadow_split_m = u->shadow.v[0];
     if (!f->vgx)
         return VG_OK;
     vgx_frame_plan plan;

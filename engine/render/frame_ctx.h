@@ -28,12 +28,13 @@ typedef struct frame_ctx {
     int slot;
     frame_times times;
     vg_camera cam, cam_prev, cam_next;
+    int shadow_cascades;     /* cascades the shadow pass draws (1 or VG_SHADOW_CASCADES: light_setup) */
 } frame_ctx;
 
 /* Resources of the frame graph, by name, for pass modules to connect. */
 typedef struct frame_resources {
     rg_res ubo, vertices, statics, indices;                /* imported scene streams */
-    rg_res shadow;                                         /* sun shadow map */
+    rg_res shadow;                                         /* sun shadow map: the cascades' atlas */
     rg_res color, depth, ids, motion, zbuffer;             /* G-buffer (centre eye) */
     rg_res g, h, f;                                        /* vergence maps, arcmin (R32F) */
     rg_res curve;                                          /* global depth -> vergence curve */

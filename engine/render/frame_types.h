@@ -71,6 +71,12 @@ extern const char *const frame_mode_names[];
 extern const char *const frame_look_ahead_names[]; /* "foresight", "causal" */
 extern const char *const frame_saliency_names[];   /* "auto", "authored", "computed" */
 
+/* Shadow texels per frame row by default (frame_desc.shadow_size): at 960x540
+ * about the 2048-texel map the engine had (2160); a texel of the whole scene's cascade
+ * covers two pixels at the split depth, the near cascade's about one at the
+ * balloon house (docs/architecture.md "Lighting"). */
+#define FRAME_SHADOW_TEXELS_PER_ROW 4u
+
 typedef struct frame_desc {
     uint32_t width, height;      /* 0 = 960x540 */
     double fps;                  /* 0 = 60 */
@@ -79,7 +85,8 @@ typedef struct frame_desc {
     bool readback;               /* copy the G-buffer to the host every frame */
     bool maps_only;              /* stereo frames: the G-buffer and the disparity maps g, h, f only (with
                                     readback: a simulated observer's view); no eyes are drawn */
-    uint32_t shadow_size;        /* 0 = 2048 */
+    uint32_t shadow_size;        /* a shadow cascade's side in texels, 0 = FRAME_SHADOW_TEXELS_PER_ROW x height
+                                    (at least 256; the atlas of the cascades at most the device's widest image) */
     stereo_display_desc display; /* the display model (zero = paper defaults) */
     stereo_camera_desc rig;      /* the original stereo camera; zero interaxial/convergence =
                                     FRAME_DEFAULT_INTERAXIAL / _CONVERGENCE; fov and width follow the render */
@@ -136,7 +143,9 @@ typedef struct frame_outputs {
     const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
     uint32_t stereo_width, stereo_height;
     const struct vg_curve *curve; /* the global depth -> vergence curve the warp used */
-    float shadow_texel_m;        /* the shadow map's texel in world metres (its sharpness: capture.json "shadow") */
+    /* The shadow cascades' texels in world metres (0: the whole scene, 1: near the camera; their
+     * sharpness: capture.json "shadow") and the view depth below which cascade 1 shades (0: none). */
+    float shadow_texel_m[2], shadow_split_m;
 } frame_outputs;
 
 /* The times a frame was rendered at. */

@@ -35,11 +35,20 @@ static void shadow_execute(const rg_context *ctx, void *user)
 {
     gbuffer_gpu *p = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
+    const frame_ctx *fc = p->fc;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->shadow);
-    frame_ctx_push_scene(p->fc, ctx, (rg_res){0});
+    frame_ctx_push_scene(fc, ctx, (rg_res){0});
     /* Slope-scaled bias keeps grazing surfaces free of acne. */
     vkCmdSetDepthBias(cmd, 1.0f, 0.0f, 1.75f);
-    scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_POSITIONS, 0);
+    /* Each cascade into its square of the atlas (frame.c light_setup). */
+    uint32_t side = fc->desc.shadow_size;
+    for (int c = 0; c < fc->shadow_cascades; c++) {
+        vkCmdSetViewport(cmd, 0, 1, &(VkViewport){(float)(c * side), 0, (float)side, (float)side, 0, 1});
+        vkCmdSetScissor(cmd, 0, 1, &(VkRect2D){{(int32_t)(c * side), 0}, {side, side}});
+        vkCmdPushConstants(cmd, fc->scene_layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof(vg_draw_push),
+                           &(vg_draw_push){.flags = (uint32_t)c});
+        scene_gpu_draw(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_POSITIONS, 0);
+    }
 }
 
 static void gbuffer_execute(const rg_context *ctx, void *user)
@@ -59,7 +68,8 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
 void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
 {
     uint32_t w = p->fc->desc.width, h = p->fc->desc.height, sz = p->fc->desc.shadow_size;
-    res->shadow = p->shadow_map = rg_image(g, &(rg_image_desc){"shadow.map", GBUFFER_DEPTH_FORMAT, sz, sz, 1});
+    res->shadow = p->shadow_map =
+        rg_image(g, &(rg_image_desc){"shadow.map", GBUFFER_DEPTH_FORMAT, VG_SHADOW_CASCADES * sz, sz, 1});
     gbuffer_targets t = gbuffer_gpu_targets(g, "gbuffer", w, h);
     res->color = t.color, res->depth = t.depth, res->ids = t.ids, res->motion = t.motion, res->zbuffer = t.zbuffer;
 

@@ -95,11 +95,13 @@ void capture_json_passes(vg_json *j, const capture_log *log)
 
 void capture_json_shadow(vg_json *j, const capture_log *log)
 {
-    double m, px;
-    capture_log_shadow(log, &m, &px);
+    double m[2], split, px;
+    capture_log_shadow(log, m, &split, &px);
     vg_json_object_begin(j, "shadow");
     vg_json_int(j, "map_px", log->shadow_map_px);
-    vg_json_num(j, "texel_m", m);
+    vg_json_num(j, "texel_m", m[0]);
+    vg_json_num(j, "near_texel_m", m[1]);
+    vg_json_num(j, "split_m", split);
     vg_json_num(j, "texel_px_median", px);
     vg_json_object_end(j);
 }

@@ -17,7 +17,7 @@ vg_status capture_log_begin(capture_log *log, const frame *f, const capture_log_
     log->cpu_ms = calloc(n, sizeof(double));
     log->cameras = calloc(n, sizeof(vg_camera));
     log->times = calloc(n, sizeof(frame_times));
-    log->shadow_m = calloc(n, sizeof(double));
+    log->shadow_m = calloc(3 * (size_t)n, sizeof(double));
     log->shadow_px = calloc(n, sizeof(double));
     if (!log->pass_ms || !log->cpu_ms || !log->cameras || !log->times || !log->shadow_m || !log->shadow_px)
         return VG_ERR_NOMEM;
@@ -29,12 +29,13 @@ vg_status capture_log_begin(capture_log *log, const frame *f, const capture_log_
 }
 
 /* How many screen pixels a shadow texel covers where it lands: the texel's
- * world size over a pixel's at each geometry pixel's depth (a texel of
+ * world size (of the cascade that shades the pixel: the near one below the
+ * split depth) over a pixel's at each geometry pixel's depth (a texel of
  * several pixels shows the shadow map's staircase along shadow edges through
  * the 3x3 filter), the median over the image; NAN without depth. */
 static double shadow_texel_px(const frame_outputs *fo, const vg_camera *cam, uint32_t w, uint32_t h)
 {
-    if (!fo->depth || !fo->ids || !(fo->shadow_texel_m > 0.0f))
+    if (!fo->depth || !fo->ids || !(fo->shadow_texel_m[0] > 0.0f))
         return NAN;
     /* A pixel's world size at depth 1 (orthographic: at every depth). */
     double px_at_1m = cam->orthographic ? 2.0 * cam->ymag / h : 2.0 * tan(0.5 * cam->yfov) / h;
@@ -45,7 +46,7 @@ static double shadow_texel_px(const frame_outputs *fo, const vg_camera *cam, uin
     for (size_t i = 0; i < (size_t)w * h; i++) {
         double z = cam->orthographic ? 1.0 : fo->depth[i];
         if (fo->ids[i] && z > 0.0 && isfinite(z))
-            v[n++] = fo->shadow_texel_m / (px_at_1m * z);
+            v[n++] = fo->shadow_texel_m[z < fo->shadow_split_m] / (px_at_1m * z);
     }
     double m = vg_median(v, n, 1);
     free(v);
@@ -85,7 +86,9 @@ vg_status capture_log_render(capture_log *log, frame *f, long index)
     log->times[i] = *frame_get_times(f);
     const frame_outputs *fo = frame_get_outputs(f);
     const frame_desc *d = frame_get_desc(f);
-    log->shadow_m[i] = fo->shadow_texel_m;
+    log->shadow_m[3 * i] = fo->shadow_texel_m[0];
+    log->shadow_m[3 * i + 1] = fo->shadow_texel_m[1];
+    log->shadow_m[3 * i + 2] = fo->shadow_split_m;
     log->shadow_px[i] = shadow_texel_px(fo, &log->cameras[i], d->width, d->height);
     if (log->warp_every_frame && d->stereo != FRAME_STEREO_OFF)
         st = warp_metrics_add(&log->warp, fo, d->width, d->height);
@@ -121,8 +124,10 @@ double capture_log_pass_median(const capture_log *log, uint32_t pass)
 
 double capture_log_frame_median(const capture_log *log) { return vg_median(log->cpu_ms, (size_t)log->frames, 1); }
 
-void capture_log_shadow(const capture_log *log, double *texel_m, double *texel_px)
+void capture_log_shadow(const capture_log *log, double texel_m[2], double *split_m, double *texel_px)
 {
-    *texel_m = vg_median(log->shadow_m, (size_t)log->frames, 1);
+    texel_m[0] = vg_median(log->shadow_m, (size_t)log->frames, 3);
+    texel_m[1] = vg_median(log->shadow_m + 1, (size_t)log->frames, 3);
+    *split_m = vg_median(log->shadow_m + 2, (size_t)log->frames, 3);
     *texel_px = vg_median(log->shadow_px, (size_t)log->frames, 1);
 }

@@ -28,8 +28,10 @@ typedef struct capture_log {
     vg_camera *cameras;          /* frames */
     frame_times *times;          /* frames */
     uint32_t shadow_map_px;      /* the shadow map's size (the frame's, resolved) */
-    double *shadow_m, *shadow_px; /* frames: the shadow texel in metres, and in screen pixels where it lands
-                                   * (median over the geometry's pixels; NAN without the depth read back) */
+    double *shadow_m;            /* frames x 3: the shadow cascades' texels in metres (whole scene, near) and
+                                    the split depth (0: one cascade) */
+    double *shadow_px;           /* frames: the shadow texel in screen pixels where it lands (median over the
+                                    geometry's pixels; NAN without the depth read back) */
     bool warp_every_frame;
     warp_metrics warp;
     science_metrics *science;    /* NULL unless asked for and the frame has the disparity pipeline */
@@ -47,5 +49,5 @@ void capture_log_free(capture_log *log);
 /* Medians over the recorded frames (NAN when a pass never ran). */
 double capture_log_pass_median(const capture_log *log, uint32_t pass);
 double capture_log_frame_median(const capture_log *log);
-/* The shadow texel over the frames (median): metres, screen pixels. */
-void capture_log_shadow(const capture_log *log, double *texel_m, double *texel_px);
+/* The shadow over the frames (medians): each cascade's texel in metres, the split depth, screen pixels. */
+void capture_log_shadow(const capture_log *log, double texel_m[2], double *split_m, double *texel_px);

@@ -223,7 +223,7 @@ static void choose_render_size(session *ss, bool announce)
     game_frame_defaults(window_gpu(ss->win), w->tess_error, &fd);
     if (announce && cpu)
         vg_warn("play: %s is a CPU rasteriser: rendering %ux%u per eye%s, error-driven tessellation to %.2g px, "
-                "1024 px shadows, to stay interactive (--render-size and --tess-error override)",
+                "to stay interactive (--render-size and --tess-error override)",
                 window_gpu(ss->win)->props.deviceName, ss->rw, ss->rh,
                 interleaved ? " (1:1 for the interleaved output: slow)" : "", fd.tess_error);
     scene_state st;

@@ -271,7 +271,6 @@ game_cell game_hit_cell(int c)
 void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd)
 {
     fd->tess_error = tess_error > 0 ? tess_error : g->is_cpu ? 0.5 : 0.0; /* 0: the engine's */
-    fd->shadow_size = g->is_cpu ? 1024 : 0;
 }
 
 frame_desc game_frame_desc(const gpu *g, double tess_error, frame_mode mode, uint32_t w, uint32_t h,

@@ -134,8 +134,8 @@ typedef struct game_cell {
 game_cell game_hit_cell(int cell);
 
 /* The frame of the game and the studies on a device: a CPU rasteriser gets
- * error-driven tessellation at 0.5 px (tess_error overrides; 0 = default)
- * and a 1024 px shadow map, to stay interactive; a GPU the engine's. */
+ * error-driven tessellation at 0.5 px (tess_error overrides; 0 = default),
+ * to stay interactive; a GPU the engine's. */
 void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd);
 /* `vergence play`'s window and layout by default. */
 #define GAME_WINDOW_W 1280
