@@ -22,8 +22,7 @@ float sun_visibility(vec3 world, vec3 n)
     if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0))) || s.z > 1.0)
         return 1.0;
     // The cascade's square in the atlas: texel coordinates of the whole map.
-    float side = float(textureSize(shadow_map, 0).y);
-    vec2 size = vec2(textureSize(shadow_map, 0)), t = s.xy * side - 0.5 + vec2(float(cascade) * side, 0.0);
+    vec2 size = vec2(textureSize(shadow_map, 0)), t = s.xy * size.y - 0.5 + vec2(float(cascade) * size.y, 0.0);
     vec2 i = floor(t), f = t - i;
     // Each gather at a texel corner reads the 2x2 texels around it (texel
     // centres sit at k + 0.5): w, z on the row below the corner, x, y above.

@@ -615,7 +615,8 @@ static void shadow_cascade(mat4 light_view, float x, float y, float r, float z_l
  * Its size depends on the camera's field of view only, and its centre moves
  * in whole texels of the light's view (whose axes are fixed: the sun's), so
  * its shadow edges do not crawl as the camera moves. Without a perspective
- * camera, or when it would be no finer than cascade 0, there is one. */
+ * camera, or when it would be less than twice as fine as cascade 0, there is
+ * one. */
 static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
 {
     vec3 sun = {-0.42f, 0.74f, 0.52f};
