@@ -293,6 +293,8 @@ static vg_status build_graph(frame *f)
     vg_status st = rg_compile(g);
     if (st == VG_OK)
         st = rg_realize(g, fc->gpu);
+    if (st == VG_OK)
+        gbuffer_gpu_bind(f->gbuffer, g);
     return st;
 }
 

@@ -284,14 +284,17 @@ void scene_gpu_push_instance(const scene_gpu *sg, VkCommandBuffer cmd, VkPipelin
     vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof push, &push);
 }
 
-void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
-                          scene_input input, uint32_t flags, uint32_t max_triangles)
+static void draw_instances(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                           scene_input input, uint32_t flags, uint32_t max_triangles, const uint8_t *mask,
+                           uint8_t value)
 {
     const scene *s = sg->scene;
     if (!s->index_count)
         return;
     scene_gpu_bind(sg, cmd, slot, input, VK_NULL_HANDLE);
     for (int i = 0; i < s->instance_count; i++) {
+        if (mask && mask[i] != value)
+            continue;
         const scene_instance *in = &s->instances[i];
         const scene_primitive *p = &s->primitives[in->primitive];
         if (input != SCENE_INPUT_POSITIONS)
@@ -302,4 +305,16 @@ void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, Vk
             vkCmdDrawIndexed(cmd, count, 1, in->first_index + first, (int32_t)in->first_vertex, 0);
         }
     }
+}
+
+void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                          scene_input input, uint32_t flags, uint32_t max_triangles)
+{
+    draw_instances(sg, cmd, slot, layout, input, flags, max_triangles, NULL, 0);
+}
+
+void scene_gpu_draw_where(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                          scene_input input, uint32_t flags, const uint8_t *mask, uint8_t value)
+{
+    draw_instances(sg, cmd, slot, layout, input, flags, 0, mask, value);
 }

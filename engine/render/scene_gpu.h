@@ -82,3 +82,6 @@ void scene_gpu_push_instance(const scene_gpu *sg, VkCommandBuffer cmd, VkPipelin
  * vertices (PLATFORM.md). */
 void scene_gpu_draw_split(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
                           scene_input input, uint32_t flags, uint32_t max_triangles);
+/* As scene_gpu_draw, only the instances i with mask[i] == value. */
+void scene_gpu_draw_where(const scene_gpu *sg, VkCommandBuffer cmd, int slot, VkPipelineLayout layout,
+                          scene_input input, uint32_t flags, const uint8_t *mask, uint8_t value);

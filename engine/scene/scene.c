@@ -263,9 +263,17 @@ static void bounds_of(const float *pos, size_t n, float lo[3], float hi[3])
         }
 }
 
-/* An instance's vertices in world space. A rigid one (no morph weights, no
- * skin) whose world matrix is the one it was last placed with keeps its
- * vertices: the same inputs, the same bits (most of a scene stands still). */
+bool scene_instance_rigid(const scene *s, const scene_state *st, int i)
+{
+    const scene_instance *in = &s->instances[i];
+    const scene_primitive *p = &s->primitives[in->primitive];
+    bool skinned = s->nodes[in->node].skin >= 0 && p->joints && p->weights;
+    return st->morph_offset[in->node + 1] == st->morph_offset[in->node] && !skinned;
+}
+
+/* An instance's vertices in world space. A rigid one whose world matrix is
+ * the one it was last placed with keeps its vertices: the same inputs, the
+ * same bits (most of a scene stands still). */
 static void place_instances(const scene *s, scene_state *st)
 {
     for (int i = 0; i < s->instance_count; i++) {
@@ -278,7 +286,7 @@ static void place_instances(const scene *s, scene_state *st)
         int wc = st->morph_offset[in->node + 1] - st->morph_offset[in->node];
         bool skinned = n->skin >= 0 && p->joints && p->weights;
         float *placed = st->placed + (size_t)i * 16;
-        if (wc == 0 && !skinned && !isnan(placed[0]) && !memcmp(placed, world, 16 * sizeof(float)))
+        if (scene_instance_rigid(s, st, i) && !isnan(placed[0]) && !memcmp(placed, world, 16 * sizeof(float)))
             continue;
         memcpy(placed, world, 16 * sizeof(float));
         morph(p, st->morph_weights + st->morph_offset[in->node], wc, pos, nrm);

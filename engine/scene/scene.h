@@ -231,6 +231,9 @@ void scene_set_pose_hook(scene *s, scene_pose_fn fn, void *user);
 /* Whether any node authors extras.saliency (else every instance has 0 and
  * the frame may compute saliency: docs/method.md section 3). */
 bool scene_has_saliency(const scene *s);
+/* Instance i's vertices are its rest positions under its world matrix alone
+ * (no morph weights, no skin): where st->placed is unchanged, so are they. */
+bool scene_instance_rigid(const scene *s, const scene_state *st, int i);
 /* The scene's mean base colour (linear RGB): each instance's material
  * factor x its texture's mean x its vertex colours' mean, weighted by its
  * triangles (the reference of computed saliency's colour contrast). */

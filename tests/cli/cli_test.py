@@ -146,6 +146,22 @@ def case_shadow():
     check_shadow_figure(j, out, frames=1, bound_px=2.0)
 
 
+def case_shadow_cache():
+    """Frames whose still casters come from the shadow cache (a sequence: the balloon flies, the rest stands)
+    are byte-equal to frames rendered without a history (each frame on its own: every caster drawn)."""
+    tmp = tempfile.mkdtemp(prefix="vergence_shadow_cache_")
+    seq = os.path.join(tmp, "seq")
+    capture("content/balloon.gltf", seq, frames=6, size="320x180", extra=["--time", "1", "--stereo-render", "off"])
+    for i in (1, 3, 5):
+        one = os.path.join(tmp, f"one_{i}")
+        capture("content/balloon.gltf", one, size="320x180",
+                extra=["--time", repr(1 + i / 60), "--stereo-render", "off"])
+        if not filecmp.cmp(os.path.join(seq, f"frame_{i:04d}_color.png"), os.path.join(one, "frame_0000_color.png"),
+                           shallow=False):
+            sys.exit(f"FAIL: frame {i} of a sequence (shadow cache) differs from the same frame rendered alone")
+    print("frames 1, 3, 5 of a sequence equal the same frames rendered alone")
+
+
 def check_shadow_figure(j, out, frames, bound_px):
     """capture.json's shadow texel in screen pixels, recomputed from the depth maps: the texel of the cascade
     that shades each geometry pixel (the near one below the split depth) in metres over a pixel's at its depth
