@@ -147,6 +147,18 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
     vkCmdDraw(cmd, 3, 1, 0, 0);
 }
 
+/* A depth pass of the sun's casters into target. */
+static void shadow_pass(rg_graph *g, const frame_resources *res, const char *name, rg_execute_fn execute,
+                        gbuffer_gpu *p, rg_res target)
+{
+    rg_pass pass = rg_pass_add(g, &(rg_pass_desc){.name = name, .type = RG_PASS_GRAPHICS, .execute = execute,
+                                                  .user = p});
+    rg_use(g, pass, res->ubo, RG_UNIFORM);
+    rg_use(g, pass, res->vertices, RG_VERTEX);
+    rg_use(g, pass, res->indices, RG_INDEX);
+    rg_use(g, pass, target, RG_DEPTH_WRITE);
+}
+
 void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
 {
     uint32_t w = p->fc->desc.width, h = p->fc->desc.height, sz = p->fc->desc.shadow_size;
@@ -158,22 +170,12 @@ void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
     gbuffer_targets t = gbuffer_gpu_targets(g, "gbuffer", w, h);
     res->color = t.color, res->depth = t.depth, res->ids = t.ids, res->motion = t.motion, res->zbuffer = t.zbuffer;
 
-    rg_pass cached = rg_pass_add(g, &(rg_pass_desc){.name = "shadow.static", .type = RG_PASS_GRAPHICS,
-                                                    .execute = shadow_static_execute, .user = p});
-    rg_use(g, cached, res->ubo, RG_UNIFORM);
-    rg_use(g, cached, res->vertices, RG_VERTEX);
-    rg_use(g, cached, res->indices, RG_INDEX);
-    rg_use(g, cached, p->shadow_cache, RG_DEPTH_WRITE);
+    shadow_pass(g, res, "shadow.static", shadow_static_execute, p, p->shadow_cache);
     rg_pass copy = rg_pass_add(g, &(rg_pass_desc){.name = "shadow.copy", .type = RG_PASS_TRANSFER,
                                                   .execute = shadow_copy_execute, .user = p});
     rg_use(g, copy, p->shadow_cache, RG_TRANSFER_SRC);
     rg_use(g, copy, res->shadow, RG_TRANSFER_DST);
-    rg_pass shadow = rg_pass_add(g, &(rg_pass_desc){.name = "shadow", .type = RG_PASS_GRAPHICS,
-                                                    .execute = shadow_execute, .user = p});
-    rg_use(g, shadow, res->ubo, RG_UNIFORM);
-    rg_use(g, shadow, res->vertices, RG_VERTEX);
-    rg_use(g, shadow, res->indices, RG_INDEX);
-    rg_use(g, shadow, res->shadow, RG_DEPTH_WRITE);
+    shadow_pass(g, res, "shadow", shadow_execute, p, res->shadow);
 
     rg_pass gbuf = rg_pass_add(g, &(rg_pass_desc){.name = "gbuffer", .type = RG_PASS_GRAPHICS,
                                                   .execute = gbuffer_execute, .user = p});
