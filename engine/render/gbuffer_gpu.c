@@ -73,6 +73,13 @@ static void shadow_begin(const gbuffer_gpu *p, const rg_context *ctx, VkCommandB
  * (so a thrown ball leaves it while it flies); a cascade is drawn again when
  * the set changed or its box moved. Depth keeps the nearest of all draws,
  * so the cached and the drawn casters give the map a single pass would. */
+/* Instance i is rigid and placed as it was the frame before. */
+static bool standing_still(const gbuffer_gpu *p, const scene_state *st, int i)
+{
+    return p->have_last && scene_instance_rigid(p->fc->scene, st, i) &&
+           !memcmp(st->placed + (size_t)i * 16, p->last_placed + (size_t)i * 16, 16 * sizeof(float));
+}
+
 static void shadow_static_execute(const rg_context *ctx, void *user)
 {
     gbuffer_gpu *p = user;
@@ -82,16 +89,12 @@ static void shadow_static_execute(const rg_context *ctx, void *user)
     const vg_frame_ubo *u = fc->ubo[fc->slot].mapped;
     size_t mat = 16 * sizeof(float);
     bool keep = p->cache_set;
-    for (int i = 0; i < s->instance_count && keep; i++) {
-        const float *now = st->placed + (size_t)i * 16;
-        bool still = p->have_last && scene_instance_rigid(s, st, i) &&
-                     !memcmp(now, p->last_placed + (size_t)i * 16, mat);
-        keep = p->in_cache[i] ? !memcmp(now, p->cache_placed + (size_t)i * 16, mat) : !still;
-    }
+    for (int i = 0; i < s->instance_count && keep; i++)
+        keep = p->in_cache[i] ? !memcmp(st->placed + (size_t)i * 16, p->cache_placed + (size_t)i * 16, mat)
+                              : !standing_still(p, st, i);
     if (!keep) {
         for (int i = 0; i < s->instance_count; i++)
-            p->in_cache[i] = p->have_last && scene_instance_rigid(s, st, i) &&
-                             !memcmp(st->placed + (size_t)i * 16, p->last_placed + (size_t)i * 16, mat);
+            p->in_cache[i] = standing_still(p, st, i);
         memcpy(p->cache_placed, st->placed, (size_t)s->instance_count * mat);
         memset(p->cache_valid, 0, sizeof p->cache_valid);
         p->cache_set = true;

@@ -263,12 +263,16 @@ static void bounds_of(const float *pos, size_t n, float lo[3], float hi[3])
         }
 }
 
+static bool instance_skinned(const scene *s, const scene_instance *in)
+{
+    const scene_primitive *p = &s->primitives[in->primitive];
+    return s->nodes[in->node].skin >= 0 && p->joints && p->weights;
+}
+
 bool scene_instance_rigid(const scene *s, const scene_state *st, int i)
 {
     const scene_instance *in = &s->instances[i];
-    const scene_primitive *p = &s->primitives[in->primitive];
-    bool skinned = s->nodes[in->node].skin >= 0 && p->joints && p->weights;
-    return st->morph_offset[in->node + 1] == st->morph_offset[in->node] && !skinned;
+    return st->morph_offset[in->node + 1] == st->morph_offset[in->node] && !instance_skinned(s, in);
 }
 
 /* An instance's vertices in world space. A rigid one whose world matrix is
@@ -284,7 +288,7 @@ static void place_instances(const scene *s, scene_state *st)
         float *pos = st->positions + (size_t)in->first_vertex * 3;
         float *nrm = st->normals + (size_t)in->first_vertex * 3;
         int wc = st->morph_offset[in->node + 1] - st->morph_offset[in->node];
-        bool skinned = n->skin >= 0 && p->joints && p->weights;
+        bool skinned = instance_skinned(s, in);
         float *placed = st->placed + (size_t)i * 16;
         if (scene_instance_rigid(s, st, i) && !isnan(placed[0]) && !memcmp(placed, world, 16 * sizeof(float)))
             continue;
