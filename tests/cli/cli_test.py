@@ -427,8 +427,8 @@ def case_validation_sweep():
             "least ratio: two cameras + gbuffer (timed)")
         if not ratio or not least or "ratio, MID passes free (passes timed)" not in rows:
             return "bench printed no ratio, or not its floors"
-        if not all(1.0 < float(v.rstrip("x")) for v in least):
-            return "bench: least ratio %s" % least
+        if not all(1.0 < float(lo.rstrip("x")) < float(r.rstrip("x")) for lo, r in zip(least, ratio)):
+            return "bench: least ratio %s, ratio %s" % (least, ratio)
         if not os.path.isfile(os.path.join(tmp, "bench.md")):
             return "bench wrote no table"
         return None
