@@ -287,14 +287,13 @@ static void place_instances(const scene *s, scene_state *st)
         const float *world = st->world + (size_t)in->node * 16;
         float *pos = st->positions + (size_t)in->first_vertex * 3;
         float *nrm = st->normals + (size_t)in->first_vertex * 3;
-        int wc = st->morph_offset[in->node + 1] - st->morph_offset[in->node];
-        bool skinned = instance_skinned(s, in);
         float *placed = st->placed + (size_t)i * 16;
         if (scene_instance_rigid(s, st, i) && !isnan(placed[0]) && !memcmp(placed, world, 16 * sizeof(float)))
             continue;
         memcpy(placed, world, 16 * sizeof(float));
+        int wc = st->morph_offset[in->node + 1] - st->morph_offset[in->node];
         morph(p, st->morph_weights + st->morph_offset[in->node], wc, pos, nrm);
-        if (skinned) {
+        if (instance_skinned(s, in)) {
             size_t first = 0;
             for (int k = 0; k < n->skin; k++)
                 first += (size_t)s->skins[k].joint_count;
