@@ -67,12 +67,6 @@ static void shadow_begin(const gbuffer_gpu *p, const rg_context *ctx, VkCommandB
     vkCmdSetDepthBias(cmd, 1.0f, 0.0f, 1.75f);
 }
 
-/* Chooses what the cache holds and draws the cascades whose cache is stale.
- * Its set is the rigid instances that did not move since the frame before;
- * it is chosen again when one of them moves or another has come to rest
- * (so a thrown ball leaves it while it flies); a cascade is drawn again when
- * the set changed or its box moved. Depth keeps the nearest of all draws,
- * so the cached and the drawn casters give the map a single pass would. */
 /* Instance i is rigid and placed as it was the frame before. */
 static bool standing_still(const gbuffer_gpu *p, const scene_state *st, int i)
 {
@@ -80,6 +74,12 @@ static bool standing_still(const gbuffer_gpu *p, const scene_state *st, int i)
            !memcmp(st->placed + (size_t)i * 16, p->last_placed + (size_t)i * 16, 16 * sizeof(float));
 }
 
+/* Chooses what the cache holds and draws the cascades whose cache is stale.
+ * Its set is the rigid instances that did not move since the frame before;
+ * it is chosen again when one of them moves or another has come to rest
+ * (so a thrown ball leaves it while it flies); a cascade is drawn again when
+ * the set changed or its box moved. Depth keeps the nearest of all draws,
+ * so the cached and the drawn casters give the map a single pass would. */
 static void shadow_static_execute(const rg_context *ctx, void *user)
 {
     gbuffer_gpu *p = user;
