@@ -94,31 +94,54 @@ static vg_status set_value(const vg_cmd *cmd, const vg_opt *o, const char *val)
     }
 }
 
+/* An option given twice: a file or name (--out a --out b) is ambiguous and
+ * refused; a number or choice given again is an override, and the line says
+ * which value counts. The same value twice is harmless. */
+static vg_status repeated(const vg_cmd *cmd, const vg_opt *o, const char *before, const char *val)
+{
+    if (!strcmp(before, val))
+        return VG_OK;
+    if (o->kind == VG_OPT_STRING) {
+        vg_error("%s: %s given twice ('%s', then '%s'): give it once (see 'vergence %s --help')", cmd->name,
+                 o->name, before, val, cmd->name);
+        return VG_ERR_ARG;
+    }
+    vg_warn("%s: %s given twice: the last, '%s', counts ('%s' is ignored)", cmd->name, o->name, val, before);
+    return VG_OK;
+}
+
 vg_status vg_cli_parse(const vg_cmd *cmd, int argc, char **argv, bool *help)
 {
     *help = false;
-    for (int i = 1; i < argc; i++) {
+    /* The value each option was given, to find one given twice. */
+    const char **given = cmd->opt_count > 0 ? calloc((size_t)cmd->opt_count, sizeof *given) : NULL;
+    vg_status st = cmd->opt_count > 0 && !given ? VG_ERR_NOMEM : VG_OK;
+    for (int i = 1; i < argc && st == VG_OK; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             vg_cli_print_help(cmd, stdout);
             *help = true;
+            free(given);
             return VG_OK;
         }
         if (strncmp(a, "--", 2) != 0) {
             vg_error("%s: unexpected argument '%s' (see 'vergence %s --help')", cmd->name, a, cmd->name);
-            return VG_ERR_ARG;
+            st = VG_ERR_ARG;
+            break;
         }
         const char *eq = strchr(a, '=');
         size_t len = eq ? (size_t)(eq - a) : strlen(a);
         const vg_opt *o = find(cmd, a, len);
         if (!o) {
             vg_error("%s: unknown option '%.*s' (see 'vergence %s --help')", cmd->name, (int)len, a, cmd->name);
-            return VG_ERR_ARG;
+            st = VG_ERR_ARG;
+            break;
         }
         if (o->kind == VG_OPT_FLAG) {
             if (eq) {
                 vg_error("%s: %s takes no value", cmd->name, o->name);
-                return VG_ERR_ARG;
+                st = VG_ERR_ARG;
+                break;
             }
             *(bool *)o->dest = true;
             continue;
@@ -126,13 +149,17 @@ vg_status vg_cli_parse(const vg_cmd *cmd, int argc, char **argv, bool *help)
         const char *val = eq ? eq + 1 : (i + 1 < argc ? argv[++i] : NULL);
         if (!val) {
             vg_error("%s: %s needs a value %s", cmd->name, o->name, o->metavar ? o->metavar : "");
-            return VG_ERR_ARG;
+            st = VG_ERR_ARG;
+            break;
         }
-        vg_status st = set_value(cmd, o, val);
-        if (st != VG_OK)
-            return st;
+        const char **seen = &given[o - cmd->opts];
+        if (*seen && (st = repeated(cmd, o, *seen, val)) != VG_OK)
+            break;
+        *seen = val;
+        st = set_value(cmd, o, val);
     }
-    return VG_OK;
+    free(given);
+    return st;
 }
 
 vg_status vg_cli_require(const vg_cmd *cmd, const char *name, const void *value_set)
