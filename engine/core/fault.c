@@ -1,6 +1,8 @@
 /* vergence — injected faults. */
 #include "fault.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,7 +28,13 @@ vg_status vg_fault_check(void)
         const char *end = strchr(p, ','), *colon = strchr(p, ':');
         size_t len = end ? (size_t)(end - p) : strlen(p);
         char *num_end = NULL;
+        errno = 0;
         long n = colon && colon < p + len ? strtol(colon + 1, &num_end, 10) : 0;
+        if (errno == ERANGE) { /* strtol would clamp it to 2^63 - 1 without a word */
+            vg_error("VERGENCE_FAULT=%s: '%.*s': the count is past %ld, the largest this build holds", f, (int)len, p,
+                     LONG_MAX);
+            return VG_ERR_ARG;
+        }
         if (!colon || colon >= p + len || !listed(k_faults, p, (size_t)(colon - p)) || n < 1 ||
             num_end != p + len) {
             vg_error("VERGENCE_FAULT=%s: '%.*s' is not NAME:N with N >= 1 and NAME one of device-lost, enospc, kill, present-ms",
