@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/io.h"
@@ -25,6 +26,8 @@
 #include "warp/image_warp.h"
 
 #define PATH_CAP 4096
+#define FLOW_REACH 4          /* frame widths a flow vector may span (plausibility) */
+#define VERGENCE_MAX 10800.0  /* arcmin: a vergence angle is below 180 degrees */
 
 /* ------------------------------------------------------------------------- */
 /* Run state                                                                 */
@@ -113,6 +116,18 @@ static vg_status read_frame(seq *s, const disp_pattern *p, int t, int channels, 
     for (int i = 0; i < n; i++)
         if (!isfinite(img->data[i]) && !(inf_unknown && isinf(img->data[i]))) {
             vg_error("%s: %s has a non-finite value at pixel %d", path, what, i / channels);
+            vg_imagef_free(img);
+            return VG_ERR_FORMAT;
+        }
+    /* A flow moves a pixel within reach of the frame: a few widths at most
+     * (Middlebury's "unknown", above 1e9, is not supported either). */
+    float reach = (float)(FLOW_REACH * (img->width > img->height ? img->width : img->height));
+    for (int i = 0; channels == 2 && i < n; i++)
+        if (fabsf(img->data[i]) > reach) {
+            int px = i / 2;
+            vg_error("%s: flow (%g, %g) at pixel (%d, %d) moves farther than %d frame widths (%g px): not a flow "
+                     "of these %dx%d frames", path, img->data[2 * px], img->data[2 * px + 1], px % img->width,
+                     px / img->width, FLOW_REACH, reach, img->width, img->height);
             vg_imagef_free(img);
             return VG_ERR_FORMAT;
         }
@@ -205,7 +220,22 @@ static vg_status read_g(seq *s, int t, float *out)
             s->raw_min = fmin(s->raw_min, v);
             s->raw_max = fmax(s->raw_max, v);
         }
-        if (g_in_px(s))
+        /* Plausibility: a pixel disparity within the frame's width, a
+         * vergence angle below 180 degrees. */
+        bool px = g_in_px(s);
+        if (!s->unknown[i] && (px ? fabs(v) > s->w : v >= VERGENCE_MAX)) {
+            char path[PATH_CAP];
+            frame_path(&s->pg, t, path);
+            if (px)
+                vg_error("%s: g is %g pixels at pixel (%d, %d), more than the frame's width (%d): not a disparity of "
+                         "these frames", path, v, i % s->w, i / s->w, s->w);
+            else
+                vg_error("%s: g is %g arcmin at pixel (%d, %d): a vergence angle lies in (0, %.0f) arcmin (0 to "
+                         "180 degrees)", path, v, i % s->w, i / s->w, VERGENCE_MAX);
+            vg_imagef_free(&img);
+            return VG_ERR_FORMAT;
+        }
+        if (px)
             v = stereo_vergence_from_dataset_px(&s->disp, v, s->d->px_zero, s->w);
         /* Vergence is positive (DESIGN.md); a divergent value is clamped. */
         if (!(v > 0.5)) {
@@ -237,6 +267,15 @@ static vg_status read_plane(seq *s, const disp_pattern *p, int t, const char *wh
             frame_path(p, t, path);
             vg_error("%s: depth %g at pixel (%d, %d): depths must be > 0 (metres in front of the camera)", path,
                      img.data[i], i % img.width, i / img.width);
+            st = VG_ERR_FORMAT;
+        }
+    /* h is vergence, as g. */
+    for (int i = 0; st == VG_OK && p == &s->ph && i < img.width * img.height; i++)
+        if (!(img.data[i] > 0 && img.data[i] < VERGENCE_MAX)) {
+            char path[PATH_CAP];
+            frame_path(p, t, path);
+            vg_error("%s: h is %g arcmin at pixel (%d, %d): a vergence angle lies in (0, %.0f) arcmin (0 to 180 "
+                     "degrees)", path, img.data[i], i % img.width, i / img.width, VERGENCE_MAX);
             st = VG_ERR_FORMAT;
         }
     if (st == VG_OK && out)
@@ -917,11 +956,21 @@ static vg_status check_outputs(seq *s)
         {&s->pfn, s->has_fn, "--flow-next"}, {&s->pfp, s->has_fp, "--flow-prev"}, {&s->ps, s->has_s, "--saliency"},
         {&s->pid, s->has_id, "--ids"}, {&s->pim, s->has_im, "--image"}};
     vg_status st = VG_OK;
+    /* Each frame is found before the next is named: a range far past the
+     * files (--frames 0:99999999) stops at the first missing one, bounded
+     * by what exists rather than by the number given; pass A then reports
+     * it, in frame order, before anything is written. The flow to the next
+     * frame is not read at the last frame, nor the previous at the first. */
     for (size_t k = 0; k < sizeof seqs / sizeof seqs[0] && st == VG_OK; k++)
         for (int t = d->first; seqs[k].has && t <= d->last && st == VG_OK; t++) {
             char path[PATH_CAP];
-            if ((st = frame_path(seqs[k].p, t, path)) == VG_OK)
-                st = vg_inputs_add(&in, seqs[k].label, path);
+            bool read = !((seqs[k].p == &s->pfn && t == d->last) || (seqs[k].p == &s->pfp && t == d->first));
+            struct stat sb;
+            if ((st = frame_path(seqs[k].p, t, path)) != VG_OK)
+                break;
+            if (read && stat(path, &sb) != 0)
+                break;
+            st = vg_inputs_add(&in, seqs[k].label, path);
         }
     if (st == VG_OK)
         st = vg_inputs_check_dir(&in, "--out", d->out_dir, "metrics.json", writes);
@@ -955,7 +1004,14 @@ static vg_status parse_patterns(seq *s)
 }
 
 /* Keyframes every stride frames from the first; the last frame is always one
- * (its interval may be shorter: dt is per interval). */
+ * (its interval may be shorter: dt is per interval). Counted before pass A,
+ * placed after it: nothing proportional to --frames is allocated before
+ * every frame was found. */
+static int keyframe_count(const seq *s)
+{
+    return (s->frames - 1) / s->stride + 1 + ((s->frames - 1) % s->stride != 0);
+}
+
 static vg_status place_keyframes(seq *s)
 {
     int count = (s->frames - 1) / s->stride + 1;
@@ -1011,9 +1067,9 @@ vg_status offline_run(const offline_desc *d)
         vg_info("optimize: approximating %s by the other flow negated", s.has_fn ? "--flow-prev" : "--flow-next");
     s.fps = d->fps > 0 ? d->fps : 60.0;
     stereo_display_init(&s.disp, &d->display);
+    s.nt = keyframe_count(&s);
     if ((st = vg_pool_create(&(vg_pool_desc){.threads = d->threads}, &s.pool)) != VG_OK ||
-        (st = place_keyframes(&s)) != VG_OK ||
-        (st = pass_validate(&s)) != VG_OK)
+        (st = pass_validate(&s)) != VG_OK || (st = place_keyframes(&s)) != VG_OK)
         goto done;
     /* The inputs hold: the earlier result in --out goes (metrics.json first,
      * then its files). */
