@@ -531,6 +531,18 @@ vg_status vg_png_write(const char *path, int width, int height, int comp, const 
     return st;
 }
 
+/* Pearson correlation of two channels of 8-bit RGB pixels (0 when one is constant). */
+static double channel_correlation(const uint8_t *c, size_t count, int a, int b)
+{
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    for (size_t i = 0; i < count; i++) {
+        double x = c[3 * i + (size_t)a], y = c[3 * i + (size_t)b];
+        sa += x, sb += y, saa += x * x, sbb += y * y, sab += x * y;
+    }
+    double va = saa - sa * sa / (double)count, vb = sbb - sb * sb / (double)count;
+    return va > 0 && vb > 0 ? (sab - sa * sb / (double)count) / sqrt(va * vb) : 0.0;
+}
+
 vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **encoding)
 {
     uint8_t *buf;
@@ -539,6 +551,16 @@ vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **e
     vg_status st = vg_file_read(path, &buf, &size);
     if (st != VG_OK)
         return st;
+    st = vg_disparity_png_parse(path, buf, size, out, encoding);
+    free(buf);
+    return st;
+}
+
+vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t size, vg_imagef *out,
+                                 const char **encoding)
+{
+    vg_status st;
+    *out = (vg_imagef){0};
     int w = 0, h = 0, n = 0;
     bool ok = size <= 0x7fffffff && stbi_info_from_memory(buf, (int)size, &w, &h, &n);
     bool deep = ok && stbi_is_16_bit_from_memory(buf, (int)size);
@@ -547,7 +569,6 @@ vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **e
         px = stbi_load_16_from_memory(buf, (int)size, &w, &h, &n, 1);
     else if (ok && !deep && n >= 3)
         px = stbi_load_from_memory(buf, (int)size, &w, &h, &n, 3);
-    free(buf);
     if (!px) {
         if (ok)
             vg_error("%s: a disparity PNG is KITTI's 16-bit grey or Sintel's 8-bit RGB; this one is %d-bit with %d "
@@ -567,7 +588,19 @@ vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **e
             out->data[i] = v[i] ? (float)v[i] / 256.0f : INFINITY;
         *encoding = "KITTI";
     } else {
+        /* Sintel's G and B hold the fraction bits of the disparity R counts
+         * in steps of 4 px: they do not rise with R or with each other, as
+         * the channels of a colour picture do. */
         const uint8_t *c = px;
+        double rg = channel_correlation(c, count, 0, 1), gb = channel_correlation(c, count, 1, 2);
+        if (rg > 0.5 && gb > 0.5) {
+            vg_error("%s: looks like a colour picture, not a Sintel disparity PNG: its R, G and B rise together "
+                     "(correlation R-G %.2f, G-B %.2f) where Sintel's G and B hold the fraction bits of the disparity",
+                     path, rg, gb);
+            stbi_image_free(px);
+            vg_imagef_free(out);
+            return VG_ERR_FORMAT;
+        }
         for (size_t i = 0; i < count; i++)
             out->data[i] = 4.0f * c[3 * i] + c[3 * i + 1] / 64.0f + c[3 * i + 2] / 16384.0f;
         *encoding = "Sintel";

@@ -61,6 +61,10 @@ vg_status vg_pfm_write(const char *path, const vg_imagef *img);
  * (d = 4 R + G / 64 + B / 16384). Unknown pixels are +inf (as Middlebury's
  * PFM). `*encoding` names which ("KITTI" or "Sintel"). */
 vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **encoding);
+/* The same from memory; `path` only names the data in errors. A colour
+ * picture (R, G and B that rise together) is refused: it is not Sintel's. */
+vg_status vg_disparity_png_parse(const char *path, const uint8_t *data, size_t size, vg_imagef *out,
+                                 const char **encoding);
 
 /* Middlebury .flo: magic 202021.25, int32 width, int32 height, (u, v) floats. */
 vg_status vg_flo_read(const char *path, vg_imagef *out);
