@@ -203,17 +203,29 @@ int scene_camera_count(const scene *s)
     return count;
 }
 
+int scene_camera_node(const scene *s, int index)
+{
+    int count = scene_camera_count(s), node = -1;
+    if (count == 0)
+        return -1;
+    /* Out-of-range indices clamp to the first or last camera. */
+    int want = index < 0 ? 0 : index >= count ? count - 1 : index;
+    for (int i = 0; i < s->node_count && node < 0; i++)
+        if (s->nodes[i].camera >= 0 && want-- == 0)
+            node = i;
+    return node;
+}
+
+bool scene_camera_orthographic(const scene *s, int index)
+{
+    int node = scene_camera_node(s, index);
+    return node >= 0 && s->cameras[s->nodes[node].camera].orthographic;
+}
+
 void scene_camera_resolve(const scene *s, const scene_state *st, int index, float aspect, vg_camera *cam)
 {
     memset(cam, 0, sizeof *cam);
-    int count = scene_camera_count(s), node = -1;
-    if (count > 0 && st && st->world) {
-        /* Out-of-range indices clamp to the first or last camera. */
-        int want = index < 0 ? 0 : index >= count ? count - 1 : index;
-        for (int i = 0; i < s->node_count && node < 0; i++)
-            if (s->nodes[i].camera >= 0 && want-- == 0)
-                node = i;
-    }
+    int node = st && st->world ? scene_camera_node(s, index) : -1;
     if (node < 0 || !from_node(s, st, node, aspect, cam)) {
         memset(cam, 0, sizeof *cam);
         automatic(s, aspect > 0.0f && isfinite(aspect) ? aspect : 1.0f, cam);

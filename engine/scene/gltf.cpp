@@ -157,6 +157,30 @@ std::string one_line(const std::string &text)
 /* Parsing                                                                   */
 /* ------------------------------------------------------------------------- */
 
+/* Why a buffer (or image) URI of the file was not read: only files below
+ * or beside the glTF's folder (relative references, glTF 2.0 spec 3.3) and
+ * data: URIs are; never the network, an absolute path, a folder or a
+ * device. tinygltf names the URI as written. */
+std::string missing_file(std::string uri, const std::string &dir)
+{
+    while (!uri.empty() && uri.back() == ' ')
+        uri.pop_back();
+    size_t colon = uri.find(':'), slash = uri.find('/');
+    if (colon != std::string::npos && colon > 1 && (slash == std::string::npos || colon < slash))
+        return "the buffer URI '" + uri + "' is not read: vergence reads files beside the glTF and data: URIs, "
+               "never a network or other URI scheme";
+    if (!uri.empty() && uri[0] == '/')
+        return "the buffer URI '" + uri + "' is not read: it is an absolute path, and a glTF's URIs are "
+               "relative to its folder (glTF 2.0 spec 3.3)";
+    std::string path = dir.empty() ? uri : dir + "/" + uri;
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0)
+        return "cannot find the buffer file '" + uri + "' (" + path + ": " + std::strerror(errno) + ")";
+    if (S_ISDIR(st.st_mode))
+        return "the buffer URI '" + uri + "' is not read: " + path + " is a folder, not a file";
+    return "the buffer URI '" + uri + "' is not read: " + path + " is not a regular file (a device or a pipe)";
+}
+
 bool parse(const char *path, Model &model, scene_err *e, std::vector<std::string> *files)
 {
     uint8_t *bytes = nullptr;
@@ -209,7 +233,10 @@ bool parse(const char *path, Model &model, scene_err *e, std::vector<std::string
             msg = "a buffer's data: URI is not base64 data (\"data:application/octet-stream;base64,...\")";
             io = false;
         } else if (err.rfind("File not found : ", 0) == 0)
-            msg = "cannot find the buffer file '" + one_line(err.substr(17)) + "'";
+            msg = missing_file(one_line(err.substr(17)), dir);
+        else if (err.find("Invalid `byteStride' value") != std::string::npos)
+            msg = "a bufferView's byteStride is" + one_line(err.substr(err.rfind(':') + 1)) +
+                  ": glTF allows a multiple of 4 from 4 to 252";
         else if (err.rfind("File size mismatch : ", 0) == 0)
             msg = "buffer file of the wrong size (truncated?): " + one_line(err.substr(21));
         else if (err.rfind("JSON string too short", 0) == 0)
@@ -457,6 +484,16 @@ bool convert_primitive(Ctx &c, int mi, int pi, int mode, scene_primitive *o)
         return scene_fail(c.e, VG_ERR_UNSUPPORTED, "%s: %zu vertices is more than %u", what.c_str(), vc,
                           SCENE_MAX_INSTANCE_VERTICES);
     o->vertex_count = static_cast<uint32_t>(vc);
+    /* Plausibility: a vertex farther than SCENE_POSITION_MAX cannot be
+     * drawn (the view's products overflow float and nothing is seen). */
+    for (size_t i = 0; i < vc * 3; i++)
+        if (std::fabs(o->positions[i]) > SCENE_POSITION_MAX) {
+            size_t v = i / 3;
+            return scene_fail(c.e, VG_ERR_FORMAT, "%s: vertex %zu at (%g, %g, %g) lies beyond %g of the origin on "
+                              "an axis: too far to draw (positions are metres)", what.c_str(), v,
+                              o->positions[3 * v], o->positions[3 * v + 1], o->positions[3 * v + 2],
+                              SCENE_POSITION_MAX);
+        }
 
     /* NORMAL, TEXCOORD_0, COLOR_0 (vec3 or vec4), spec 3.7.2.1. */
     struct { const char *name; unsigned allowed; float **dst; bool unit; } attrs[] = {
@@ -530,6 +567,13 @@ bool convert_primitive(Ctx &c, int mi, int pi, int mode, scene_primitive *o)
             return scene_fail(c.e, VG_ERR_UNSUPPORTED, "%s: %zu indices is too many", what.c_str(), n);
         o->index_count = static_cast<uint32_t>(n);
     }
+    /* Vertices that make no whole triangle are dropped, with a word. */
+    size_t corners = has_indices ? n : vc;
+    size_t spare = mode == 4 ? corners % 3 : corners < 3 ? corners : 0;
+    if (spare)
+        vg_warn("%s: mesh %d primitive %d: %zu %s make %zu whole triangle(s) and %zu left over, dropped", c.e->path,
+                mi, pi, corners, has_indices ? "indices" : "vertices",
+                mode == 4 ? corners / 3 : corners >= 3 ? corners - 2 : 0, spare);
     return convert_targets(c, p, mi, pi, o) && scene_primitive_finish(o, mode, has_indices, c.e, mi, pi);
 }
 
@@ -616,6 +660,16 @@ bool convert_node(Ctx &c, int i, scene_node *o)
         !copy_vec(c, n.rotation, 4, o->rotation, i, "rotation") || !copy_vec(c, n.scale, 3, o->scale, i, "scale") ||
         !copy_vec(c, n.matrix, 16, o->matrix, i, "matrix"))
         return false;
+    /* glTF requires a unit quaternion: one of length 0 is no rotation at
+     * all, one near unit length is normalised (with a word when far off). */
+    const float *q = o->rotation;
+    double len = std::sqrt((double)q[0] * q[0] + (double)q[1] * q[1] + (double)q[2] * q[2] + (double)q[3] * q[3]);
+    if (!(len > 1e-6))
+        return scene_fail(c.e, VG_ERR_FORMAT, "node %d: rotation (%g, %g, %g, %g) has length %g: glTF requires a "
+                          "unit quaternion", i, q[0], q[1], q[2], q[3], len);
+    if (std::fabs(len - 1.0) > 0.01)
+        vg_warn("%s: node %d: rotation (%g, %g, %g, %g) has length %g, not 1 (glTF requires a unit quaternion): "
+                "normalised", c.e->path, i, q[0], q[1], q[2], q[3], len);
     scene_quat_normalize(o->rotation);
     o->has_matrix = !n.matrix.empty();
     if (!o->has_matrix)
@@ -839,6 +893,8 @@ bool convert_skins(Ctx &c)
         scene_skin *o = &s->skins[i];
         copy_name(o->name, sk.name);
         size_t jc = sk.joints.size();
+        if (jc == 0)
+            return scene_fail(c.e, VG_ERR_FORMAT, "skin %d has no joints (glTF requires at least one)", i);
         o->joints = alloc<int>(jc);
         o->inverse_bind = alloc<float>(jc * 16);
         if (!o->joints || !o->inverse_bind)

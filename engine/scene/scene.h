@@ -268,3 +268,9 @@ typedef struct vg_camera {
 void scene_camera_resolve(const scene *s, const scene_state *st, int index, float aspect, vg_camera *cam);
 /* Camera nodes of the scene (0: the automatic camera only). */
 int scene_camera_count(const scene *s);
+/* The node of camera `index` (clamped as scene_camera_resolve does), -1 without cameras. */
+int scene_camera_node(const scene *s, int index);
+/* Camera `index` is a glTF orthographic camera: it has no stereo rig (a
+ * parallel view has no field of view for the eyes to converge within), so
+ * the commands that render stereo refuse it (docs/scene.md). */
+bool scene_camera_orthographic(const scene *s, int index);

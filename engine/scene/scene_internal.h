@@ -23,6 +23,9 @@ extern "C" {
 #define SCENE_MAX_INSTANCE_VERTICES (1u << 25)   /* summed over instances */
 #define SCENE_MAX_INSTANCE_INDICES  (1u << 27)
 #define SCENE_MAX_TEXTURE_PIXELS    (8192 * 8192)
+/* Plausibility: a vertex coordinate (metres) the frame can still draw;
+ * products of the view with coordinates near FLT_MAX overflow. */
+#define SCENE_POSITION_MAX          1e9f
 
 /* ------------------------------------------------------------------------- */
 /* Errors: one line per failed load                                          */

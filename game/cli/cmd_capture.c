@@ -409,6 +409,16 @@ static int run(int argc, char **argv)
         scene_destroy(s);
         return 2;
     }
+    /* An orthographic view has no stereo rig to derive g from: refused, not
+     * rendered as zeros (docs/scene.md "Cameras"). */
+    if (o.stereo != FRAME_STEREO_OFF && scene_camera_orthographic(s, o.camera)) {
+        int node = scene_camera_node(s, o.camera);
+        vg_error("%s: camera %d (node %d%s%s) is orthographic: stereo needs a perspective camera; choose another "
+                 "--camera, or --stereo-render off for the G-buffer alone", o.scene, o.camera, node,
+                 s->nodes[node].name[0] ? ", " : "", s->nodes[node].name);
+        scene_destroy(s);
+        return vg_status_exit_code(VG_ERR_FORMAT);
+    }
     /* --throw: the ball flies as in the game, from the first frame (its pose
      * hook answers every time the frame asks, the keyframes ahead too). */
     static game_ball ball;
