@@ -285,6 +285,14 @@ static int run(int argc, char **argv)
     if (st == VG_OK)
         st = vg_inputs_check(&in, "--out", o.out);
     vg_inputs_free(&in);
+    /* --out is a file: the earlier curve goes before the run (a failed run
+     * never leaves an old curve looking new). */
+    struct stat sb;
+    if (st == VG_OK && stat(o.out, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+        vg_error("--out %s: is %s, not a curve file: give the name of the .curve file to write", o.out,
+                 S_ISDIR(sb.st_mode) ? "a folder" : "a device or a pipe");
+        st = VG_ERR_IO;
+    }
     if (st == VG_OK && unlink(o.out) != 0 && errno != ENOENT && errno != ENOTDIR) {
         vg_error("%s: cannot remove the earlier curve: %s", o.out, strerror(errno));
         st = VG_ERR_IO;

@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/resource.h>
 
 #include "bench_game.h"
@@ -526,6 +527,14 @@ static int run(int argc, char **argv)
         if (st == VG_OK)
             st = vg_inputs_check(&in, "--markdown", o.markdown);
         vg_inputs_free(&in);
+        /* The tables replace the file at the end (a rename): a folder there
+         * would fail only after the whole run. */
+        struct stat sb;
+        if (st == VG_OK && stat(o.markdown, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+            vg_error("--markdown %s: is %s, not a file: give the name of the file to write", o.markdown,
+                     S_ISDIR(sb.st_mode) ? "a folder" : "a device or a pipe");
+            st = VG_ERR_IO;
+        }
         if (st == VG_OK && (snprintf(tmp, sizeof tmp, "%s.tmp", o.markdown) >= (int)sizeof tmp ||
                             !(r.md = fopen(tmp, "w")))) {
             vg_error("--markdown %s: cannot write there: %s", o.markdown, strerror(errno));

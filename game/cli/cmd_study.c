@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "commands.h"
 #include "core/log.h"
@@ -20,6 +21,7 @@
 #include "options/gpu_cli.h"
 #include "observer/observer.h"
 #include "play/play_session.h"
+#include "study/pref_trial.h"
 #include "study/study.h"
 #include "study/study_log.h"
 
@@ -142,6 +144,16 @@ static int run(int argc, char **argv)
         vg_error("%s --participant: '%s' is not a valid id (1-64 letters, digits, '-', '_', '.')", cmd->name,
                  o.participant);
         return 2;
+    }
+    /* The preference study shows the three scenes of --scene's folder: a
+     * scene of another folder is named with the one found missing. */
+    for (int k = 0; !hit && o.scene && k < PREF_SCENES; k++) {
+        char path[4096];
+        if (pref_scene_path(o.scene, k, path, sizeof path) == VG_OK && access(path, F_OK) != 0) {
+            vg_error("study preference --scene %s: the study shows balloon, cubes and arena from the folder of "
+                     "--scene (it names that folder's arena.gltf), and %s is not there", o.scene, path);
+            return vg_status_exit_code(VG_ERR_IO);
+        }
     }
     o.cmd = cmd;
     return vg_status_exit_code(hit ? study_hit_run(&o) : study_preference_run(&o));
