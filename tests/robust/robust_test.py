@@ -27,6 +27,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import zlib
 
 VERGENCE = None
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -117,15 +118,19 @@ def fail(name, why):
     print(f"  FAIL {name}: {why}")
 
 
-def expect(box, name, args, code, names=None, env=None, outs=(), timeout=300):
-    """Runs one case; records what is wrong with it."""
+def expect(box, name, args, code, names=None, env=None, outs=(), timeout=300, warns=None):
+    """Runs one case; records what is wrong with it. names: what the error
+    line must hold (a string, or a tuple of strings it holds all of); warns:
+    the same for a warning line a successful run must print."""
     RAN[0] += 1
     before = box.snapshot()
+    start = time.monotonic()
     try:
         rc, out, err_bytes = box.run(args, env, timeout)
     except subprocess.TimeoutExpired:
         fail(name, f"no answer within {timeout} s (a hang): vergence {' '.join(args)}")
         return None
+    seconds = time.monotonic() - start
     after = box.snapshot()
     try:
         err = err_bytes.decode("utf-8")
@@ -135,7 +140,7 @@ def expect(box, name, args, code, names=None, env=None, outs=(), timeout=300):
     lines = [l for l in err.splitlines() if l.strip()]
     errors = [l for l in lines if "error:" in l]
     shown = errors[0] if errors else (lines[-1] if lines else "")
-    print(f"{name}: exit {rc}: {shown}")
+    print(f"{name}: exit {rc} in {seconds:.2f} s: {shown}")
     if rc < 0 or rc >= 128 or any(m in err for m in ("Sanitizer", "runtime error:", "Segmentation", "Aborted")):
         fail(name, f"crashed (exit {rc}):\n{err}")
     elif rc != code:
@@ -145,10 +150,20 @@ def expect(box, name, args, code, names=None, env=None, outs=(), timeout=300):
     if code != 0:
         if len(errors) != 1:
             fail(name, f"{len(errors)} error lines, want one:\n{err}")
-        elif names and names not in errors[0]:
-            fail(name, f"the error line does not name '{names}': {errors[0]}")
+        else:
+            for n in (names,) if isinstance(names, str) else names or ():
+                if n not in errors[0]:
+                    fail(name, f"the error line does not name '{n}': {errors[0]}")
     elif errors:
         fail(name, f"an error line on success: {errors[0]}")
+    if warns:
+        warnings = [l for l in lines if "warning:" in l]
+        if not any(all(w in l for w in ((warns,) if isinstance(warns, str) else warns)) for l in warnings):
+            fail(name, f"no warning line holding {warns}:\n{err}")
+    if rc == 0:
+        for o in outs:
+            for why in result_problems(box.p(o)):
+                fail(name, f"exit 0 with {why}")
     changed = sorted(k for k in set(before) | set(after) if before.get(k, 0) != after.get(k, 0)
                      and not allowed(k, outs))
     if changed:
@@ -213,6 +228,62 @@ def read_pfm(path):
     return w, h, [v for y in reversed(range(h)) for v in px[y * w:(y + 1) * w]]  # top row first
 
 
+def read_floats(path):
+    """The values of a PFM (any channels, either endianness) or a .flo."""
+    data = open(path, "rb").read()
+    if path.endswith(".flo"):
+        w, h = struct.unpack_from("<ii", data, 4)
+        return struct.unpack_from(f"<{2 * w * h}f", data, 12)
+    parts = data.split(b"\n", 3)
+    ch = 3 if parts[0].strip() == b"PF" else 1
+    w, h = map(int, parts[1].split())
+    endian = "<" if float(parts[2]) < 0 else ">"
+    return struct.unpack(f"{endian}{w * h * ch}f", parts[3][: 4 * w * h * ch])
+
+
+def result_problems(path):
+    """What breaks the property every successful run keeps (issue 44): each
+    map it wrote is finite (+inf, a PFM's documented 'unknown', aside), a
+    vergence or depth map is not all zeros (a flow of zeros is a still
+    scene), and every number in its JSON is finite (null where documented)."""
+    found = []
+    files = [path] if os.path.isfile(path) else [os.path.join(d, n) for d, _, ns in os.walk(path) for n in ns]
+    for f in files:
+        rel = os.path.relpath(f, os.path.dirname(path))
+        try:
+            if f.endswith((".pfm", ".flo")):
+                v = read_floats(f)
+                bad = sum(1 for x in v if x != x or x == float("-inf") or (f.endswith(".flo") and abs(x) == float("inf")))
+                nonzero = sum(1 for x in v if x == x and abs(x) != float("inf") and x != 0)
+                if bad:
+                    found.append(f"{rel}: {bad} of {len(v)} values NaN or infinite")
+                elif f.endswith(".pfm") and not nonzero:
+                    found.append(f"{rel}: a map of zeros (or unknowns) only ({len(v)} values)")
+            elif f.endswith(".json"):
+                def refuse(c):
+                    raise ValueError(f"{c} in the JSON")
+                json.load(open(f), parse_constant=refuse)
+        except (ValueError, struct.error) as e:
+            found.append(f"{rel}: {e}")
+    return found
+
+
+def png(w, h, rows, depth=8, colour=2):
+    """A PNG of packed rows (bytes each), for inputs no tool here writes."""
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    raw = b"".join(b"\0" + r for r in rows)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, depth, colour, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def sintel_png(w, h, d):
+    """Sintel's disparity encoding: d = 4 R + G / 64 + B / 16384."""
+    return png(w, h, [bytes(c for x in range(w) for v in (d[y * w + x],)
+                            for c in (min(255, int(v / 4)), int(v * 64) % 256, int(v * 16384) % 256))
+                      for y in range(h)])
+
+
 def fixtures(box, capture=True, csvs=True, offline=False):
     """Complete results to read: a capture of the balloon, a baked curve, hit and preference CSVs."""
     def make(args):
@@ -238,7 +309,10 @@ def offline_args(out, extra=()):
 
 
 def cap(scene, out, *extra):
-    return ["capture", "--scene", scene, "--frames", "1", "--size", "64x36", "--out", out] + list(extra)
+    """capture's arguments; a flag in extra replaces its default (a flag given twice is itself a case)."""
+    base = {"--frames": "1", "--size": "64x36"}
+    return (["capture", "--scene", scene] + [a for k, v in base.items() if k not in extra for a in (k, v)] +
+            ["--out", out] + list(extra))
 
 
 # ---------------------------------------------------------------------------
@@ -252,8 +326,8 @@ def catalogue_cases(box):
     for d in ("in/g_trunc", "in/g_size", "in/flo"):
         os.makedirs(box.p(d), exist_ok=True)
 
-    def add(name, args, code, names=None, env=None, outs=("out",)):
-        c.append((name, args, code, names, env, outs))
+    def add(name, args, code, names=None, env=None, outs=("out",), **kw):
+        c.append((name, args, code, names, env, outs, kw))
 
     def bad_scene(name, file, code, edit=None, **kw):
         """A glTF of gltf(**kw), edited by edit(doc), given to capture: the error names the file."""
@@ -513,15 +587,112 @@ def catalogue_cases(box):
     add("bench_frames_zero", ["bench", "--frames", "0"], ARG, "--frames", outs=())
     add("bench_scene_missing", ["bench", "--scene", "in/missing.gltf", "--frames", "1"], IO, "missing.gltf",
         outs=())
+    issue_44_cases(box, add, bad_scene)
     return c
+
+
+def issue_44_cases(box, add, bad_scene):
+    """The third pass of the hostile catalogue (issue 44): no hang on any
+    range, no wrong result with exit 0, no silent accept, no unclear line."""
+    w = box.write
+    assets = os.path.join(ROOT, "..", "shared", "assets")
+    # A hang: each frame is found before the next is named, so a range far
+    # past the files answers at once, with or without any frame there.
+    add("optimize_frames_99999999_none", ["optimize", "--g", "in/none_%04d.pfm", "--frames", "0:99999999",
+                                          "--out", "out"], IO, "none_0000.pfm", timeout=10)
+    add("optimize_frames_99999999", ["optimize", "--g", "fx/seq/frame_%04d_g.pfm", "--frames", "0:99999999",
+                                     "--out", "out"], IO, "frame_0011_g.pfm", timeout=10)
+    # A wrong result with exit 0: an orthographic camera has no stereo rig.
+    ortho = {"type": "orthographic", "orthographic": {"xmag": 4, "ymag": 2.25, "znear": 0.1, "zfar": 100}}
+    w("in/ortho.gltf", gltf(extra=lambda d: d["cameras"].__setitem__(0, ortho)))
+    add("capture_orthographic_camera", cap("in/ortho.gltf", "out"), FORMAT, ("ortho.gltf", "camera 0", "orthographic"),
+        outs=())
+    add("capture_orthographic_gbuffer_only", cap("in/ortho.gltf", "out_gbuffer", "--stereo-render", "off"), 0,
+        outs=("out_gbuffer",))
+    khronos = os.path.join(assets, "gltf", "Cameras", "glTF")
+    if os.path.isdir(khronos):
+        shutil.copytree(khronos, box.p("in/cameras"))
+        add("capture_khronos_orthographic", cap("in/cameras/Cameras.gltf", "out", "--camera", "1"), FORMAT,
+            ("Cameras.gltf", "camera 1", "orthographic"), outs=())
+        add("capture_khronos_perspective", cap("in/cameras/Cameras.gltf", "out_persp", "--camera", "0"), 0,
+            outs=("out_persp",))
+    # Silent accepts: values no display or flow field can mean.
+    for i in range(11):
+        wd, ht, px = read_pfm(box.p(f"fx/seq/frame_{i:04d}_g.pfm"))
+        px = list(px)
+        if i == 3:
+            px[7] = 1e30
+        w(f"in/g_huge/g_{i:04d}.pfm", pfm(wd, ht, px))
+        flo = bytearray(open(box.p(f"fx/seq/frame_{i:04d}_motion_next.flo"), "rb").read())
+        if i == 2:
+            struct.pack_into("<f", flo, 12 + 8 * 5, 1e20)
+        w(f"in/flo_huge/n_{i:04d}.flo", bytes(flo))
+    args = offline_args("out")
+    args[args.index("--g") + 1] = "in/g_huge/g_%04d.pfm"
+    add("optimize_g_1e30", args, FORMAT, ("g_0003.pfm", "1e+30"))
+    args = offline_args("out")
+    args[args.index("--flow-next") + 1] = "in/flo_huge/n_%04d.flo"
+    add("optimize_flow_1e20", args, FORMAT, ("n_0002.flo", "1e+20"))
+    # A colour picture taken for Sintel's disparity PNG (a made one, and a
+    # Sintel frame when the assets are there); a true Sintel encoding works.
+    wd, ht = 64, 36
+    rows = [bytes(v for x in range(wd) for v in (3 * x + y, 2 * x + 2 * y + 10, 2 * x + 3 * y)) for y in range(ht)]
+    for i in range(3):
+        w(f"in/photo/p_{i:04d}.png", png(wd, ht, rows))
+        w(f"in/sintel/d_{i:04d}.png",
+          sintel_png(wd, ht, [8 + 0.3 * x + 0.2 * y + (6 if abs(x - 20 - 4 * i) < 5 else 0)
+                              for y in range(ht) for x in range(wd)]))
+    three = ["--frames", "0:2", "--keyframe-stride", "1", "--no-video"]
+    add("optimize_photo_as_sintel", ["optimize", "--g", "in/photo/p_%04d.png", "--out", "out"] + three, FORMAT,
+        ("p_0000.png", "colour picture"))
+    add("optimize_sintel_disparity", ["optimize", "--g", "in/sintel/d_%04d.png", "--out", "out_sintel"] + three, 0,
+        outs=("out_sintel",))
+    frames = os.path.join(assets, "stereo", "sintel_alley_2_flow_from_faldoi")
+    if os.path.isdir(frames):
+        add("optimize_sintel_frame_as_disparity", ["optimize", "--g", os.path.join(frames, "frame_%04d.png"),
+                                                   "--frames", "1:4", "--keyframe-stride", "1", "--out", "out"],
+            FORMAT, ("frame_0001.png", "colour picture"))
+    bad_scene("gltf_positions_3e38", "far.gltf", FORMAT, positions=[-3e38, 0.5, 0, 3e38, 0.5, 0, 0, 3e38, 0])
+    bad_scene("gltf_rotation_zero", "quat0.gltf", FORMAT, lambda d: d["nodes"][1].update(rotation=[0, 0, 0, 0]))
+
+    def skin(d):
+        d["skins"] = [{"joints": []}]
+        d["nodes"][1]["skin"] = 0
+    bad_scene("gltf_skin_no_joints", "skin0.gltf", FORMAT, skin)
+    w("in/tri4.gltf", gltf(indices=(0, 1, 2, 0)))
+    add("gltf_incomplete_triangle", cap("in/tri4.gltf", "out_tri4"), 0, outs=("out_tri4",),
+        warns=("tri4.gltf", "4 indices", "1 left over"))
+    add("out_given_twice", cap("content/balloon.gltf", "out") + ["--out", "out2"], ARG, ("--out", "given twice"),
+        outs=())
+    add("fault_past_2_63", cap("content/balloon.gltf", "out"), ARG, "VERGENCE_FAULT",
+        {"VERGENCE_FAULT": "kill:99999999999999999999"}, outs=())
+    # Unclear lines.
+    add("study_preference_scene_elsewhere", ["study", "preference", "--participant", "a", "--observer", "model",
+                                             "--observer-view", "cpu", "--scene", "in/tri4.gltf", "--trials", "1",
+                                             "--out", "in/p.csv"], IO, ("--scene in/tri4.gltf", "in/balloon.gltf"),
+        outs=())
+    add("study_hit_scene_without_ball", ["study", "hit", "--participant", "a", "--observer", "model",
+                                         "--observer-view", "cpu", "--scene", "in/tri4.gltf", "--trials", "1",
+                                         "--out", "in/h.csv"], FORMAT, ("tri4.gltf", "'ball'"), outs=())
+    bad_scene("gltf_byte_stride_400", "stride400.gltf", FORMAT, lambda d: d["bufferViews"][2].update(byteStride=400))
+    os.makedirs(box.p("in/adir"), exist_ok=True)
+    for tag, uri, why in (("etc_passwd", "/etc/passwd", "absolute path"), ("dev_zero", "/dev/zero", "absolute path"),
+                          ("folder", "adir", "is a folder"), ("http", "http://example.com/b.bin", "URI scheme")):
+        w(f"in/uri_{tag}.gltf", gltf(extra=lambda d, u=uri: d["buffers"][0].update(uri=u)))
+        add(f"gltf_buffer_uri_{tag}", cap(f"in/uri_{tag}.gltf", "out"), IO, (f"uri_{tag}.gltf", uri, why))
+    add("bake_out_folder", ["bake-curve", "--scene", "content/balloon.gltf", "--capture", "fx/cap",
+                            "--out", "in/adir"], IO, ("in/adir", "folder"), outs=())
+    # A late failure: the tables' file is checked before the benchmark runs.
+    add("bench_markdown_folder", ["bench", "--markdown", "in/adir", "--frames", "1"], IO, ("--markdown", "folder"),
+        outs=(), timeout=30)
 
 
 def group_catalogue():
     box = Box("catalogue")
     try:
         fixtures(box, offline=True)
-        for name, args, code, names, env, outs in catalogue_cases(box):
-            expect(box, name, args, code, names, env, outs)
+        for name, args, code, names, env, outs, kw in catalogue_cases(box):
+            expect(box, name, args, code, names, env, outs, **kw)
         # What must work: Middlebury's inf in g (unknown disparity) is accepted and stays inf in f.
         for i in range(11):
             wd, ht, px = read_pfm(box.p(f"fx/seq/frame_{i:04d}_g.pfm"))
