@@ -228,7 +228,9 @@ static vg_status read_g(seq *s, int t, float *out)
             frame_path(&s->pg, t, path);
             if (px)
                 vg_error("%s: g is %g pixels at pixel (%d, %d), more than the frame's width (%d): not a disparity of "
-                         "these frames", path, v, i % s->w, i / s->w, s->w);
+                         "these frames%s", path, v, i % s->w, i / s->w, s->w,
+                         !s->g_png && v > 0 ? " (it looks like vergence in arcmin, not pixel disparity: drop "
+                                              "--g-units px if it is)" : "");
             else
                 vg_error("%s: g is %g arcmin at pixel (%d, %d): a vergence angle lies in (0, %.0f) arcmin (0 to "
                          "180 degrees)", path, v, i % s->w, i / s->w, VERGENCE_MAX);
@@ -760,6 +762,18 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
             disp_upsample_temporal(&ud, tau, span, zc, s->has_id ? idc : NULL, &k0, has1 ? &k1 : NULL, rt, s->pool);
             disp_upsample_spatial(&ud, h, rt, f, s->pool);
+            /* A result is a vergence at every known pixel: never a map of
+             * NaN or zeros written as if it were one (issue 44). */
+            for (size_t i = 0; i < np; i++)
+                if (!s->unknown[i] && !(f[i] > 0 && f[i] < VERGENCE_MAX)) {
+                    vg_error("optimize: f of frame %d is %g at pixel (%d, %d) (g %g, h %g arcmin): the solver failed "
+                             "on these inputs; nothing more is written", t, f[i], (int)(i % (size_t)s->w),
+                             (int)(i / (size_t)s->w), g[i], h[i]);
+                    st = VG_ERR_UNSUPPORTED;
+                    break;
+                }
+            if (st != VG_OK)
+                break;
             if (t == t0)
                 disp_grid_sample(&s->grid, f, 1, o->f_key + (size_t)k * nc);
             for (size_t i = 0; i < np; i++) {
