@@ -12,6 +12,8 @@
 #include "bench_game.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,6 +21,7 @@
 #include "core/log.h"
 #include "core/stats.h"
 #include "frame/frame.h"
+#include "observer/ball_measure.h"
 #include "rules/game.h"
 
 #define THROW_EVERY_S 3.0
@@ -67,7 +70,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     frame *f[MODES] = {0};
     mode_samples ms[MODES] = {0};
     for (int m = 0; m < MODES && st == VG_OK; m++) {
-        frame_desc fd = game_frame_desc(g, 0, modes[m], w, h, GAME_LAYOUT, DISP_OPERATOR_DEFAULT, false);
+        frame_desc fd = game_frame_desc(g, 0, modes[m], w, h, GAME_LAYOUT, DISP_OPERATOR_DEFAULT, false, &r.cam);
         fd.display = display;
         st = frame_create(g, sc, &fd, &f[m]);
         if (st == VG_OK && !(ms[m].wall = calloc((size_t)frames, sizeof(double))))
@@ -174,6 +177,120 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
         frame_destroy(f[m]);
         free(ms[m].wall);
     }
+    scene_set_pose_hook(sc, NULL, NULL);
+    return st;
+}
+
+/* ------------------------------------------------------------------------- */
+/* The ball's own figures (issue 39)                                         */
+/* ------------------------------------------------------------------------- */
+
+#define BALL_KINDS 4
+#define BALL_LAUNCH 60 /* frame of every launch (a keyframe, one second in, as in play) */
+
+static int ball_kind(const game_throw *th)
+{
+    return 2 * (th->direction == GAME_DIR_FAR_TO_NEAR) + (th->path == GAME_PATH_BALLISTIC);
+}
+
+vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int per_kind,
+                     bool each, bench_report *rep)
+{
+    static const char *const kinds[BALL_KINDS] = {"straight, near-to-far", "ballistic, near-to-far",
+                                                  "straight, far-to-near", "ballistic, far-to-near"};
+    game_ball ball = {0};
+    vg_camera cam;
+    if (!game_ball_attach(sc, &ball, &cam)) {
+        vg_error("--scene %s: no node named 'ball' to throw (see docs/content.md)", scene_path);
+        return VG_ERR_FORMAT;
+    }
+    uint32_t w, h;
+    game_render_size(g, GAME_LAYOUT, GAME_WINDOW_W, GAME_WINDOW_H, &w, &h);
+    frame_desc fd = game_frame_desc(g, 0, FRAME_MODE_OPTIMIZED, w, h, GAME_LAYOUT, DISP_OPERATOR_DEFAULT, false, &cam);
+    fd.display = display;
+    ball_measure *m;
+    vg_status st = ball_measure_create(&(ball_measure_desc){.gpu = g, .scene = sc, .ball = &ball, .frame = fd}, &m);
+    if (st != VG_OK) {
+        scene_set_pose_hook(sc, NULL, NULL);
+        return st;
+    }
+    int total = BALL_KINDS * per_kind, count[BALL_KINDS] = {0}, done = 0;
+    double *hj = calloc((size_t)total, sizeof *hj), *fj = calloc((size_t)total, sizeof *fj);
+    double *ratio = calloc((size_t)total, sizeof *ratio);
+    int *kind = calloc((size_t)total, sizeof *kind), min_samples[BALL_KINDS], min_px[BALL_KINDS];
+    if (!hj || !fj || !ratio || !kind)
+        st = VG_ERR_NOMEM;
+    for (int k = 0; k < BALL_KINDS; k++)
+        min_samples[k] = min_px[k] = INT32_MAX;
+    if (each && st == VG_OK)
+        printf("  throw  kind                       h JND   f JND    f/h  samples  pixels  g and f - h at the keyframes "
+               "(arcmin)\n");
+    /* Throws as free play draws them (seed 1), each kind until it has per_kind. */
+    for (int n = 0; done < total && st == VG_OK && n < 1000 * total; n++) {
+        game_throw th;
+        game_throw_free_play(1, n, GAME_VISIBLE_S, &cam, &th);
+        int k = ball_kind(&th);
+        if (count[k] >= per_kind)
+            continue;
+        ball_figures b;
+        if ((st = ball_measure_throw(m, &th, BALL_LAUNCH, &b)) != VG_OK)
+            break;
+        hj[done] = b.h_jnd, fj[done] = b.f_jnd, kind[done] = k;
+        ratio[done] = b.h_jnd > 0 ? b.f_jnd / b.h_jnd : NAN;
+        min_samples[k] = b.min_samples < min_samples[k] ? b.min_samples : min_samples[k];
+        min_px[k] = b.min_pixels < min_px[k] ? b.min_pixels : min_px[k];
+        if (each) {
+            printf("  %5d  %-24s %7.3f %7.3f %6.3f %8d %7d  g", n, kinds[k], b.h_jnd, b.f_jnd, ratio[done],
+                   b.min_samples, b.min_pixels);
+            for (int q = 0; q < b.keys; q++)
+                printf(" %.1f", b.g[q]);
+            printf("; f - h");
+            for (int q = 0; q < b.keys; q++)
+                printf(" %+.2f", b.f[q] - b.h[q]);
+            printf("\n");
+        }
+        count[k]++, done++;
+        vg_progress("bench --game: the ball", done, total);
+    }
+    if (st == VG_OK) {
+        char title[320], cells[8][32];
+        snprintf(title, sizeof title,
+                 "The ball's own MID distortion (issue 39): %d throws of each kind as free play draws them (seed 1), "
+                 "%ux%u per eye, the game's operator; medians", per_kind, w, h);
+        bench_heading(rep, title);
+        const char *head[] = {"throws", "h JND", "f JND", "f / h", "f < h", "fewest samples", "fewest px"};
+        for (int c = 0; c < 7; c++)
+            snprintf(cells[c], sizeof cells[c], "%s", head[c]);
+        bench_row(rep, true, "kind", 7, cells);
+        double *v = malloc(3 * (size_t)total * sizeof *v);
+        for (int k = 0; k <= BALL_KINDS && v; k++) {
+            int n = 0, below = 0, ms = INT32_MAX, mp = INT32_MAX;
+            for (int i = 0; i < done; i++)
+                if (k == BALL_KINDS || kind[i] == k) {
+                    v[n] = hj[i], v[total + n] = fj[i], v[2 * total + n] = ratio[i];
+                    below += fj[i] < hj[i];
+                    n++;
+                }
+            for (int q = 0; q < BALL_KINDS; q++)
+                if (k == BALL_KINDS || q == k)
+                    ms = min_samples[q] < ms ? min_samples[q] : ms, mp = min_px[q] < mp ? min_px[q] : mp;
+            snprintf(cells[0], sizeof cells[0], "%d", n);
+            snprintf(cells[1], sizeof cells[1], "%.3f", vg_median(v, (size_t)n, 1));
+            snprintf(cells[2], sizeof cells[2], "%.3f", vg_median(v + total, (size_t)n, 1));
+            snprintf(cells[3], sizeof cells[3], "%.3f", vg_median(v + 2 * total, (size_t)n, 1));
+            snprintf(cells[4], sizeof cells[4], "%.0f%%", n ? 100.0 * below / n : 0.0);
+            snprintf(cells[5], sizeof cells[5], "%d", ms);
+            snprintf(cells[6], sizeof cells[6], "%d", mp);
+            bench_row(rep, false, k == BALL_KINDS ? "all" : kinds[k], 7, cells);
+        }
+        free(v);
+        bench_note(rep, "Per throw: the ball's displayed vergence under g, h and f at every keyframe of its visible "
+                        "flight (its centre's g plus the mean of map - g over its pixels) and its MID distortion "
+                        "against g (docs/method.md §11 on that track; game/observer/ball_measure.h). Samples: the "
+                        "solver grid's samples on the ball, fewest at a keyframe of the flight; px: its pixels.");
+    }
+    free(hj), free(fj), free(ratio), free(kind);
+    ball_measure_destroy(m);
     scene_set_pose_hook(sc, NULL, NULL);
     return st;
 }

@@ -12,3 +12,8 @@
  * needs a node named 'ball'; its pose hook is the bench's until it returns. */
 vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int frames, int ticks,
                      bench_report *rep);
+/* The ball's own MID distortion under h and f (issue 39): per_kind throws of
+ * each kind (path x direction) as free play draws them, at the game's
+ * defaults; each: a line per throw too. */
+vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int per_kind,
+                     bool each, bench_report *rep);

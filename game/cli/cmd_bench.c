@@ -37,8 +37,8 @@
 
 static struct {
     const char *scene, *sizes, *tess, *markdown;
-    int frames, tess_frames, game_frames, frame_ticks;
-    bool no_solver, all_passes, game;
+    int frames, tess_frames, game_frames, frame_ticks, game_throws;
+    bool no_solver, all_passes, game, each_throw;
     gpu_cli gpu;
     display_cli display;
 } o;
@@ -56,10 +56,14 @@ static const vg_opt k_opts[] = {
     {"--game", VG_OPT_FLAG, &o.game, NULL,
      "only the game: its frame rate in each mode at its defaults, the same replay every run (--scene: the arena)",
      NULL, 0, 0},
-    {"--game-frames", VG_OPT_INT, &o.game_frames, "N", "with --game: frames a mode (default 120: 6 s, two throws)",
-     NULL, 2, 10000},
+    {"--game-frames", VG_OPT_INT, &o.game_frames, "N", "with --game: frames a mode (default 120: 6 s, two throws; 0: no frame rates)",
+     NULL, 0, 10000},
     {"--frame-ticks", VG_OPT_INT, &o.frame_ticks, "T",
      "with --game: 1/60 s ticks the clock advances a frame (default 3: a 20 fps game)", NULL, 1, 60},
+    {"--game-throws", VG_OPT_INT, &o.game_throws, "N",
+     "with --game: throws of each kind whose ball is measured (default 5; 0: none)", NULL, 0, 1000},
+    {"--each-throw", VG_OPT_FLAG, &o.each_throw, NULL,
+     "with --game: a line for every throw measured (its figures, g and f - h at its keyframes)", NULL, 0, 0},
     {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL, "skip the CPU solver and memory bandwidth figures", NULL, 0, 0},
     {"--markdown", VG_OPT_STRING, &o.markdown, "FILE", "also write the tables as Markdown (docs/PERFORMANCE.md)",
      NULL, 0, 0},
@@ -483,6 +487,7 @@ static int run(int argc, char **argv)
     o.sizes = "960x540,1920x1080";
     o.game_frames = 120;
     o.frame_ticks = 3;
+    o.game_throws = 5;
     o.frames = 10;
     o.tess_frames = 1;
     o.gpu.device = -1;
@@ -559,7 +564,10 @@ static int run(int argc, char **argv)
         printf("vergence bench --game: %s on %s, %d CPU cores\n", o.scene, g->props.deviceName, vg_cpu_count());
         if (r.md)
             fprintf(r.md, "Scene `%s` on %s, %d CPU cores.\n", o.scene, g->props.deviceName, vg_cpu_count());
-        st = bench_game(g, sc, o.scene, display_cli_desc(&o.display), o.game_frames, o.frame_ticks, &r);
+        if (o.game_frames > 0)
+            st = bench_game(g, sc, o.scene, display_cli_desc(&o.display), o.game_frames, o.frame_ticks, &r);
+        if (st == VG_OK && o.game_throws > 0)
+            st = bench_ball(g, sc, o.scene, display_cli_desc(&o.display), o.game_throws, o.each_throw, &r);
     } else {
         printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
                g->props.deviceName, vg_cpu_count(), o.frames);

@@ -29,6 +29,8 @@
 #include "frame/frame.h"
 #include "shared.h"
 #include "disparity/disp_curve.h"
+#include "observer/ball_measure.h"
+#include "observer/observer_engine.h"
 #include "rules/game.h"
 
 typedef struct capture_opts {
@@ -54,6 +56,11 @@ static capture_opts o = {
 };
 
 static const char *const k_occlusion[] = {"links", "depth", NULL};
+
+/* --throw: the ball, the camera its throws are aimed with, and its figures. */
+static game_ball ball;
+static vg_camera ball_aim;
+static ball_figures ball_fig;
 
 static const vg_opt k_opts[] = {
     {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF 2.0 scene (.gltf or .glb)", NULL, 0, 0},
@@ -254,6 +261,30 @@ done:
 /* capture.json                                                              */
 /* ------------------------------------------------------------------------- */
 
+/* "ball" (--throw): the ball's own figures over the keyframes of its flight
+ * that were captured (game/observer/ball_measure.h). */
+static void write_ball(vg_json *j, const ball_figures *b)
+{
+    float g[BALL_MEASURE_MAX_KEYS], h[BALL_MEASURE_MAX_KEYS], f[BALL_MEASURE_MAX_KEYS];
+    for (int i = 0; i < b->keys; i++)
+        g[i] = (float)b->g[i], h[i] = (float)b->h[i], f[i] = (float)b->f[i];
+    vg_json_object_begin(j, "ball");
+    vg_json_int(j, "keyframes", b->keys);
+    if (b->keys >= 3) {
+        vg_json_num(j, "h_mid_distortion_jnd", b->h_jnd);
+        vg_json_num(j, "f_mid_distortion_jnd", b->f_jnd);
+        if (b->h_jnd > 0)
+            vg_json_num(j, "f_over_h", b->f_jnd / b->h_jnd);
+    }
+    vg_json_num(j, "max_f_minus_h_arcmin", b->max_f_minus_h);
+    vg_json_int(j, "min_pixels", b->min_pixels);
+    vg_json_int(j, "min_grid_samples", b->min_samples);
+    vg_json_nums(j, "g_arcmin", g, b->keys);
+    vg_json_nums(j, "h_arcmin", h, b->keys);
+    vg_json_nums(j, "f_arcmin", f, b->keys);
+    vg_json_object_end(j);
+}
+
 static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, const frame_desc *fd,
                             const capture_log *log)
 {
@@ -266,6 +297,8 @@ static vg_status write_json(const vg_manifest *m, const scene *s, const gpu *g, 
         capture_json_stereo(&j, fd, &log->warp);
     if (o.throw_no >= 0)
         vg_json_int(&j, "throw", o.throw_no);
+    if (o.throw_no >= 0 && ball_fig.keys)
+        write_ball(&j, &ball_fig);
     if (o.caption) {
         vg_json_str(&j, "caption", o.caption);
         vg_json_num(&j, "caption_parallax_px", o.caption_parallax);
@@ -326,6 +359,8 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         .look_ahead = (frame_look_ahead)o.look_ahead, .saliency = (frame_saliency)o.saliency,
         .overlay = o.caption != NULL,
         .display = display_cli_desc(&o.display),
+        /* The game's grid for its ball (game_grid_stride). */
+        .coarse_stride = o.throw_no >= 0 ? game_grid_stride(&ball_aim, (uint32_t)o.size[1]) : 0,
     };
     frame *f;
     vg_status st = frame_create(g, s, &fd, &f);
@@ -349,13 +384,28 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
         st = capture_log_begin(&log, f, &(capture_log_desc){.frames = o.frames, .science = true,
                                                             .warp = d->stereo != FRAME_STEREO_OFF});
     long first = lround(o.time * o.fps);
+    /* --throw: the window holds the keyframe before the launch (the ball
+     * resting at its start), as the game's does; not a captured frame. */
+    uint32_t *ball_ids = NULL;
+    ball_fig = (ball_figures){0};
+    if (st == VG_OK && o.throw_no >= 0) {
+        if (!(ball_ids = observer_node_ids(s, ball.node)))
+            st = VG_ERR_NOMEM;
+        else if (first >= d->keyframe_stride)
+            st = frame_render(f, first - d->keyframe_stride);
+    }
     for (int i = 0; i < o.frames && st == VG_OK; i++) {
         vg_progress("capture", i, o.frames);
         if ((st = capture_log_render(&log, f, first + i)) == VG_OK)
             st = write_frame(o.out, i, frame_get_outputs(f), d->width, d->height);
+        if (st == VG_OK && ball_ids)
+            ball_figures_add(&ball_fig, f, &ball.th, ball.t_launch, ball_ids);
         if (st == VG_OK && i == o.frames / 2)
             st = write_previews(o.out, first + i, frame_get_outputs(f), d->width, d->height);
     }
+    free(ball_ids);
+    if (ball_fig.keys)
+        ball_figures_finish(&ball_fig, d->keyframe_stride / d->fps);
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);
         st = capture_log_finish(&log);
@@ -367,6 +417,11 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
                     "f outside the range at %g of the pixels",
                     m->h.mid_distortion_jnd, m->f.mid_distortion_jnd, m->f.mid_distortion_jnd / m->h.mid_distortion_jnd,
                     m->f.moving_measured, m->keyframes, m->f_range_violation);
+        if (st == VG_OK && ball_fig.keys >= 3)
+            vg_info("the ball: MID distortion h %.2f JND, f %.2f JND (%.3f of h's) over %d keyframes of its flight; "
+                    "f - h up to %.2f arcmin; %d grid samples on it at least", ball_fig.h_jnd, ball_fig.f_jnd,
+                    ball_fig.h_jnd > 0 ? ball_fig.f_jnd / ball_fig.h_jnd : NAN, ball_fig.keys,
+                    ball_fig.max_f_minus_h, ball_fig.min_samples);
     }
     capture_log_free(&log);
     frame_destroy(f);
@@ -421,16 +476,14 @@ static int run(int argc, char **argv)
     }
     /* --throw: the ball flies as in the game, from the first frame (its pose
      * hook answers every time the frame asks, the keyframes ahead too). */
-    static game_ball ball;
     if (o.throw_no >= 0) {
-        vg_camera aim;
-        if (!game_ball_attach(s, &ball, &aim)) {
+        if (!game_ball_attach(s, &ball, &ball_aim)) {
             vg_error("--throw: %s has no node named 'ball' (see docs/content.md)", o.scene);
             scene_destroy(s);
             return 2;
         }
         ball.t_launch = lround(o.time * o.fps) / o.fps;
-        game_throw_free_play(1, o.throw_no, GAME_VISIBLE_S, &aim, &ball.th);
+        game_throw_free_play(1, o.throw_no, GAME_VISIBLE_S, &ball_aim, &ball.th);
     }
     /* Nothing it writes or removes may be one of its inputs. */
     vg_inputs in = {0};

@@ -23,16 +23,13 @@ vg_status observer_engine_create(const observer_engine_desc *desc, observer_engi
     e->d = *desc;
     e->w = (int)desc->frame.width, e->h = (int)desc->frame.height;
     const scene *s = desc->scene;
-    e->object_ids = calloc((size_t)s->instance_count + 1, sizeof *e->object_ids);
+    e->object_ids = observer_node_ids(s, desc->moving_node);
     e->surround = calloc((size_t)e->w * (size_t)e->h, sizeof *e->surround);
     if (!e->object_ids || !e->surround || e->w <= 0 || e->h <= 0) {
         vg_status st = e->w <= 0 || e->h <= 0 ? VG_ERR_ARG : VG_ERR_NOMEM;
         observer_engine_destroy(e);
         return st;
     }
-    for (int k = 0, n = 0; k < s->instance_count; k++)
-        if (s->instances[k].node == desc->moving_node)
-            e->object_ids[n++] = s->instances[k].id;
     *out = e;
     return VG_OK;
 }
@@ -47,9 +44,18 @@ void observer_engine_destroy(observer_engine *e)
     free(e);
 }
 
-static bool is_object(const observer_engine *e, uint32_t id)
+uint32_t *observer_node_ids(const scene *s, int node)
 {
-    for (const uint32_t *p = e->object_ids; *p; p++)
+    uint32_t *ids = calloc((size_t)s->instance_count + 1, sizeof *ids);
+    for (int k = 0, n = 0; ids && k < s->instance_count; k++)
+        if (s->instances[k].node == node)
+            ids[n++] = s->instances[k].id;
+    return ids;
+}
+
+bool observer_is_node_id(const uint32_t *ids, uint32_t id)
+{
+    for (const uint32_t *p = ids; id && *p; p++)
         if (*p == id)
             return true;
     return false;
@@ -89,6 +95,9 @@ vg_status observer_engine_track(observer_engine *e, frame_mode mode, long first,
             return st;
     }
     frame_restart(*fr);
+    int stride = frame_get_desc(*fr)->keyframe_stride;
+    for (int k = e->d.lead_keyframes; k > 0 && st == VG_OK; k--)
+        st = frame_render(*fr, first - (long)k * stride);
     double last = 0.0;
     for (int i = 0; i < count && st == VG_OK; i++) {
         if ((st = frame_render(*fr, first + (long)i * step)) != VG_OK)
@@ -98,7 +107,7 @@ vg_status observer_engine_track(observer_engine *e, frame_mode mode, long first,
         double sum = 0.0;
         long hits = 0;
         for (size_t p = 0; p < n; p++)
-            if (o->ids[p] && is_object(e, o->ids[p])) {
+            if (observer_is_node_id(e->object_ids, o->ids[p])) {
                 sum += (double)map[p] - (double)o->g[p];
                 hits++;
             }

@@ -21,15 +21,23 @@ typedef struct observer_engine_desc {
     const scene *scene;           /* its pose hook (if any) moves the object; the caller's */
     int moving_node;
     frame_desc frame;             /* the study's frame of any mode (mode, readback and maps_only are set here) */
+    int lead_keyframes;           /* keyframes rendered before `first` after the restart (a throw: 1, the
+                                     ball resting at its start in the window, as play's window has it) */
 } observer_engine_desc;
 
 typedef struct observer_engine observer_engine;
+
+/* The instance ids of scene node `node` (what the G-buffer's id image
+ * shows of it), 0-terminated; free() them. */
+uint32_t *observer_node_ids(const scene *s, int node);
+bool observer_is_node_id(const uint32_t *ids, uint32_t id);
 
 vg_status observer_engine_create(const observer_engine_desc *desc, observer_engine **out);
 void observer_engine_destroy(observer_engine *e);
 
 /* Renders frames first, first + step, ... (count of them) of `mode` after a
- * restart of the frame's window (as a throw or a clip starts it) and
+ * restart of the frame's window (as a throw or a clip starts it) and the
+ * desc's lead keyframes, and
  * fills *shown (valid until the next call). A frame where the object covers
  * no pixel keeps the previous frame's displacement (0 before the first). */
 vg_status observer_engine_track(observer_engine *e, frame_mode mode, long first, int step, int count,

@@ -1,0 +1,142 @@
+/* vergence — the ball's own figures (issue 39). */
+#include "ball_measure.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/log.h"
+#include "observer.h"
+#include "observer_engine.h"
+#include "stereo/stereo_display.h"
+#include "stereo/stereo_perception.h"
+
+/* g of a point at view depth z through the frame's rig (frame.c
+ * stereo_setup: the render camera's field of view and the image width). */
+static double rig_vergence(const frame *fr, double z)
+{
+    const frame_desc *fd = frame_get_desc(fr);
+    const vg_camera *cam = frame_get_camera(fr);
+    stereo_display disp;
+    stereo_display_init(&disp, &fd->display);
+    stereo_camera_desc rd = fd->rig;
+    rd.hfov_deg = 2.0 * atan(tan(0.5 * cam->yfov) * cam->aspect) * 180.0 / M_PI;
+    rd.image_width = (int)fd->width;
+    stereo_camera rig;
+    stereo_camera_init(&rig, &rd, &disp);
+    return stereo_camera_vergence(&rig, &disp, z);
+}
+
+bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, double t_launch, const uint32_t *ids)
+{
+    const frame_desc *fd = frame_get_desc(fr);
+    const frame_times *t = frame_get_times(fr);
+    long launch = lround(t_launch * fd->fps), stride = fd->keyframe_stride;
+    long k = t->index - launch;
+    if (k < 0 || k % stride || k >= lround(th->visible_s * fd->fps) || b->keys >= BALL_MEASURE_MAX_KEYS)
+        return false;
+    if (!b->keys)
+        *b = (ball_figures){.min_pixels = -1, .min_samples = -1};
+    const frame_outputs *o = frame_get_outputs(fr);
+    frame_info info;
+    frame_get_info(fr, &info);
+    uint32_t w = fd->width, h = fd->height, s = info.grid_stride;
+    double dh = 0, df = 0;
+    int px = 0, samples = 0;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            size_t i = (size_t)y * w + x;
+            if (!observer_is_node_id(ids, o->ids[i]))
+                continue;
+            dh += (double)o->h[i] - o->g[i], df += (double)o->f[i] - o->g[i], px++;
+            /* A grid sample is the pixel q s + floor(s / 2) (docs/method.md
+             * §4; the clamped last column or row is not counted). */
+            samples += s && x % s == s / 2 && y % s == s / 2;
+        }
+    if (!px)
+        return false;
+    /* The exact g of the ball's centre: its front surface's mean would move
+     * with the pixels its silhouette covers. */
+    double c[3], z = 0;
+    game_throw_position(th, (double)k / fd->fps, c);
+    const vg_camera *cam = frame_get_camera(fr);
+    for (int a = 0; a < 3; a++)
+        z += (c[a] - cam->position[a]) * cam->forward[a];
+    int n = b->keys++;
+    b->g[n] = rig_vergence(fr, z);
+    b->h[n] = b->g[n] + dh / px, b->f[n] = b->g[n] + df / px;
+    b->min_pixels = b->min_pixels < 0 || px < b->min_pixels ? px : b->min_pixels;
+    b->min_samples = b->min_samples < 0 || samples < b->min_samples ? samples : b->min_samples;
+    return true;
+}
+
+void ball_figures_finish(ball_figures *b, double keyframe_seconds)
+{
+    double fps = 1.0 / keyframe_seconds;
+    b->h_jnd = observer_track_mid_distortion(b->h, b->g, b->keys, 1, fps, STEREO_WEBER_K);
+    b->f_jnd = observer_track_mid_distortion(b->f, b->g, b->keys, 1, fps, STEREO_WEBER_K);
+    b->max_f_minus_h = 0;
+    for (int i = 0; i < b->keys; i++)
+        b->max_f_minus_h = fmax(b->max_f_minus_h, fabs(b->f[i] - b->h[i]));
+}
+
+struct ball_measure {
+    ball_measure_desc d;
+    frame *frame;
+    uint32_t *ids;
+};
+
+vg_status ball_measure_create(const ball_measure_desc *desc, ball_measure **out)
+{
+    *out = NULL;
+    ball_measure *m = calloc(1, sizeof *m);
+    if (!m || !(m->ids = observer_node_ids(desc->scene, desc->ball->node))) {
+        free(m);
+        return VG_ERR_NOMEM;
+    }
+    m->d = *desc;
+    frame_desc fd = desc->frame;
+    fd.mode = FRAME_MODE_OPTIMIZED; /* g, h and f all come back from one frame */
+    fd.readback = true;
+    fd.maps_only = true;
+    fd.overlay = false;
+    fd.reference = false;
+    fd.measure = false;
+    fd.present_format = VK_FORMAT_UNDEFINED;
+    vg_status st = frame_create(desc->gpu, desc->scene, &fd, &m->frame);
+    if (st != VG_OK) {
+        ball_measure_destroy(m);
+        return st;
+    }
+    *out = m;
+    return VG_OK;
+}
+
+void ball_measure_destroy(ball_measure *m)
+{
+    if (!m)
+        return;
+    frame_destroy(m->frame);
+    free(m->ids);
+    free(m);
+}
+
+vg_status ball_measure_throw(ball_measure *m, const game_throw *th, long launch, ball_figures *out)
+{
+    const frame_desc *fd = frame_get_desc(m->frame);
+    long stride = fd->keyframe_stride;
+    m->d.ball->th = *th;
+    m->d.ball->t_launch = launch / fd->fps;
+    *out = (ball_figures){0};
+    frame_restart(m->frame);
+    vg_status st = VG_OK;
+    for (long index = launch - stride; index < launch + lround(th->visible_s * fd->fps) && st == VG_OK;
+         index += stride)
+        if ((st = frame_render(m->frame, index)) == VG_OK && index >= launch &&
+            !ball_figures_add(out, m->frame, th, m->d.ball->t_launch, m->ids)) {
+            vg_error("ball measure: the ball covers no pixel at frame %ld", index);
+            st = VG_ERR_ARG;
+        }
+    if (st == VG_OK)
+        ball_figures_finish(out, stride / fd->fps);
+    return st;
+}
