@@ -241,7 +241,7 @@ static frame_desc session_frame_desc(const session *ss, frame_mode mode)
 {
     const play_session_desc *d = ss->d;
     frame_desc fd = game_frame_desc(window_gpu(ss->win), d->win->tess_error, mode, ss->rw, ss->rh, ss->compose,
-                                    d->op, ss->study);
+                                    d->op, ss->study, &ss->cam_ref);
     fd.display = d->display;
     fd.swap_eyes = ss->swap_eyes;
     fd.look_ahead = d->look_ahead;
@@ -531,7 +531,11 @@ static vg_status flight_prepare(session *ss)
         return st;
     long first = lround(ss->t_launch * FLIGHT_HZ);
     int count = (int)lround(ss->th.visible_s * FLIGHT_HZ);
-    st = flight_render(ss->fl, *fr, first, count, flight_progress, ss);
+    /* The window holds the keyframe before the launch (the ball resting at
+     * its start), as the live game's window does: the launch is motion. */
+    st = frame_render(*fr, first - frame_get_desc(*fr)->keyframe_stride);
+    if (st == VG_OK)
+        st = flight_render(ss->fl, *fr, first, count, flight_progress, ss);
     ss->flight_ready = st == VG_OK;
     return st;
 }

@@ -165,6 +165,27 @@ void game_throw_free_play(uint64_t seed, int n, double visible_s, const vg_camer
     game_throw_make(&td, cam, &r, out);
 }
 
+/* The throws' bounds (metres from the camera's foot, heights above the
+ * ground): near-to-far from 4-5.5 m to 14-24 m, far-to-near from 17-22 m to
+ * 5-9 m (a 0.5 m ball at 22 m is 8 pixels across in a 270-pixel-high eye). */
+#define NEAR_START_M 4.0
+#define FAR_LAND_M 24.0
+#define FAR_START_M 22.0
+#define START_Y_MAX_M 5.0
+
+double game_ball_farthest_m(const vg_camera *cam)
+{
+    double d = fmax(FAR_LAND_M, FAR_START_M), dy = START_Y_MAX_M - cam->position[1];
+    return sqrt(d * d + dy * dy);
+}
+
+int game_grid_stride(const vg_camera *cam, uint32_t h)
+{
+    double px = GAME_BALL_RADIUS / game_ball_farthest_m(cam) * h / tan(0.5 * cam->yfov); /* its diameter */
+    int s = (int)floor(px / GAME_GRID_CELLS_ACROSS);
+    return s < 1 ? 1 : s > MID_COARSE_STRIDE ? MID_COARSE_STRIDE : s;
+}
+
 /* The whole flight in view with a margin, never nearer than 2 m. */
 static bool throw_in_view(const game_throw *th, const vg_camera *cam)
 {
@@ -205,14 +226,14 @@ void game_throw_make(const game_throw_desc *desc, const vg_camera *cam, game_rng
     for (int attempt = 0; attempt < 1000; attempt++) {
         double d0, d1, y0;
         if (th.direction == GAME_DIR_NEAR_TO_FAR) {
-            d0 = game_rng_uniform(r, 3.5, 5.0);
-            d1 = game_rng_uniform(r, 16.0, 30.0);
+            d0 = game_rng_uniform(r, NEAR_START_M, NEAR_START_M + 1.5);
+            d1 = game_rng_uniform(r, FAR_LAND_M - 10.0, FAR_LAND_M);
             /* A straight throw needs height to descend from over ~20 m. */
             y0 = ballistic ? game_rng_uniform(r, 0.9, 1.5) : game_rng_uniform(r, 1.8, 2.8);
         } else {
-            d0 = game_rng_uniform(r, 26.0, 34.0);
-            d1 = game_rng_uniform(r, 6.0, 12.0);
-            y0 = ballistic ? game_rng_uniform(r, 1.0, 2.5) : game_rng_uniform(r, 3.0, 5.0);
+            d0 = game_rng_uniform(r, FAR_START_M - 5.0, FAR_START_M);
+            d1 = game_rng_uniform(r, 5.0, 9.0);
+            y0 = ballistic ? game_rng_uniform(r, 1.0, 2.5) : game_rng_uniform(r, 3.0, START_Y_MAX_M);
         }
         double az0 = game_rng_uniform(r, -12.0, 12.0) * deg, az1 = game_rng_uniform(r, -20.0, 20.0) * deg;
         th.flight_s = ballistic ? game_rng_uniform(r, 1.6, 2.2) : game_rng_uniform(r, 1.4, 2.0);
@@ -274,11 +295,12 @@ void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd)
 }
 
 frame_desc game_frame_desc(const gpu *g, double tess_error, frame_mode mode, uint32_t w, uint32_t h,
-                           frame_compose layout, disp_operator_kind op, bool study)
+                           frame_compose layout, disp_operator_kind op, bool study, const vg_camera *ball_aim)
 {
     frame_desc fd = {
         .width = w, .height = h, .fps = 60, .keyframe_stride = 10, .camera = 0, .stereo = FRAME_STEREO_WARP,
         .mode = mode, .compose = layout, .op = op, .op_preset = study ? DISP_PRESET_STUDY : DISP_PRESET_DEFAULT,
+        .coarse_stride = ball_aim ? game_grid_stride(ball_aim, h) : 0,
     };
     game_frame_defaults(g, tess_error, &fd);
     return fd;

@@ -19,7 +19,7 @@
 #include "render/frame_types.h"
 #include "scene/scene.h"
 
-#define GAME_BALL_RADIUS 0.15   /* metres: the arena's `ball` node (docs/content.md) */
+#define GAME_BALL_RADIUS 0.25   /* metres: the arena's `ball` node (docs/content.md) */
 #define GAME_GRAVITY 9.81       /* m/s^2 */
 #define GAME_VISIBLE_S 0.6      /* default visible interval after launch */
 
@@ -144,9 +144,22 @@ void game_frame_defaults(const gpu *g, double tess_error, frame_desc *fd);
 /* The frame the game renders in a mode: eyes of w x h at 60 Hz, keyframes
  * every 10th frame (paper 4.4), the tessellated warp, the layout, the
  * manipulation op (a study's compresses as the paper's did, play's for
- * comfort) and game_frame_defaults. The caller adds display and window. */
+ * comfort) and game_frame_defaults. With ball_aim (the camera throws are
+ * aimed with: a frame that shows the ball), the solver's grid is the one
+ * game_grid_stride chooses for the ball. The caller adds display and window. */
 frame_desc game_frame_desc(const gpu *g, double tess_error, frame_mode mode, uint32_t w, uint32_t h,
-                           frame_compose layout, disp_operator_kind op, bool study);
+                           frame_compose layout, disp_operator_kind op, bool study, const vg_camera *ball_aim);
+/* The solver grid's stride chosen from the content, not the eye size (paper
+ * 4.5: "based on content structure details rather than screen
+ * resolution"): the ball is what the player judges, so the grid's cells are
+ * at most 1 / GAME_GRID_CELLS_ACROSS of its diameter where the game shows it
+ * smallest (the farthest point of any throw's visible flight, game_throw_make's
+ * bounds), seen by `cam` in an image h pixels high; the paper's 5 px where
+ * that is finer already. */
+#define GAME_GRID_CELLS_ACROSS 2.5
+int game_grid_stride(const vg_camera *cam, uint32_t h);
+/* How far from the eye a throw's ball is at most while it is shown, m. */
+double game_ball_farthest_m(const vg_camera *cam);
 /* The eye size of `vergence play` in a window of win_w x win_h: the eyes fill
  * it in the layout, and a CPU rasteriser gets at most 480 pixels across
  * (not the interleaved layouts: they need 1:1 pixels). */

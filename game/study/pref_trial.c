@@ -79,7 +79,7 @@ void pref_panel_size(bool cpu, int ew, int eh, int *pw, int *ph)
 
 frame_desc pref_clip_frame_desc(const gpu *g, const pref_clip_desc *d)
 {
-    frame_desc fd = game_frame_desc(g, d->tess_error, d->mode, d->width, d->height, d->compose, d->op, true);
+    frame_desc fd = game_frame_desc(g, d->tess_error, d->mode, d->width, d->height, d->compose, d->op, true, NULL);
     fd.readback = true;
     fd.display = d->display;
     fd.swap_eyes = d->swap_eyes;

@@ -149,10 +149,11 @@ static vg_status run_model(hit_run *r, const char *scene_path)
                              &w, &h);
         if (st == VG_OK) {
             frame_desc fd = game_frame_desc(g, o->win.tess_error, FRAME_MODE_OPTIMIZED, w, h,
-                                            (frame_compose)o->win.compose, (disp_operator_kind)o->op, true);
+                                            (frame_compose)o->win.compose, (disp_operator_kind)o->op, true,
+                                            observer_camera(obs));
             fd.display = display_cli_desc(&o->display);
             st = observer_engine_create(&(observer_engine_desc){.gpu = g, .scene = s, .moving_node = ball.node,
-                                                                .frame = fd}, &eng);
+                                                                .frame = fd, .lead_keyframes = 1}, &eng);
         }
         if (st == VG_OK)
             vg_info("study hit: the model sees the engine's frames, %ux%u per eye", w, h);

@@ -16,9 +16,10 @@
 #define WALL_H 0.8
 #define WALL_T 0.3
 
-#define BALL_R 0.15
+#define BALL_R 0.25
 #define GRAVITY 9.81
 #define FLIGHT_S 2.0
+#define ARENA_YFOV 40 /* degrees: a 0.5 m ball at 22 m is 8 px across in a 270 px high eye */
 
 static int mat(gltf *g, const char *name, uint8_t r, uint8_t gr, uint8_t b, double roughness)
 {
@@ -84,6 +85,35 @@ static void build_pillars(gltf *g)
     object_emit(g, &o, &(gltf_node_desc){.name = "pillars", .saliency = 0.2f});
 }
 
+/* Gates down the field: a pair of 3.3 m posts with a pennant at 7, 13 and
+ * 17 m, each standing 0.6 m inside the edge of a 16:9 view there. Objects
+ * at several depths with gaps between them (paper Fig. 1 and 2): the
+ * histogram operator gives their depths more of the range and the gaps
+ * less, so a ball flying through the gates speeds up and slows down in
+ * depth under h (docs/content.md: measured on the ball). Near-to-far
+ * flights cross the first gate while the ball is shown, far-to-near ones
+ * the other two. */
+#define GATE_H 3.3
+static void build_gates(gltf *g)
+{
+    static const double dist[3] = {7.0, 13.0, 17.0};
+    static const uint8_t colour[3][3] = {{232, 92, 70}, {38, 166, 154}, {244, 190, 52}};
+    static const char *const pennant[3] = {"pennant_coral", "pennant_teal", "pennant_gold"};
+    object o = {0};
+    mesh *p = object_part_for(&o, mat(g, "gate_post", 240, 238, 230, 0.6));
+    for (int i = 0; i < 3; i++) {
+        mesh *f = object_part_for(&o, mat(g, pennant[i], colour[i][0], colour[i][1], colour[i][2], 0.8));
+        if (!p || !f)
+            return;
+        double z = dist[i], x = z * tan(0.5 * ARENA_YFOV * DEG) * 16.0 / 9.0 - 0.6;
+        for (int side = -1; side <= 1; side += 2) {
+            mesh_cylinder(p, xform_translate(side * x, 0, -z), 0.12, 0.09, GATE_H, 16, true);
+            mesh_box(f, xform_translate(side * (x - 0.75), GATE_H - 0.5, -z), 1.4, 0.9, 0.05);
+        }
+    }
+    object_emit(g, &o, &(gltf_node_desc){.name = "gates", .saliency = 0.6f});
+}
+
 /* Firs outside the walls, a meadow around the field, hills on the horizon. */
 static void build_surroundings(gltf *g)
 {
@@ -120,10 +150,11 @@ static void build_surroundings(gltf *g)
 void scene_arena_build(gltf *g)
 {
     /* Eye height 1.6 m, looking 3 degrees down the field (paper Fig. 6). */
-    scene_camera(g, (const double[3]){0, 1.6, 0}, -3 * DEG, 50);
+    scene_camera(g, (const double[3]){0, 1.6, 0}, -3 * DEG, ARENA_YFOV);
     scene_ground(g, TEXTURE_FIELD, -FIELD_X, FIELD_FAR, FIELD_X, FIELD_NEAR, 2, 4, 0.1f);
     build_walls(g);
     build_pillars(g);
+    build_gates(g);
     build_surroundings(g);
 
     object ball = {0};
