@@ -140,10 +140,11 @@ def case_deterministic():
 def case_shadow():
     """The arena, where the game's ball casts its shadow: one map over the whole scene made a texel 6.4 px (at
     960x540 with 2048 texels, the game's 480x270 with 1024 alike), the ball's shadow a smudge; 1.7 with the
-    cascades, at any frame size (their texels follow the frame's rows)."""
+    cascades, at any frame size (their texels follow the frame's rows), 2.1 since the arena's camera narrowed
+    from 50 to 40 degrees (issue 39: a pixel covers less of the field, a texel the same)."""
     out = os.path.join(tempfile.mkdtemp(prefix="vergence_shadow_"), "arena")
     j = capture("content/arena.gltf", out, size="320x180", extra=["--stereo-render", "off"])
-    check_shadow_figure(j, out, frames=1, bound_px=2.0)
+    check_shadow_figure(j, out, frames=1, bound_px=2.5)
 
 
 def case_shadow_cache():
