@@ -5,9 +5,9 @@ usage: timeouts_test.py CTEST BUILD_DIR
 
 This machine runs the suite up to 2.5x slower from one day to the next (and
 slower still under other loads), so each test's TIMEOUT must be at least
-MARGIN times its time on a normal run. The times are the ones ctest keeps for
-BUILD_DIR (Testing/Temporary/CTestCostData.txt: each test's average over the
-runs it finished); the limits are the TIMEOUT properties the build declares
+MARGIN times its time on a normal run. The times are those of the suite's
+last run in BUILD_DIR (last-run.xml, the JUnit file tools/dev test asks
+ctest for); the limits are the TIMEOUT properties the build declares
 (ctest --show-only=json-v1). A test that failed last time is left out unless
 it ran into its limit (a timeout is what this check is about). Before any
 run has been recorded there is nothing to compare: the check says so and
@@ -17,30 +17,35 @@ import json
 import os
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 
 MARGIN = 3.0
 DEFAULT_TIMEOUT = 1500.0  # ctest's own when a test declares none (DART_TESTING_TIMEOUT)
+JUNIT = "last-run.xml"    # in BUILD_DIR: tools/dev test's ctest --output-junit
 
 
 def costs(build):
-    """{test: seconds} of the recorded runs, and the tests that failed last."""
-    path = os.path.join(build, "Testing", "Temporary", "CTestCostData.txt")
-    times, failed, after = {}, set(), False
+    """{test: seconds} of the last recorded run, and the tests that failed in it."""
+    # The JUnit file of the suite's last run (tools/dev test writes it with
+    # --output-junit): each test's measured time. CTestCostData.txt is not
+    # usable: ctest keeps a scheduling cost there, not the time (a test of
+    # 8-13 s stood at 504).
+    path = os.path.join(build, JUNIT)
+    times, failed = {}, set()
     if not os.path.exists(path):
         return times, failed
-    for line in open(path):
-        line = line.strip()
-        if line == "---":
-            after = True
-        elif line and after:
-            failed.add(line)
-        elif line:
-            parts = line.rsplit(" ", 2)
-            if len(parts) == 3:
-                try:
-                    times[parts[0]] = float(parts[2])
-                except ValueError:
-                    pass
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as e:
+        sys.exit(f"FAIL: {path}: not a JUnit file ({e})")
+    for case in root.iter("testcase"):
+        name, status = case.get("name"), case.get("status", "run")
+        try:
+            times[name] = float(case.get("time", "0"))
+        except ValueError:
+            continue
+        if status == "fail" or case.find("failure") is not None:
+            failed.add(name)
     return times, failed
 
 
