@@ -94,14 +94,8 @@ vg_status ball_measure_create(const ball_measure_desc *desc, ball_measure **out)
         return VG_ERR_NOMEM;
     }
     m->d = *desc;
-    frame_desc fd = desc->frame;
-    fd.mode = FRAME_MODE_OPTIMIZED; /* g, h and f all come back from one frame */
-    fd.readback = true;
-    fd.maps_only = true;
-    fd.overlay = false;
-    fd.reference = false;
-    fd.measure = false;
-    fd.present_format = VK_FORMAT_UNDEFINED;
+    /* Optimized: g, h and f all come back from one frame. */
+    frame_desc fd = observer_maps_frame(&desc->frame, FRAME_MODE_OPTIMIZED);
     vg_status st = frame_create(desc->gpu, desc->scene, &fd, &m->frame);
     if (st != VG_OK) {
         ball_measure_destroy(m);

@@ -44,6 +44,19 @@ void observer_engine_destroy(observer_engine *e)
     free(e);
 }
 
+frame_desc observer_maps_frame(const frame_desc *game, frame_mode mode)
+{
+    frame_desc fd = *game;
+    fd.mode = mode;
+    fd.readback = true;
+    fd.maps_only = true;
+    fd.overlay = false;
+    fd.reference = false;
+    fd.measure = false;
+    fd.present_format = VK_FORMAT_UNDEFINED;
+    return fd;
+}
+
 uint32_t *observer_node_ids(const scene *s, int node)
 {
     uint32_t *ids = calloc((size_t)s->instance_count + 1, sizeof *ids);
@@ -83,14 +96,7 @@ vg_status observer_engine_track(observer_engine *e, frame_mode mode, long first,
     vg_status st = VG_OK;
     frame **fr = &e->frames[mode];
     if (!*fr) {
-        frame_desc fd = e->d.frame;
-        fd.mode = mode;
-        fd.readback = true;
-        fd.maps_only = true;
-        fd.overlay = false;
-        fd.reference = false;
-        fd.measure = false;
-        fd.present_format = VK_FORMAT_UNDEFINED;
+        frame_desc fd = observer_maps_frame(&e->d.frame, mode);
         if ((st = frame_create(e->d.gpu, e->d.scene, &fd, fr)) != VG_OK)
             return st;
     }

@@ -31,6 +31,10 @@ typedef struct observer_engine observer_engine;
  * shows of it), 0-terminated; free() them. */
 uint32_t *observer_node_ids(const scene *s, int node);
 bool observer_is_node_id(const uint32_t *ids, uint32_t id);
+/* A game frame of `mode` made to be read, not shown: its maps come back
+ * (readback, maps only: the G-buffer and disparity passes), no eyes, no
+ * overlay, no reference, no measures, no present. */
+frame_desc observer_maps_frame(const frame_desc *game, frame_mode mode);
 
 vg_status observer_engine_create(const observer_engine_desc *desc, observer_engine **out);
 void observer_engine_destroy(observer_engine *e);
