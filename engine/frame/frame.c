@@ -965,6 +965,11 @@ void frame_restart(frame *f)
         vgx_restart(f->vgx);
 }
 
+double frame_original_vergence(const frame *f, double z_m)
+{
+    return stereo_camera_vergence(&f->fc.rig, &f->fc.display, z_m);
+}
+
 void frame_get_info(const frame *f, frame_info *out)
 {
     *out = (frame_info){.disparity = f->disparity != NULL, .saliency_computed = f->fc.sg.computed_saliency};

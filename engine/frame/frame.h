@@ -77,6 +77,10 @@ typedef struct frame_info {
     bool saliency_computed;                  /* the G-buffer computes saliency (none authored, or asked) */
 } frame_info;
 void frame_get_info(const frame *f, frame_info *out);
+/* g of the paper at view depth z (metres) in the frame last rendered: its
+ * original rig (the render camera's field of view, the image width) through
+ * the display model, arcmin. */
+double frame_original_vergence(const frame *f, double z_m);
 /* A keyframe as the solve sees it (readback frames; disparity_gpu_keyframe_read). */
 struct disparity_gpu_keyframe;
 vg_status frame_solved_keyframe(const frame *f, long keyframe, struct disparity_gpu_keyframe *out);

@@ -7,24 +7,7 @@
 #include "core/log.h"
 #include "observer.h"
 #include "observer_engine.h"
-#include "stereo/stereo_display.h"
 #include "stereo/stereo_perception.h"
-
-/* g of a point at view depth z through the frame's rig (frame.c
- * stereo_setup: the render camera's field of view and the image width). */
-static double rig_vergence(const frame *fr, double z)
-{
-    const frame_desc *fd = frame_get_desc(fr);
-    const vg_camera *cam = frame_get_camera(fr);
-    stereo_display disp;
-    stereo_display_init(&disp, &fd->display);
-    stereo_camera_desc rd = fd->rig;
-    rd.hfov_deg = 2.0 * atan(tan(0.5 * cam->yfov) * cam->aspect) * 180.0 / M_PI;
-    rd.image_width = (int)fd->width;
-    stereo_camera rig;
-    stereo_camera_init(&rig, &rd, &disp);
-    return stereo_camera_vergence(&rig, &disp, z);
-}
 
 bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, double t_launch, const uint32_t *ids)
 {
@@ -62,7 +45,7 @@ bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, do
     for (int a = 0; a < 3; a++)
         z += (c[a] - cam->position[a]) * cam->forward[a];
     int n = b->keys++;
-    b->g[n] = rig_vergence(fr, z);
+    b->g[n] = frame_original_vergence(fr, z);
     b->h[n] = b->g[n] + dh / px, b->f[n] = b->g[n] + df / px;
     b->min_pixels = b->min_pixels < 0 || px < b->min_pixels ? px : b->min_pixels;
     b->min_samples = b->min_samples < 0 || samples < b->min_samples ? samples : b->min_samples;
