@@ -186,17 +186,13 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
 /* The ball's own figures (issue 39)                                         */
 /* ------------------------------------------------------------------------- */
 
-#define BALL_KINDS 4
+#define BALL_KINDS GAME_THROW_KINDS
 #define BALL_LAUNCH 60 /* frame of every launch (a keyframe, one second in, as in play) */
-
-static int ball_kind(const game_throw *th)
-{
-    return 2 * (th->direction == GAME_DIR_FAR_TO_NEAR) + (th->path == GAME_PATH_BALLISTIC);
-}
 
 vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int per_kind,
                      bool each, bench_report *rep)
 {
+    /* In game_throw_kind's order. */
     static const char *const kinds[BALL_KINDS] = {"straight, near-to-far", "ballistic, near-to-far",
                                                   "straight, far-to-near", "ballistic, far-to-near"};
     game_ball ball = {0};
@@ -230,7 +226,7 @@ vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     for (int n = 0; done < total && st == VG_OK && n < 1000 * total; n++) {
         game_throw th;
         game_throw_free_play(1, n, GAME_VISIBLE_S, &cam, &th);
-        int k = ball_kind(&th);
+        int k = game_throw_kind(&th);
         if (count[k] >= per_kind)
             continue;
         ball_figures b;

@@ -156,6 +156,11 @@ void game_throw_position(const game_throw *th, double t, double out[3])
     out[1] -= 0.5 * th->gravity * t * t;
 }
 
+int game_throw_kind(const game_throw *th)
+{
+    return 2 * (th->direction == GAME_DIR_FAR_TO_NEAR) + (th->path == GAME_PATH_BALLISTIC);
+}
+
 void game_throw_free_play(uint64_t seed, int n, double visible_s, const vg_camera *cam, game_throw *out)
 {
     game_rng r = game_rng_make(seed, 0x9a11ull + (uint64_t)n);

@@ -84,6 +84,10 @@ typedef struct game_throw {
 void game_throw_make(const game_throw_desc *desc, const vg_camera *cam, game_rng *r, game_throw *out);
 /* Ball centre at t seconds after launch (held at the landing point after). */
 void game_throw_position(const game_throw *th, double t, double out[3]);
+/* The kind of a throw, 0 .. GAME_THROW_KINDS - 1: straight near-to-far,
+ * ballistic near-to-far, straight far-to-near, ballistic far-to-near. */
+#define GAME_THROW_KINDS 4
+int game_throw_kind(const game_throw *th);
 /* Free play's n-th throw (`vergence play`, `vergence bench --game`): path
  * and direction drawn from the stream (seed, 0x9a11 + n), then made as
  * game_throw_make does. */

@@ -585,12 +585,12 @@ static int ball_figures_shown(void)
     ball_measure *m;
     CHECK(ball_measure_create(&(ball_measure_desc){.gpu = g, .scene = s, .ball = &ball, .frame = fd}, &m) == VG_OK,
           "ball_measure_create");
-    double ratio[4];
-    bool seen[4] = {false};
-    for (int n = 0, kinds = 0; kinds < 4 && n < 64; n++) {
+    double ratio[GAME_THROW_KINDS];
+    bool seen[GAME_THROW_KINDS] = {false};
+    for (int n = 0, kinds = 0; kinds < GAME_THROW_KINDS && n < 64; n++) {
         game_throw th;
         game_throw_free_play(1, n, GAME_VISIBLE_S, &aim, &th);
-        int k = 2 * (th.direction == GAME_DIR_FAR_TO_NEAR) + (th.path == GAME_PATH_BALLISTIC);
+        int k = game_throw_kind(&th);
         if (seen[k])
             continue;
         ball_figures b;
@@ -607,9 +607,9 @@ static int ball_figures_shown(void)
         if (th.direction == GAME_DIR_NEAR_TO_FAR)
             CHECK(b.max_f_minus_h >= 0.5, "throw %d: f - h on the ball %.3f arcmin at most", n, b.max_f_minus_h);
     }
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < GAME_THROW_KINDS; k++)
         CHECK(seen[k], "no throw of kind %d in 64", k);
-    double med = vg_median(ratio, 4, 1);
+    double med = vg_median(ratio, GAME_THROW_KINDS, 1);
     CHECK(med <= 0.5, "median f / h %.3f", med);
     ball_measure_destroy(m);
     scene_set_pose_hook(s, NULL, NULL);
