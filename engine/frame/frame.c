@@ -502,6 +502,13 @@ static vg_status disparity_create(frame *f)
 vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **out)
 {
     *out = NULL;
+    /* An orthographic view has no stereo rig to derive g from (docs/scene.md):
+     * refused for every command, not rendered as zeros. */
+    if (desc->stereo != FRAME_STEREO_OFF && scene_camera_orthographic(s, desc->camera)) {
+        vg_error("%s: camera %d is orthographic: a stereo frame needs a perspective camera (docs/scene.md)",
+                 s->file_count ? s->files[0] : "the scene", desc->camera);
+        return VG_ERR_FORMAT;
+    }
     frame *f = calloc(1, sizeof *f);
     if (!f)
         return VG_ERR_NOMEM;

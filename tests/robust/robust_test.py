@@ -609,6 +609,10 @@ def issue_44_cases(box, add, bad_scene):
         outs=())
     add("capture_orthographic_gbuffer_only", cap("in/ortho.gltf", "out_gbuffer", "--stereo-render", "off"), 0,
         outs=("out_gbuffer",))
+    # Every stereo frame refuses it (frame_create), not capture alone.
+    add("bench_orthographic_camera", ["bench", "--scene", "in/ortho.gltf", "--frames", "1", "--sizes",
+                                      "320x180,320x180", "--tess", "none", "--no-solver"], FORMAT,
+        ("ortho.gltf", "camera 0", "orthographic"), outs=())
     khronos = os.path.join(assets, "gltf", "Cameras", "glTF")
     if os.path.isdir(khronos):
         shutil.copytree(khronos, box.p("in/cameras"))
