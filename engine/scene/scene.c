@@ -435,3 +435,15 @@ int scene_find_node(const scene *s, const char *name)
             return i;
     return -1;
 }
+
+int scene_node_instance_ids(const scene *s, int node, uint32_t *ids, int cap)
+{
+    int n = 0;
+    for (int k = 0; k < s->instance_count; k++)
+        if (s->instances[k].node == node) {
+            if (n < cap)
+                ids[n] = s->instances[k].id;
+            n++;
+        }
+    return n;
+}

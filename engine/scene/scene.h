@@ -240,6 +240,9 @@ bool scene_instance_rigid(const scene *s, const scene_state *st, int i);
 void scene_mean_base_color(const scene *s, float rgb[3]);
 /* Index of the first node named `name`, or -1. */
 int scene_find_node(const scene *s, const char *name);
+/* The instance ids (the G-buffer's) of node's own instances, up to cap of
+ * them into ids; returns how many it has. */
+int scene_node_instance_ids(const scene *s, int node, uint32_t *ids, int cap);
 
 /* ------------------------------------------------------------------------- */
 /* Cameras                                                                   */

@@ -21,3 +21,10 @@ double stereo_p_inverse(double j, double k);
 double stereo_jnd_difference(double a_arcmin_s, double b_arcmin_s, double k);
 /* Perceived acceleration between two consecutive velocities, in JND. */
 double stereo_jnd_acceleration(double v_before, double v_after, double k);
+/* The paper's MID distortion on one track (docs/method.md §11 on one
+ * sample, noiseless): x against its reference ref, both sampled at times t
+ * (seconds, increasing), n samples; RMS over the inner samples where ref
+ * moves in depth (|v| >= 1 arcmin/s on either side) of
+ * [p(v+(x)) - p(v-(x))] - [p(v+(ref)) - p(v-(ref))], v over the two
+ * neighbouring intervals, JND. 0 with no such sample. */
+double stereo_track_mid_distortion(const double *x, const double *ref, const double *t, int n, double k);

@@ -329,23 +329,18 @@ static int perceived_changes(const observer *o, const double *a, int n, game_rng
     return m;
 }
 
-/* The paper's measure on a track, noiseless (docs/method.md §11 on one
- * sample): RMS over the keyframes where the reference moves in depth of
- * [p(v+(x)) - p(v-(x))] - [p(v+(ref)) - p(v-(ref))], v over a keyframe
- * interval, JND. */
+/* The paper's measure on a track, at its keyframes (stereo_perception.h). */
 double observer_track_mid_distortion(const double *x, const double *ref, int n, int stride, double fps, double k)
 {
-    double sum = 0.0;
-    int m = 0;
-    for (int i = stride; i + stride < n; i += stride) {
-        double rp = (ref[i + stride] - ref[i]) * fps / stride, rm = (ref[i] - ref[i - stride]) * fps / stride;
-        if (fmax(fabs(rp), fabs(rm)) < 1.0)
-            continue; /* not moving in depth */
-        double xp = (x[i + stride] - x[i]) * fps / stride, xm = (x[i] - x[i - stride]) * fps / stride;
-        double e = (stereo_p(xp, k) - stereo_p(xm, k)) - (stereo_p(rp, k) - stereo_p(rm, k));
-        sum += e * e, m++;
-    }
-    return m ? sqrt(sum / m) : 0.0;
+    int m = n > 0 ? (n - 1) / stride + 1 : 0;
+    double *a = malloc(3 * (size_t)(m ? m : 1) * sizeof(double));
+    if (!a)
+        return NAN;
+    for (int i = 0; i < m; i++)
+        a[i] = x[i * stride], a[m + i] = ref[i * stride], a[2 * m + i] = i * stride / fps;
+    double d = stereo_track_mid_distortion(a, a + m, a + 2 * m, m, k);
+    free(a);
+    return d;
 }
 
 vg_status observer_prefer(observer *o, const double (*pos)[3], int count, const frame_mode modes[3],

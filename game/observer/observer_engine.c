@@ -60,9 +60,8 @@ frame_desc observer_maps_frame(const frame_desc *game, frame_mode mode)
 uint32_t *observer_node_ids(const scene *s, int node)
 {
     uint32_t *ids = calloc((size_t)s->instance_count + 1, sizeof *ids);
-    for (int k = 0, n = 0; ids && k < s->instance_count; k++)
-        if (s->instances[k].node == node)
-            ids[n++] = s->instances[k].id;
+    if (ids)
+        scene_node_instance_ids(s, node, ids, s->instance_count);
     return ids;
 }
 
