@@ -220,4 +220,19 @@ VG_STRUCT(vg_compose_push) {
     VG_UINT rect[8];          /* packed: x, y, w, h of the left eye's, then the right eye's */
 };
 
+/* probe: the pixels of a few instances (the game's ball) and the mean of
+ * (shown map - g) over them, one partial sum per 16 x 16 workgroup
+ * (engine/frame/probe_gpu.c adds them on the host). */
+#define VG_PROBE_GROUP 16u
+#define VG_PROBE_MAX_IDS 8
+VG_STRUCT(vg_probe_push) {
+    VG_UINT ids[VG_PROBE_MAX_IDS]; /* instance ids, 0 = unused */
+    VG_UINT width, height;
+    VG_UINT groups_x;
+};
+VG_STRUCT(vg_probe_partial) {
+    float sum;                /* of (shown - g), arcmin */
+    VG_UINT pixels;
+};
+
 #endif

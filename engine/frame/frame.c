@@ -20,6 +20,7 @@
 #include "output/compose_gpu.h"
 #include "output/overlay_gpu.h"
 #include "output/present_gpu.h"
+#include "probe_gpu.h"
 #include "warp/gpu/warp_gpu.h"
 
 /* One image (or buffer: height 0, width = bytes) copied to the host after
@@ -34,6 +35,7 @@ typedef struct readback_item {
 #define FRAME_MAX_READBACK 16
 
 _Static_assert(VG_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "the graph keeps timestamps for every frame in flight");
+_Static_assert(FRAME_PROBES_KEPT > VG_FRAMES_IN_FLIGHT, "frame_wait_idle completes every frame in flight at once");
 
 /* One of the SDK dispatch's passes, as a pass of the frame's graph. */
 #define FRAME_MAX_VGX_PASSES 24
@@ -57,6 +59,10 @@ struct frame {
     frame_hud *hud;              /* headless: what frame_set_hud gave */
     present_gpu *present;
     rg_res r_swapchain;
+    probe_gpu *probe;            /* desc.probe_ids */
+    long slot_index[VG_FRAMES_IN_FLIGHT];    /* the frame in flight in each slot */
+    frame_probe probes[FRAME_PROBES_KEPT]; /* completed, not yet taken (frame_take_probes) */
+    int probe_count;
 
     gpu_buffer readback;
     readback_item items[FRAME_MAX_READBACK];
@@ -229,6 +235,8 @@ static vg_status build_graph(frame *f)
                      frame_mode_names[fc->desc.mode]);
             return VG_ERR_UNSUPPORTED;
         }
+        if (f->probe && target.id)
+            probe_gpu_add(f->probe, g, res, target);
         if (eyes) {
             warp_gpu_add(f->warp, g, res, target);
             if (f->overlay)
@@ -541,6 +549,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
             st = warp_gpu_create(fc, &f->warp);
         if (st == VG_OK && !fc->desc.maps_only)
             st = compose_gpu_create(fc, &f->compose);
+        if (st == VG_OK && fc->desc.probe_ids[0] && frame_needs_maps(&fc->desc))
+            st = probe_gpu_create(fc, &f->probe);
         if (st == VG_OK && !fc->desc.maps_only && (fc->desc.overlay || fc->desc.present_format != VK_FORMAT_UNDEFINED))
             st = overlay_gpu_create(fc, &f->overlay);
     }
@@ -566,6 +576,7 @@ void frame_destroy(frame *f)
     vkDeviceWaitIdle(g->device);
     rg_destroy(f->graph);
     present_gpu_destroy(f->present);
+    probe_gpu_destroy(f->probe);
     overlay_gpu_destroy(f->overlay);
     free(f->hud);
     compose_gpu_destroy(f->compose);
@@ -736,12 +747,19 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
                                      sqrtf(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]) + 1e-3f}, 16);
 }
 
-/* The timestamps of a completed slot; a CPU device writes none (the pass
- * clock times its passes). */
-static void read_timestamps(frame *f, int slot)
+/* What a completed slot measured: its timestamps (a CPU device writes none:
+ * the pass clock times its passes, `timed`) and its probe. */
+static void slot_done(frame *f, int slot, bool timed)
 {
-    f->pass_count = f->fc.gpu->is_cpu ? 0 : rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
-    f->host_done_ms = f->host_ms[slot];
+    if (!timed) {
+        f->pass_count = f->fc.gpu->is_cpu ? 0 : rg_timings(f->graph, (uint32_t)slot, f->pass_ms, RG_MAX_PASSES);
+        f->host_done_ms = f->host_ms[slot];
+    }
+    if (f->probe) {
+        if (f->probe_count == FRAME_PROBES_KEPT) /* not taken: the oldest goes */
+            memmove(f->probes, f->probes + 1, --f->probe_count * sizeof f->probes[0]);
+        f->probes[f->probe_count++] = probe_gpu_read(f->probe, slot, f->slot_index[slot]);
+    }
 }
 
 /* Takes the next slot once the GPU is done with it, evaluates the scene
@@ -756,10 +774,11 @@ static vg_status frame_begin(frame *f, long index)
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
         f->submitted[slot] = false;
-        read_timestamps(f, slot);
+        slot_done(f, slot, false);
     }
     f->host_t0 = vg_now_ms(); /* the host part starts once the slot is free */
     fc->times = frame_times_at(index, fc->desc.fps, fc->desc.keyframe_stride);
+    f->slot_index[slot] = index;
     scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
     float aspect = (float)fc->desc.width / (float)fc->desc.height;
     scene_camera_resolve(fc->scene, &fc->sg.now, fc->desc.camera, aspect, &fc->cam);
@@ -804,6 +823,8 @@ static void frame_bind(frame *f)
             rg_bind_image(f->graph, maps[i], f->maps[i].image, f->maps[i].view);
     if (fc->desc.readback)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
+    if (f->probe)
+        probe_gpu_bind(f->probe, f->graph);
     if (f->warp)
         warp_gpu_bind(f->warp, f->graph);
 }
@@ -870,6 +891,7 @@ static vg_status submit_timed(frame *f, const frame_target *target)
         f->pass_ms[o] = vg_now_ms() - t0;
     }
     f->pass_count = n;
+    slot_done(f, slot, true);
     return VG_OK;
 }
 
@@ -895,7 +917,7 @@ static vg_status submit_frame(frame *f, const frame_target *target, bool wait_do
     VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
     VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
     f->submitted[slot] = false;
-    read_timestamps(f, slot);
+    slot_done(f, slot, false);
     return VG_OK;
 }
 
@@ -950,14 +972,25 @@ void frame_time_passes(frame *f, bool on) { f->timed = on; }
 /* Waits for every frame in flight (before resizing or reading timings). */
 vg_status frame_wait_idle(frame *f)
 {
-    for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++)
+    for (int k = 1; k <= VG_FRAMES_IN_FLIGHT; k++) { /* the oldest first */
+        int i = (f->fc.slot + k) % VG_FRAMES_IN_FLIGHT;
         if (f->submitted[i]) {
             VK_TRY(vkWaitForFences(f->fc.gpu->device, 1, &f->fence[i], VK_TRUE, UINT64_MAX));
             VK_TRY(vkResetFences(f->fc.gpu->device, 1, &f->fence[i]));
             f->submitted[i] = false;
-            read_timestamps(f, i);
+            slot_done(f, i, false);
         }
+    }
     return VG_OK;
+}
+
+int frame_take_probes(frame *f, frame_probe *out, int cap)
+{
+    int n = f->probe_count < cap ? f->probe_count : cap;
+    memcpy(out, f->probes, (size_t)n * sizeof *out);
+    memmove(f->probes, f->probes + n, (size_t)(f->probe_count - n) * sizeof *out);
+    f->probe_count -= n;
+    return n;
 }
 
 const frame_outputs *frame_get_outputs(const frame *f) { return &f->outputs; }

@@ -49,6 +49,11 @@ vg_status frame_present(frame *f, long index, const frame_target *target, const 
 void frame_restart(frame *f);
 /* Waits until no frame is in flight. */
 vg_status frame_wait_idle(frame *f);
+/* desc.probe_ids: what the probe measured in the frames completed since the
+ * last call, oldest first (at most FRAME_PROBES_KEPT are kept; a
+ * headless frame completes in frame_render, a windowed one when its slot
+ * is reused or in frame_wait_idle). Returns how many it wrote to out. */
+int frame_take_probes(frame *f, frame_probe *out, int cap);
 
 /* The pass clock, the one way passes are timed (every bench, capture.json,
  * the HUD). On a CPU device (lavapipe) each pass is then submitted alone

@@ -58,6 +58,21 @@ static uint32_t add_quad(hud_vertex *v, uint32_t n, float x0, float y0, float x1
     return n + 1;
 }
 
+/* A line from (x0, y0) to (x1, y1), `width` across. */
+static uint32_t add_segment(hud_vertex *v, uint32_t n, float x0, float y0, float x1, float y1, float width,
+                            const uint8_t c[4])
+{
+    float dx = x1 - x0, dy = y1 - y0, len = sqrtf(dx * dx + dy * dy);
+    if (n >= OVERLAY_MAX_QUADS || !(len > 0))
+        return n;
+    float nx = -dy / len * 0.5f * width, ny = dx / len * 0.5f * width;
+    hud_vertex *q = v + 4 * n;
+    const float xs[4] = {x0 + nx, x1 + nx, x1 - nx, x0 - nx}, ys[4] = {y0 + ny, y1 + ny, y1 - ny, y0 - ny};
+    for (int i = 0; i < 4; i++)
+        q[i] = (hud_vertex){xs[i], ys[i], 0, {c[0], c[1], c[2], c[3]}};
+    return n + 1;
+}
+
 static float text_width(const char *text)
 {
     char buf[FRAME_HUD_LINE];
@@ -76,6 +91,60 @@ static uint32_t add_text(hud_vertex *v, uint32_t n, float x, float y, const char
                                              (int)((OVERLAY_MAX_QUADS - n) * 4 * sizeof(hud_vertex)));
 }
 
+/* The chart at the top right of an eye ew font units wide, from y = top + 4
+ * (none in an eye narrower than twice the chart): a dark panel, the title,
+ * the plot with its zero line and y range, the series as lines through
+ * dots, their legend, the caption. */
+static uint32_t add_chart(hud_vertex *v, uint32_t n, const frame_hud_chart *c, float ew, float top)
+{
+    static const uint8_t panel[4] = {12, 16, 24, 215}, ink[4] = {236, 240, 245, 255}, dim[4] = {150, 158, 170, 255},
+                         axis[4] = {90, 98, 112, 255};
+    const float w = 176.0f, h = 92.0f, x = ew - 4.0f - w, y = top + 4.0f;
+    if (ew < 2.0f * w)
+        return n; /* it would hide most of a narrow eye */
+    const float px0 = x + 20, px1 = x + w - 6, py0 = y + 20, py1 = y + h - 28; /* the plot */
+    if (!(c->x1 > c->x0) || !(c->y1 > c->y0))
+        return n;
+    n = add_quad(v, n, x, y, x + w, y + h, panel);
+    n = add_text(v, n, x + 4, y + 3, c->title, ink);
+    float sx = (px1 - px0) / (c->x1 - c->x0), sy = (py1 - py0) / (c->y1 - c->y0);
+#define CHART_X(u) (px0 + ((u) - c->x0) * sx)
+#define CHART_Y(u) (py1 - ((u) - c->y0) * sy)
+    char tick[16];
+    snprintf(tick, sizeof tick, "%.0f", c->y1);
+    n = add_text(v, n, x + 3, py0 - 3, tick, dim);
+    snprintf(tick, sizeof tick, "%.0f", c->y0);
+    n = add_text(v, n, x + 3, py1 - 5, tick, dim);
+    n = add_segment(v, n, px0, py0, px0, py1, 1.0f, axis);
+    if (c->y0 < 0 && c->y1 > 0) {
+        n = add_segment(v, n, px0, CHART_Y(0.0f), px1, CHART_Y(0.0f), 1.0f, axis);
+        n = add_text(v, n, x + 14, CHART_Y(0.0f) - 5, "0", dim);
+    }
+    float legend = px1;
+    for (int s = c->series_count - 1; s >= 0; s--) { /* the legend, right to left */
+        const frame_hud_series *se = &c->series[s];
+        const uint8_t col[4] = {se->rgb[0], se->rgb[1], se->rgb[2], 255};
+        legend -= text_width(se->label);
+        n = add_text(v, n, legend, py1 + 4, se->label, col);
+        legend -= 8;
+    }
+    for (int s = 0; s < c->series_count && s < FRAME_HUD_CHART_SERIES; s++) {
+        const frame_hud_series *se = &c->series[s];
+        const uint8_t col[4] = {se->rgb[0], se->rgb[1], se->rgb[2], 255};
+        for (int i = 0; i < se->count && i < FRAME_HUD_CHART_POINTS; i++) {
+            float ux = CHART_X(fminf(fmaxf(se->x[i], c->x0), c->x1)), uy = CHART_Y(fminf(fmaxf(se->y[i], c->y0), c->y1));
+            if (i)
+                n = add_segment(v, n, CHART_X(fminf(fmaxf(se->x[i - 1], c->x0), c->x1)),
+                                CHART_Y(fminf(fmaxf(se->y[i - 1], c->y0), c->y1)), ux, uy, 1.5f, col);
+            n = add_quad(v, n, ux - 1.5f, uy - 1.5f, ux + 1.5f, uy + 1.5f, col);
+        }
+    }
+#undef CHART_X
+#undef CHART_Y
+    n = add_text(v, n, x + 4, y + h - 13, c->caption, ink);
+    return n;
+}
+
 void overlay_gpu_update(overlay_gpu *o, const frame_hud *hud)
 {
     int slot = o->fc->slot;
@@ -89,7 +158,7 @@ void overlay_gpu_update(overlay_gpu *o, const frame_hud *hud)
     o->parallax[slot] = hud ? hud->parallax : 0.0f;
     float ew = (float)d->width / scale, eh = (float)d->height / scale; /* the eye in font units */
     static const uint8_t panel[4] = {12, 16, 24, 180}, title[4] = {255, 214, 110, 255}, text[4] = {236, 240, 245, 255};
-    float panel_right = 0, panel_bottom = 0;
+    float panel_right = 0, panel_bottom = 0, badge_bottom = 0;
     if (hud && hud->visible && hud->line_count > 0) {
         float width = 0;
         for (int i = 0; i < hud->line_count; i++)
@@ -103,11 +172,14 @@ void overlay_gpu_update(overlay_gpu *o, const frame_hud *hud)
         /* A coloured tag with dark text, at the top right (under the panel
          * where a narrow eye has no room beside it). */
         float w = text_width(hud->badge), y = ew - w - 16 < panel_right + 4 ? panel_bottom + 4 : 4;
+        badge_bottom = y + 16;
         const uint8_t back[4] = {hud->badge_rgb[0], hud->badge_rgb[1], hud->badge_rgb[2], 235};
         static const uint8_t ink[4] = {16, 18, 24, 255};
         n = add_quad(v, n, ew - w - 16, y, ew - 4, y + 16, back);
         n = add_text(v, n, ew - w - 10, y + 4, hud->badge, ink);
     }
+    if (hud && hud->chart.visible)
+        n = add_chart(v, n, &hud->chart, ew, badge_bottom);
     /* Markers: a dark outline under a coloured cross or box, the label below. */
     static const uint8_t shade[4] = {8, 10, 14, 220};
     for (int i = 0; hud && i < hud->marker_count && i < FRAME_HUD_MAX_MARKERS; i++) {

@@ -77,6 +77,9 @@ extern const char *const frame_saliency_names[];   /* "auto", "authored", "compu
  * balloon house (docs/architecture.md "Lighting"). */
 #define FRAME_SHADOW_TEXELS_PER_ROW 4u
 
+#define FRAME_PROBE_MAX_IDS 8
+#define FRAME_PROBES_KEPT 4      /* completed probes a frame keeps until frame_take_probes */
+
 typedef struct frame_desc {
     uint32_t width, height;      /* 0 = 960x540 */
     double fps;                  /* 0 = 60 */
@@ -122,6 +125,9 @@ typedef struct frame_desc {
                                     0) or predicted from the past (causal; docs/method.md "Look-ahead") */
     bool temporal_depth_only;    /* the temporal upsampling's occlusion test by depth alone (paper 4.4),
                                     not the links' test: kept to measure the two (docs/method.md Sec. 8) */
+    /* Instance ids whose pixels the probe measures in every frame (frame_take_probes: the game's
+     * ball), 0-terminated; none: no probe pass. */
+    uint32_t probe_ids[FRAME_PROBE_MAX_IDS];
 } frame_desc;
 
 /* The original rig when the scene gives none: a 25 cm interaxial converged at
@@ -147,6 +153,14 @@ typedef struct frame_outputs {
      * sharpness: capture.json "shadow") and the view depth below which cascade 1 shades (0: none). */
     float shadow_texel_m[2], shadow_split_m;
 } frame_outputs;
+
+/* What the probe measured in one frame (desc.probe_ids): how the frame
+ * showed those instances in depth, beside g. */
+typedef struct frame_probe {
+    long index;                  /* the frame */
+    uint32_t pixels;             /* pixels of the probed instances */
+    double shown_minus_g;        /* mean over them of (the shown map - g), arcmin; 0 with no pixel */
+} frame_probe;
 
 /* The times a frame was rendered at. */
 typedef struct frame_times {
@@ -181,11 +195,34 @@ typedef struct frame_hud_marker {
     char label[24];
 } frame_hud_marker;
 
+/* A small line chart at the top right of each eye, under the badge (the
+ * game's trace of the ball after a throw): series of points in the plot's
+ * units, the ranges x0..x1 and y0..y1 (y0 < 0 < y1 draws the zero line),
+ * a title over the plot and a caption under it. */
+#define FRAME_HUD_CHART_SERIES 2
+#define FRAME_HUD_CHART_POINTS 64
+
+typedef struct frame_hud_series {
+    int count;
+    float x[FRAME_HUD_CHART_POINTS], y[FRAME_HUD_CHART_POINTS];
+    uint8_t rgb[3];
+    char label[24];              /* the legend */
+} frame_hud_series;
+
+typedef struct frame_hud_chart {
+    bool visible;
+    char title[64], caption[64];
+    float x0, x1, y0, y1;
+    int series_count;
+    frame_hud_series series[FRAME_HUD_CHART_SERIES]; /* the last is drawn on top */
+} frame_hud_chart;
+
 /* Text drawn into each eye before the eyes are composed (output/overlay_gpu.c),
  * so every layout shows it once and whole: a panel of lines at the top
  * left (lines[0] the title), a banner in the middle, a badge at the top
- * right, markers at points of the picture. It stands at `parallax` eye pixels (left eye shifted by -p/2, right
- * by +p/2: positive behind the screen, negative in front; 0 = screen depth). */
+ * right, markers at points of the picture, a chart under the badge. It
+ * stands at `parallax` eye pixels (left eye shifted by -p/2, right by +p/2:
+ * positive behind the screen, negative in front; 0 = screen depth). */
 typedef struct frame_hud {
     bool visible;
     int line_count;
@@ -199,6 +236,7 @@ typedef struct frame_hud {
     int marker_count;
     frame_hud_marker markers[FRAME_HUD_MAX_MARKERS];
     float parallax;              /* eye pixels, 0 = screen depth */
+    frame_hud_chart chart;
 } frame_hud;
 
 /* The keyframe interval a frame is in: floor(index / stride), also below 0. */
