@@ -15,6 +15,7 @@
 #include "core/io.h"
 #include "core/log.h"
 #include "core/manifest.h"
+#include "ball_trace.h"
 #include "window.h"
 
 #define READY_S 1.0      /* the ball rests at its launch point before a throw */
@@ -61,6 +62,13 @@ typedef struct session {
     double miss_sum, last_miss;
     double picked_m, landed_m;   /* feedback: ground distances of the click and of the landing spot */
     double click_u, click_v;     /* feedback: where the player clicked (centre image) */
+    /* The ball as shown (free play): its trace over the throw's flight, from
+     * the probe of the frames shown (ball_trace.h). */
+    uint32_t ball_ids[FRAME_PROBE_MAX_IDS];
+    ball_trace trace;
+    frame_mode trace_mode;
+    bool trace_mixed;            /* the mode changed during the flight */
+    bool trace_said;
     /* display */
     frame_hud hud;
     char notice[FRAME_HUD_LINE];
@@ -113,6 +121,9 @@ static void throw_next(session *ss)
     ss->t_hide = ss->t_launch + ss->th.visible_s;
     ss->t_landed = INFINITY;
     ss->flight_ready = false;
+    ss->trace.count = 0;
+    ss->trace_mode = ss->mode;
+    ss->trace_mixed = ss->trace_said = false;
     ss->ph = PHASE_READY;
     ss->t_phase = ss->clock;
 }
@@ -262,6 +273,8 @@ static vg_status frame_for(session *ss, frame_mode mode, frame **out)
     fd.present_width = e.width;
     fd.present_height = e.height;
     fd.readback = d->win->dump_f && mode == FRAME_MODE_OPTIMIZED;
+    if (!ss->study)
+        memcpy(fd.probe_ids, ss->ball_ids, sizeof fd.probe_ids);
     vg_status st = frame_create(g, ss->scene, &fd, &ss->frames[mode]);
     *out = ss->frames[mode];
     return st;
@@ -304,6 +317,9 @@ static void mode_pick(session *ss, frame_mode mode)
         vg_info("play: mode %s not available: staying with %s", k_mode_text[mode], k_mode_text[ss->mode]);
         return;
     }
+    ss->trace_mixed |= ss->ph == PHASE_FLIGHT; /* the trace would join two modes */
+    if (ss->ph == PHASE_READY)
+        ss->trace_mode = mode;
     ss->mode = mode;
     vg_info("play: mode %s", k_mode_text[mode]);
 }
@@ -369,6 +385,32 @@ static void hud_add(session *ss, const char *fmt, ...)
     va_end(ap);
 }
 
+/* The ball's trace after a throw (free play): the chart under the badge,
+ * and once a throw its figures in the log. */
+static void trace_chart(session *ss)
+{
+    ball_trace_figures fig;
+    double key_s = 10.0 / 60.0; /* the keyframe interval: the launch is on one (throw_next) */
+    ball_trace_figures_of(&ss->trace, key_s, &fig);
+    frame_hud_chart *c = &ss->hud.chart;
+    static const char *const label[] = {"", "(g)", "(h)", "(f)"};
+    ball_trace_chart(&fig, ss->th.visible_s, label[ss->trace_mode], k_mode_rgb[ss->trace_mode], c);
+    if (ss->trace_mixed)
+        snprintf(c->caption, sizeof c->caption, "the mode changed during the flight");
+    if (ss->trace_said)
+        return;
+    ss->trace_said = true;
+    char pg[FRAME_HUD_LINE * 2] = "", ps[FRAME_HUD_LINE * 2] = "";
+    for (int i = 0; i < fig.speeds && i < 16; i++) {
+        snprintf(pg + strlen(pg), sizeof pg - strlen(pg), "%s%.2f", i ? " " : "", fig.p_g[i]);
+        snprintf(ps + strlen(ps), sizeof ps - strlen(ps), "%s%.2f", i ? " " : "", fig.p_shown[i]);
+    }
+    vg_info("play: throw %d as shown in %s%s: %d frames of the flight, %d a keyframe apart; MID %.3f JND "
+            "against g, largest |shown - g| %.4f arcmin; speed in depth (JND) g [%s] shown [%s]",
+            ss->throw_no, k_mode_text[ss->trace_mode], ss->trace_mixed ? " (mixed: the mode changed)" : "",
+            ss->trace.count, fig.samples, fig.mid_jnd, fig.max_shown_minus_g, pg, ps);
+}
+
 static void hud_build(session *ss, frame *f)
 {
     frame_hud *h = &ss->hud;
@@ -387,6 +429,8 @@ static void hud_build(session *ss, frame *f)
             h->markers[h->marker_count++] = (frame_hud_marker){(float)lu, (float)lv, FRAME_HUD_BOX, {255, 96, 64},
                                                                 "landed"};
     }
+    if (ss->ph == PHASE_FEEDBACK && !ss->study)
+        trace_chart(ss);
     if (ss->study)
         hud_add(ss, "VERGENCE STUDY  |  trial %d of %d", ss->trial + 1, ss->d->trial_count);
     else if (ss->throws_scored)
@@ -397,13 +441,11 @@ static void hud_build(session *ss, frame *f)
     static const char *const prompt[] = {"", "Get ready ...   (H: HUD and keys)", "Watch the ball!",
                                          "Click where the ball will land", "", "All trials done: thank you! (Q quits)"};
     if (ss->ph == PHASE_FEEDBACK) {
-        hud_add(ss, "Missed by %.2f m: +%d points. The ball shows where it landed.", ss->last_miss,
-                game_points(ss->last_miss));
+        hud_add(ss, "Missed by %.2f m: +%d points. Click: next throw.", ss->last_miss, game_points(ss->last_miss));
         if (isfinite(ss->picked_m))
-            hud_add(ss, "It landed %.1f m away; you picked %.1f m. Click for the next throw.", ss->landed_m,
-                    ss->picked_m);
+            hud_add(ss, "It landed %.1f m away; you picked %.1f m.", ss->landed_m, ss->picked_m);
         else
-            hud_add(ss, "It landed %.1f m away; you picked the sky. Click for the next throw.", ss->landed_m);
+            hud_add(ss, "It landed %.1f m away; you picked the sky.", ss->landed_m);
     } else
         hud_add(ss, "%s", prompt[ss->ph]);
     if (ss->hud_tech) {
@@ -577,6 +619,10 @@ static vg_status present(session *ss)
         st = frame_present(f, index, &target, &ss->hud);
         if (st == VG_OK)
             st = window_present(ss->win, &stale);
+        frame_probe probes[FRAME_PROBES_KEPT];
+        int n = st == VG_OK ? frame_take_probes(f, probes, FRAME_PROBES_KEPT) : 0;
+        for (int i = 0; i < n; i++)
+            ball_trace_add(&ss->trace, f, &ss->cam, &ss->th, ss->t_launch, &probes[i]);
         if (st == VG_OK && ss->d->win->dump_f && ss->mode == FRAME_MODE_OPTIMIZED)
             st = dump_f(ss, f, index);
     }
@@ -692,6 +738,7 @@ vg_status play_session_run(const play_session_desc *d)
         st = VG_ERR_FORMAT;
     }
     if (st == VG_OK) {
+        scene_node_instance_ids(ss->scene, ss->ball, ss->ball_ids, FRAME_PROBE_MAX_IDS - 1);
         memcpy(ss->ball_scale, ss->scene->nodes[ss->ball].scale, sizeof ss->ball_scale);
         scene_set_pose_hook(ss->scene, ball_pose, ss);
         st = window_create(&(window_desc){.title = ss->study ? "vergence study" : "vergence",

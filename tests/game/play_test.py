@@ -26,6 +26,11 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
   play_keys          the mode badge (its colour follows M / 1-3), the markers
                      on the click and the landing spot, L (next layout) and
                      E (swap eyes), each seen on screen and in the log
+  play_trace         the same throw in the three modes (R repeats it): the
+                     trace of the ball as shown (the HUD's chart after the
+                     throw, and its log line) equals g in the original mode,
+                     and differs between manipulated and optimized by what h
+                     and f do to the ball; the chart is drawn in both eyes
   device_lost        the device is lost (VERGENCE_FAULT) after a trial of the
                      windowed hit study: one clear error, the finished trial
                      stays in the CSV, --resume continues after it
@@ -244,6 +249,55 @@ def case_play_replay():
         fail(f"the replayed click gave '{click}', want '{want}'")
 
 
+def case_play_trace():
+    # Throw 1 of seed 4 (near-to-far, straight) three times: original, then
+    # R and 2 (manipulated), then R and 3 (optimized). Launches at ticks 60,
+    # 240 and 390; each flight is 0.6 s; the clicks come after it, the
+    # optimized throw's feedback is paused (P) to grab the chart.
+    script = replay_file("110 click 0.5 0.75\n180 key R\n182 key 2\n290 click 0.5 0.75\n330 key R\n332 key 3\n"
+                         "440 click 0.5 0.75\n450 key P\n")
+    g = Game(["play", "--size", "960x270", "--output", "sbs", "--seed", "4", "--replay", script,
+              "--frame-ticks", "2"])
+    g.window()
+    g.wait_for(r"play: paused", 600)
+    # sbs at 960x270: the game's CPU eyes (480x270) shown 1:1. The chart
+    # sits under the badge (rows 4-20) at the right of each eye: its
+    # "shown (f)" line, dots and legend in the optimized badge's colour.
+    optimized = (124, 230, 150)
+    chart = lambda img, x: int(near(img[24:120, x + 300:x + 480], optimized, 8).sum())
+    img = g.poll(lambda img: chart(img, 0) > 20, "the chart in the left eye")
+    left, right = chart(img, 0), chart(img, 480)
+    print(f"the chart's optimized line and legend: {left} and {right} pixels in the left and right eye")
+    if abs(left - right) > max(6, 0.1 * max(left, right)):
+        fail("the chart is not whole in both eyes")
+    g.key("q")
+    log = g.finish(300)
+    rows = re.findall(r"throw 1 as shown in (\w+) \(\w\): (\d+) frames of the flight, (\d+) a keyframe apart; "
+                      r"MID ([\d.]+) JND against g, largest \|shown - g\| ([\d.]+) arcmin; "
+                      r"speed in depth \(JND\) g \[([-\d. ]*)\] shown \[([-\d. ]*)\]", log)
+    if [r[0] for r in rows] != ["original", "manipulated", "optimized"]:
+        fail(f"want one trace line per mode, in order; got {[r[0] for r in rows]}")
+    t = {r[0]: {"samples": int(r[2]), "mid": float(r[3]), "off": float(r[4]),
+                "g": np.array(r[5].split(), float), "shown": np.array(r[6].split(), float)} for r in rows}
+    for mode, v in t.items():
+        print(f"{mode}: {v['samples']} samples, MID {v['mid']:.3f} JND, largest |shown - g| {v['off']:.4f} arcmin, "
+              f"speeds g {v['g']} shown {v['shown']}")
+        if v["samples"] < 4 or not np.array_equal(v["g"], t["original"]["g"]):
+            fail(f"{mode}: {v['samples']} samples, g speeds {v['g']} (want >= 4, as in the original mode)")
+    o, h, f = t["original"], t["manipulated"], t["optimized"]
+    # Original: the shown map is g, so the trace is g's to the last digit.
+    if o["mid"] != 0 or o["off"] > 1e-3 or not np.array_equal(o["shown"], o["g"]):
+        fail("the original mode's trace is not g")
+    # Manipulated and optimized: the ball as shown differs where h and f
+    # differ on it (game.ball_figures: f - h >= 0.5 arcmin on near-to-far
+    # throws), and f restores part of what h distorts.
+    apart = float(np.abs(h["shown"] - f["shown"]).max())
+    print(f"largest |speed(h) - speed(f)| {apart:.2f} JND; MID h {h['mid']:.2f}, f {f['mid']:.2f} JND")
+    if apart < 1.0 or not h["mid"] >= 1.5 or not f["mid"] < 0.8 * h["mid"]:
+        fail(f"h and f traces: speeds {apart:.2f} JND apart (want >= 1), MID h {h['mid']} f {f['mid']} "
+             "(want h >= 1.5, f < 0.8 h)")
+
+
 def read_pfm(path):
     with open(path, "rb") as f:
         if f.readline().strip() != b"Pf":
@@ -432,5 +486,5 @@ if __name__ == "__main__":
     os.environ.setdefault("XDG_RUNTIME_DIR", "/tmp")
     {"play_live": case_play_live, "play_keys": case_play_keys, "play_replay": case_play_replay, "golden": case_golden,
      "preference_window": case_preference_window, "study_window": case_study_window, "study_rate": case_study_rate,
-     "device_lost": case_device_lost, "frame_ticks": case_frame_ticks}[sys.argv[2]]()
+     "device_lost": case_device_lost, "frame_ticks": case_frame_ticks, "play_trace": case_play_trace}[sys.argv[2]]()
     print("ok")
