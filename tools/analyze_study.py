@@ -34,6 +34,7 @@ import csv
 import json
 import math
 import os
+import statistics
 import sys
 
 CONDITIONS = ["original", "manipulated", "optimized"]
@@ -226,6 +227,15 @@ def analyze_hit(rows):
         out["conditions"][c] = {d: mean_ci(errors[c][d]) for d in DIRECTIONS + ["all"]}
     for d in ["all"] + DIRECTIONS:
         out["anova"][d] = anova([errors[c][d] for c in CONDITIONS])
+    # What each condition did to the ball as shown (ball_mid_jnd: files
+    # written before the column have none).
+    ball = {c: {d: [] for d in DIRECTIONS} for c in CONDITIONS}
+    for r in rows:
+        if r.get("ball_mid_jnd") not in (None, ""):
+            ball[r["condition"]][r["direction"]].append(float(r["ball_mid_jnd"]))
+    if any(v for c in ball.values() for v in c.values()):
+        out["ball_mid_jnd"] = {c: {d: statistics.median(v) if v else None for d, v in ball[c].items()}
+                               for c in CONDITIONS}
     return out, errors
 
 
@@ -377,6 +387,14 @@ def summary_md(files, hit, pref, observers):
                   f"- all throws: {fmt_anova(hit['anova']['all'])}"]
         for d in DIRECTIONS:
             lines.append(f"- {d}: {fmt_anova(hit['anova'][d])}")
+        if "ball_mid_jnd" in hit:
+            cell = lambda v: "-" if v is None else f"{v:.2f}"
+            lines += ["", "What each condition did to the ball as shown: the paper's MID distortion of its "
+                      "displayed vergence against g over the visible flight (`ball_mid_jnd`, JND), median:", "",
+                      "| condition | near-to-far | far-to-near |", "|---|---:|---:|"]
+            for c in CONDITIONS:
+                b = hit["ball_mid_jnd"][c]
+                lines.append(f"| {c} | {cell(b['near-to-far'])} | {cell(b['far-to-near'])} |")
         lines += ["", "![hit errors](hit_errors.png)", ""]
     if pref:
         a = pref["all"]

@@ -272,7 +272,8 @@ vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, cons
     n = n < 2 ? 2 : n;
     double (*pos)[3] = malloc((size_t)n * sizeof *pos), (*seen)[3] = malloc((size_t)n * sizeof *seen);
     double *a = malloc((size_t)n * sizeof(double)), *ap = malloc((size_t)n * sizeof(double));
-    vg_status st = pos && seen && a && ap ? VG_OK : VG_ERR_NOMEM;
+    double *g = malloc((size_t)n * sizeof(double));
+    vg_status st = pos && seen && a && ap && g ? VG_OK : VG_ERR_NOMEM;
     for (int i = 0; i < n && st == VG_OK; i++)
         game_throw_position(th, i / o->fps, pos[i]);
     if (st == VG_OK && shown && shown->count < n)
@@ -281,8 +282,17 @@ vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, cons
      * displacement the frame gave the ball's pixels. */
     if (st == VG_OK)
         st = observer_view_track(o->view, (const double (*)[3])pos, n, shown ? FRAME_MODE_ORIGINAL : mode, a);
+    /* g, to measure what the condition did to the ball as shown. */
+    if (st == VG_OK && (shown || mode == FRAME_MODE_ORIGINAL))
+        memcpy(g, a, (size_t)n * sizeof *g);
+    else if (st == VG_OK)
+        st = observer_view_track(o->view, (const double (*)[3])pos, n, FRAME_MODE_ORIGINAL, g);
     for (int i = 0; shown && st == VG_OK && i < n; i++)
         a[i] += shown->offset[i];
+    int stride = observer_view_keyframe_stride(o->view);
+    if (st == VG_OK)
+        out->ball_mid_jnd = (n - 1) / stride + 1 < 3 ? NAN : observer_track_mid_distortion(a, g, n, stride, o->fps,
+                                                                                             o->k);
     o->shown = shown;
     if (st == VG_OK) {
         calibrate(o, mode);
@@ -310,7 +320,7 @@ vg_status observer_play(observer *o, const game_throw *th, frame_mode mode, cons
         out->frames_seen = n;
     }
     o->shown = NULL;
-    free(pos), free(seen), free(a), free(ap);
+    free(pos), free(seen), free(a), free(ap), free(g);
     return st;
 }
 

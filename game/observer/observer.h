@@ -34,6 +34,8 @@ typedef struct observer_result {
     double error_m;              /* the paper's error (game_click_error) */
     double perceived_ground[3];  /* where the fit met the displayed ground (decoded world space) */
     int frames_seen;
+    double ball_mid_jnd;         /* the paper's MID distortion of the ball's shown vergence against g over
+                                    the visible flight, at the keyframes (0 under g; NAN: fewer than 3) */
 } observer_result;
 
 vg_status observer_create(const observer_desc *desc, observer **out);

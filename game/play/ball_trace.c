@@ -46,7 +46,7 @@ void ball_trace_figures_of(const ball_trace *tr, double keyframe_s, ball_trace_f
         out->p_shown[i] = stereo_p((x[i + 1] - x[i]) / dt, STEREO_WEBER_K);
     }
     out->speeds = m > 1 ? m - 1 : 0;
-    out->mid_jnd = m >= BALL_TRACE_MIN_SAMPLES ? stereo_track_mid_distortion(x, g, t, m, STEREO_WEBER_K) : 0.0;
+    out->mid_jnd = m >= BALL_TRACE_MIN_SAMPLES ? stereo_track_mid_distortion(x, g, t, m, STEREO_WEBER_K) : NAN;
 }
 
 void ball_trace_chart(const ball_trace_figures *f, double visible_s, const char *shown_label, const uint8_t rgb[3],

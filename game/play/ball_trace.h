@@ -17,7 +17,7 @@
 #include "rules/game.h"
 
 #define BALL_TRACE_MAX 256
-#define BALL_TRACE_MIN_SAMPLES 4   /* fewer: too few frames were shown to see an acceleration */
+#define BALL_TRACE_MIN_SAMPLES 3   /* fewer: no acceleration to measure */
 
 typedef struct ball_trace {
     int count;
@@ -30,7 +30,7 @@ typedef struct ball_trace {
 /* The figures of a trace, on its samples a keyframe interval apart. */
 typedef struct ball_trace_figures {
     int samples;                   /* used (>= BALL_TRACE_MIN_SAMPLES for a measure) */
-    double mid_jnd;                /* MID distortion of shown against g, JND; 0 below the minimum */
+    double mid_jnd;                /* MID distortion of shown against g, JND; NAN below the minimum */
     double max_shown_minus_g;      /* largest |shown - g| on them, arcmin */
     int speeds;                    /* perceived velocities in depth: samples - 1 */
     double t[BALL_TRACE_MAX];      /* the middle of each interval, seconds since the launch */

@@ -151,8 +151,12 @@ static vg_status on_click(session *ss, double x, double y)
     vg_info("play: click at (%.3f, %.3f) of the picture: missed by %.2f m (%s, %s, %s)", u, v, err,
             k_mode_text[ss->mode], game_direction_names[ss->th.direction], game_path_names[ss->th.path]);
     if (ss->study) {
+        ball_trace_figures fig;
+        const frame_desc *fd = frame_get_desc(ss->flight_frames[ss->mode]);
+        ball_trace_figures_of(&ss->trace, fd->keyframe_stride / fd->fps, &fig);
         play_trial t = {.trial = ss->trial, .th = &ss->th, .mode = ss->mode, .click_u = u, .click_v = v,
-                        .error_m = err, .response_s = ss->clock - ss->t_hide, .flight = ss->shown};
+                        .error_m = err, .response_s = ss->clock - ss->t_hide, .flight = ss->shown,
+                        .ball_mid_jnd = fig.mid_jnd};
         vg_status st = ss->d->on_trial(ss->d->user, &t);
         if (st != VG_OK)
             return st;
@@ -387,11 +391,11 @@ static void hud_add(session *ss, const char *fmt, ...)
 
 /* The ball's trace after a throw (free play): the chart under the badge,
  * and once a throw its figures in the log. */
-static void trace_chart(session *ss)
+static void trace_chart(session *ss, const frame *f)
 {
     ball_trace_figures fig;
-    double key_s = 10.0 / 60.0; /* the keyframe interval: the launch is on one (throw_next) */
-    ball_trace_figures_of(&ss->trace, key_s, &fig);
+    const frame_desc *fd = frame_get_desc(f);
+    ball_trace_figures_of(&ss->trace, fd->keyframe_stride / fd->fps, &fig);
     frame_hud_chart *c = &ss->hud.chart;
     static const char *const label[] = {"", "(g)", "(h)", "(f)"};
     ball_trace_chart(&fig, ss->th.visible_s, label[ss->trace_mode], k_mode_rgb[ss->trace_mode], c);
@@ -430,7 +434,7 @@ static void hud_build(session *ss, frame *f)
                                                                 "landed"};
     }
     if (ss->ph == PHASE_FEEDBACK && !ss->study)
-        trace_chart(ss);
+        trace_chart(ss, f);
     if (ss->study)
         hud_add(ss, "VERGENCE STUDY  |  trial %d of %d", ss->trial + 1, ss->d->trial_count);
     else if (ss->throws_scored)
@@ -519,6 +523,11 @@ static vg_status dump_f(session *ss, frame *f, long index)
 static vg_status flight_progress(void *user, int done, int count)
 {
     session *ss = user;
+    frame *f = ss->flight_frames[ss->mode];
+    frame_probe probes[FRAME_PROBES_KEPT];
+    int n = frame_take_probes(f, probes, FRAME_PROBES_KEPT);
+    for (int i = 0; i < n; i++)
+        ball_trace_add(&ss->trace, f, &ss->cam, &ss->th, ss->t_launch, &probes[i]);
     window_pump(ss->win); /* the window stays responsive; input waits for the next tick */
     vg_progress("study hit: rendering the flight ahead", done, count);
     return VG_OK;
@@ -557,6 +566,7 @@ static vg_status flight_prepare(session *ss)
         frame_desc fd = session_frame_desc(ss, ss->mode);
         fd.readback = true; /* the composed image comes back to be kept */
         fd.overlay = true;  /* with the HUD the live frame would show */
+        memcpy(fd.probe_ids, ss->ball_ids, sizeof fd.probe_ids); /* the ball as shown, for the log */
         st = frame_create(g, ss->scene, &fd, fr);
     }
     for (int m = 0; m <= FRAME_MODE_OPTIMIZED && st == VG_OK; m++)
@@ -573,6 +583,7 @@ static vg_status flight_prepare(session *ss)
         return st;
     long first = lround(ss->t_launch * FLIGHT_HZ);
     int count = (int)lround(ss->th.visible_s * FLIGHT_HZ);
+    ss->trace.count = 0;
     /* The window holds the keyframe before the launch (the ball resting at
      * its start), as the live game's window does: the launch is motion. */
     st = frame_render(*fr, first - frame_get_desc(*fr)->keyframe_stride);

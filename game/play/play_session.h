@@ -68,6 +68,8 @@ typedef struct play_trial {
     double click_u, click_v, error_m;
     double response_s;           /* from the ball's disappearance to the click */
     flight_record flight;        /* how the flight was shown (a person's study; the model's: exact) */
+    double ball_mid_jnd;         /* MID distortion of the ball as shown against g over the flight, JND
+                                    (ball_trace.h on the flight's frames; the model's: observer_result) */
 } play_trial;
 
 typedef vg_status (*play_trial_fn)(void *user, const play_trial *t);

@@ -17,10 +17,10 @@ static const char *const k_columns[] = {
     "participant", "study", "trial", "seed", "condition", "direction", "path", "operator", "observer",
     "visible_s", "start_x", "start_y", "start_z", "velocity_x", "velocity_y", "velocity_z", "gravity",
     "flight_s", "ground_x", "ground_y", "ground_z", "click_u", "click_v", "error_m", "response_s", "utc",
-    STUDY_DISPLAY_COLUMNS, "flight_frames", "frames_shown", "frames_missed", "shown_s",
+    STUDY_DISPLAY_COLUMNS, "flight_frames", "frames_shown", "frames_missed", "shown_s", "ball_mid_jnd",
 };
 enum { COL_STUDY = 1, COL_TRIAL, COL_SEED, COL_CONDITION, COL_DIRECTION, COL_PATH, COL_DISPLAY = 26,
-       COL_FLIGHT = COL_DISPLAY + STUDY_DISPLAY_COUNT, COL_COUNT = COL_FLIGHT + 4 };
+       COL_FLIGHT = COL_DISPLAY + STUDY_DISPLAY_COUNT, COL_BALL = COL_FLIGHT + 4, COL_COUNT = COL_BALL + 1 };
 _Static_assert(sizeof k_columns / sizeof k_columns[0] == COL_COUNT, "one name per column");
 
 typedef struct hit_run {
@@ -70,6 +70,10 @@ static vg_status log_trial(hit_run *r, const play_trial *t)
     snprintf(buf[COL_FLIGHT + 1], 64, "%d", t->flight.shown);
     snprintf(buf[COL_FLIGHT + 2], 64, "%d", t->flight.missed);
     snprintf(buf[COL_FLIGHT + 3], 64, "%.4f", t->flight.shown_s);
+    /* What the condition did to the ball as shown (docs/game.md). */
+    buf[COL_BALL][0] = '\0'; /* empty: a flight too short to measure */
+    if (isfinite(t->ball_mid_jnd))
+        snprintf(buf[COL_BALL], 64, "%.3f", t->ball_mid_jnd);
     for (int i = 0; i < COL_COUNT; i++)
         f[i] = buf[i];
     return study_log_append(&r->ss.log, f);
@@ -180,7 +184,8 @@ static vg_status run_model(hit_run *r, const char *scene_path)
                                             .click_v = res.click_v, .error_m = res.error_m,
                                             /* the model sees every frame of the flight, by construction */
                                             .flight = {.frames = res.frames_seen, .shown = res.frames_seen,
-                                                       .shown_s = res.frames_seen / FLIGHT_HZ}});
+                                                       .shown_s = res.frames_seen / FLIGHT_HZ},
+                                            .ball_mid_jnd = res.ball_mid_jnd});
     }
     observer_engine_destroy(eng);
     observer_destroy(obs);

@@ -13,9 +13,10 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
   preference_window  the side-by-side preference study answers a replayed key
                      press
   study_window       the same for the hit study with a replayed click; the
-                     row's presentation record says the flight's 12 frames
-                     (0.2 s at 60 Hz) were each presented once, as the log
-                     line that timed them says
+                     row's presentation record says the flight's 24 frames
+                     (0.4 s at 60 Hz) were each presented once, as the log
+                     line that timed them says, and ball_mid_jnd holds the
+                     ball as they showed it
   study_rate         a window that cannot hold 60 Hz (VERGENCE_FAULT=
                      present-ms:40) refuses the hit study with one line, exit
                      7 and no CSV; --allow-missed-frames runs it and the row
@@ -418,12 +419,18 @@ def case_preference_window():
 
 def case_study_window():
     out = os.path.join(tempfile.mkdtemp(prefix="vergence_hit_"), "hit.csv")
-    script = replay_file("90 click 0.5 0.7\n96 key Q\n")  # launch at 60, shown 0.2 s
-    row, log = windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--visible", "0.2", "--size",
+    script = replay_file("100 click 0.5 0.7\n106 key Q\n")  # launch at 60, shown 0.4 s
+    row, log = windowed_study(["study", "hit", "--participant", "w2", "--trials", "1", "--visible", "0.4", "--size",
                                "256x144", "--replay", script, "--out", out], out,
                               lambda row: row.startswith("w2,hit,0,") and ",human," in row)
-    missed, shown = flight_record(row, log, 12)
-    print(f"flight: 12 frames in {shown:.4f} s, {missed} presented late")
+    missed, shown = flight_record(row, log, 24)
+    print(f"flight: 24 frames in {shown:.4f} s, {missed} presented late")
+    # The ball as the flight's frames showed it (their probe: keyframes 0, 10
+    # and 20 of the flight): 0 under g, a distortion under h or f.
+    ball = row["ball_mid_jnd"]
+    print(f"{row['condition']}: ball_mid_jnd {ball}")
+    if not re.fullmatch(r"\d+\.\d{3}", ball) or (row["condition"] == "original") != (float(ball) == 0):
+        fail(f"ball_mid_jnd '{ball}' under {row['condition']}: want 0.000 under original, above 0 otherwise")
 
 
 def case_study_rate():

@@ -100,6 +100,17 @@ def case_study():
         fail(f"manipulated {mani} is not worse than original {orig}")
     if not s["anova"]["all"]["p"] < 0.01 or s["anova"]["all"]["df"] != [2, 957]:
         fail(f"ANOVA {s['anova']['all']}")
+    # The ball as shown, per row (ball_mid_jnd) and in the summary: g is
+    # itself (0 on every original row); h distorts the near-to-far ball's
+    # motion in depth and f restores much of it (issue 39).
+    ball = s.get("ball_mid_jnd")
+    print(f"ball_mid_jnd medians: {ball}")
+    originals = [float(x[col["ball_mid_jnd"]]) for x in data if x[col["condition"]] == "original"]
+    if max(originals) != 0:
+        fail(f"an original row's ball_mid_jnd is {max(originals)}, not 0")
+    h, f = ball["manipulated"]["near-to-far"], ball["optimized"]["near-to-far"]
+    if not (h >= 1.5 and f < 0.8 * h):
+        fail(f"near-to-far ball_mid_jnd medians: manipulated {h}, optimized {f} (want h >= 1.5, f < 0.8 h)")
 
 
 def case_analysis():
