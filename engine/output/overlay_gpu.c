@@ -131,12 +131,14 @@ static uint32_t add_chart(hud_vertex *v, uint32_t n, const frame_hud_chart *c, f
     for (int s = 0; s < c->series_count && s < FRAME_HUD_CHART_SERIES; s++) {
         const frame_hud_series *se = &c->series[s];
         const uint8_t col[4] = {se->rgb[0], se->rgb[1], se->rgb[2], 255};
+        float lx = 0, ly = 0; /* the last point */
         for (int i = 0; i < se->count && i < FRAME_HUD_CHART_POINTS; i++) {
-            float ux = CHART_X(fminf(fmaxf(se->x[i], c->x0), c->x1)), uy = CHART_Y(fminf(fmaxf(se->y[i], c->y0), c->y1));
+            float ux = CHART_X(fminf(fmaxf(se->x[i], c->x0), c->x1));
+            float uy = CHART_Y(fminf(fmaxf(se->y[i], c->y0), c->y1));
             if (i)
-                n = add_segment(v, n, CHART_X(fminf(fmaxf(se->x[i - 1], c->x0), c->x1)),
-                                CHART_Y(fminf(fmaxf(se->y[i - 1], c->y0), c->y1)), ux, uy, 1.5f, col);
+                n = add_segment(v, n, lx, ly, ux, uy, 1.5f, col);
             n = add_quad(v, n, ux - 1.5f, uy - 1.5f, ux + 1.5f, uy + 1.5f, col);
+            lx = ux, ly = uy;
         }
     }
 #undef CHART_X
