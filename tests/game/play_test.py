@@ -257,8 +257,10 @@ def case_play_trace():
     # optimized throw's feedback is paused (P) to grab the chart.
     script = replay_file("110 click 0.5 0.75\n180 key R\n182 key 2\n290 click 0.5 0.75\n330 key R\n332 key 3\n"
                          "440 click 0.5 0.75\n450 key P\n")
+    # Five ticks a frame: the flight's frames are its keyframes (0, 10, 20,
+    # 30), where f is what rendering every frame shows (gpu.steps.*).
     g = Game(["play", "--size", "960x270", "--output", "sbs", "--seed", "4", "--replay", script,
-              "--frame-ticks", "2"])
+              "--frame-ticks", "5"])
     g.window()
     g.wait_for(r"play: paused", 600)
     # sbs at 960x270: the game's CPU eyes (480x270) shown 1:1. The chart
