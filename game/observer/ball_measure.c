@@ -37,15 +37,8 @@ bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, do
         }
     if (!px)
         return false;
-    /* The exact g of the ball's centre: its front surface's mean would move
-     * with the pixels its silhouette covers. */
-    double c[3], z = 0;
-    game_throw_position(th, (double)k / fd->fps, c);
-    const vg_camera *cam = frame_get_camera(fr);
-    for (int a = 0; a < 3; a++)
-        z += (c[a] - cam->position[a]) * cam->forward[a];
     int n = b->keys++;
-    b->g[n] = frame_original_vergence(fr, z);
+    b->g[n] = game_ball_vergence(fr, frame_get_camera(fr), th, (double)k / fd->fps);
     b->h[n] = b->g[n] + dh / px, b->f[n] = b->g[n] + df / px;
     b->min_pixels = b->min_pixels < 0 || px < b->min_pixels ? px : b->min_pixels;
     b->min_samples = b->min_samples < 0 || samples < b->min_samples ? samples : b->min_samples;

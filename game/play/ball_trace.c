@@ -14,14 +14,9 @@ bool ball_trace_add(ball_trace *tr, const frame *fr, const vg_camera *cam, const
     if (tr->count >= BALL_TRACE_MAX || !probe->pixels || t < -1e-9 || t >= th->visible_s - 1e-9 ||
         (tr->count && t <= tr->t[tr->count - 1]))
         return false;
-    /* The exact g of the ball's centre (ball_measure.c does the same). */
-    double c[3], z = 0;
-    game_throw_position(th, t, c);
-    for (int a = 0; a < 3; a++)
-        z += (c[a] - cam->position[a]) * cam->forward[a];
     int n = tr->count++;
     tr->t[n] = t;
-    tr->g[n] = frame_original_vergence(fr, z);
+    tr->g[n] = game_ball_vergence(fr, cam, th, t);
     tr->shown[n] = tr->g[n] + probe->shown_minus_g;
     tr->pixels[n] = probe->pixels;
     return true;

@@ -1,6 +1,7 @@
 /* vergence — the hit-prediction game's rules (paper Sec. 5, Fig. 6). */
 #include "game.h"
 
+#include "frame/frame.h"
 #include "render/frame_types.h"
 
 #include <math.h>
@@ -88,6 +89,13 @@ double game_project(const vg_camera *cam, const double p[3], double *u, double *
     *u = 0.5 + 0.5 * dot3(d, r) / (zs * tx);
     *v = 0.5 - 0.5 * dot3(d, up) / (zs * ty);
     return z;
+}
+
+double game_ball_vergence(const frame *fr, const vg_camera *cam, const game_throw *th, double t)
+{
+    double c[3], u, v;
+    game_throw_position(th, t, c);
+    return frame_original_vergence(fr, game_project(cam, c, &u, &v));
 }
 
 double game_click_error(const vg_camera *cam, double u, double v, const double target[3])

@@ -102,6 +102,11 @@ void game_throw_free_play(uint64_t seed, int n, double visible_s, const vg_camer
 void game_ray(const vg_camera *cam, double u, double v, double origin[3], double dir[3]);
 /* Projects p; returns its depth along the view axis (<= 0: behind). */
 double game_project(const vg_camera *cam, const double p[3], double *u, double *v);
+/* The ball's exact g t seconds after th's launch: its centre's view depth
+ * under cam through the frame's original rig (frame_original_vergence),
+ * arcmin. Its silhouette's mean would move with the pixels it covers. */
+struct frame;
+double game_ball_vergence(const struct frame *fr, const vg_camera *cam, const game_throw *th, double t);
 /* The paper's error: distance from `target` to the ray through (u, v). */
 double game_click_error(const vg_camera *cam, double u, double v, const double target[3]);
 /* A click at fractions (x, y) of a win_w x win_h window showing eyes of
