@@ -389,6 +389,15 @@ static void hud_add(session *ss, const char *fmt, ...)
     va_end(ap);
 }
 
+/* What f's probe measured of the ball since the last call, into its trace. */
+static void trace_take(session *ss, frame *f)
+{
+    frame_probe probes[FRAME_PROBES_KEPT];
+    int n = frame_take_probes(f, probes, FRAME_PROBES_KEPT);
+    for (int i = 0; i < n; i++)
+        ball_trace_add(&ss->trace, f, &ss->cam, &ss->th, ss->t_launch, &probes[i]);
+}
+
 /* The ball's trace after a throw (free play): the chart under the badge,
  * and once a throw its figures in the log. */
 static void trace_chart(session *ss, const frame *f)
@@ -523,11 +532,7 @@ static vg_status dump_f(session *ss, frame *f, long index)
 static vg_status flight_progress(void *user, int done, int count)
 {
     session *ss = user;
-    frame *f = ss->flight_frames[ss->mode];
-    frame_probe probes[FRAME_PROBES_KEPT];
-    int n = frame_take_probes(f, probes, FRAME_PROBES_KEPT);
-    for (int i = 0; i < n; i++)
-        ball_trace_add(&ss->trace, f, &ss->cam, &ss->th, ss->t_launch, &probes[i]);
+    trace_take(ss, ss->flight_frames[ss->mode]);
     window_pump(ss->win); /* the window stays responsive; input waits for the next tick */
     vg_progress("study hit: rendering the flight ahead", done, count);
     return VG_OK;
@@ -630,10 +635,8 @@ static vg_status present(session *ss)
         st = frame_present(f, index, &target, &ss->hud);
         if (st == VG_OK)
             st = window_present(ss->win, &stale);
-        frame_probe probes[FRAME_PROBES_KEPT];
-        int n = st == VG_OK ? frame_take_probes(f, probes, FRAME_PROBES_KEPT) : 0;
-        for (int i = 0; i < n; i++)
-            ball_trace_add(&ss->trace, f, &ss->cam, &ss->th, ss->t_launch, &probes[i]);
+        if (st == VG_OK)
+            trace_take(ss, f);
         if (st == VG_OK && ss->d->win->dump_f && ss->mode == FRAME_MODE_OPTIMIZED)
             st = dump_f(ss, f, index);
     }
