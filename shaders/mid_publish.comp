@@ -1,12 +1,18 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// mid.solve, last step: the solution becomes the next warm start (paper 4.5)
-// and, from keyframe publish_from on, the ratio f / h that mid.upsample
-// reads (Fig. 4: only the correction is upsampled; vergence is never 0),
-// with its slope in time along the links (mid_ratio_slope), so the
-// upsampling in time is C1 at keyframes (mid_hermite).
+// mid.solve, last steps. gate (causal look-ahead only, one workgroup): the
+// realized keyframe's c_a residuals of the solve's own f and of h, summed
+// and decayed into the gain (mid_shared.h MID_GATE_*). publish: the solution becomes
+// the next warm start (paper 4.5) and, from keyframe publish_from on, the
+// ratio f / h that mid.upsample reads (Fig. 4: only the correction is
+// upsampled; vergence is never 0), times the gate's gain, with its slope in
+// time along the links (mid_ratio_slope), so the upsampling in time is C1
+// at keyframes (mid_hermite); and the solve's own ratio, which the gate
+// measures once its keyframe is realized.
 #include "mid_arena.glsl"
 MID_ELEMENT_LAYOUT;
+
+layout(constant_id = 0) const uint OP = 0u;
 
 float ratio_at(uint j) { return vf[j] / H(j); }
 
@@ -17,8 +23,78 @@ float gather_ratio(mid_link l)
                           ratio_at(l.base + pc.nx + 1u));
 }
 
+// The solve's own f at window element j as published: h times the ratio
+// of the gate's plane (its keyframe is observed and its ratio final).
+float candidate(uint j)
+{
+    uint k = j / pc.ns, slot = (pc.store_first + k) % pc.store_cap;
+    return H(j) * pub_ratio[(2u * pc.store_cap + slot) * pc.ns + (j - k * pc.ns)];
+}
+
+float gather_candidate(mid_link l)
+{
+    return mid_link_apply(mid_link_taps(l), candidate(l.base), candidate(l.base + 1u), candidate(l.base + pc.nx),
+                          candidate(l.base + pc.nx + 1u));
+}
+
+float gather_g(mid_link l)
+{
+    return mid_link_apply(mid_link_taps(l), G(l.base), G(l.base + 1u), G(l.base + pc.nx), G(l.base + pc.nx + 1u));
+}
+
+shared float s_c[MID_TILE * MID_TILE], s_h[MID_TILE * MID_TILE];
+
+void gate()
+{
+    uint t = gl_LocalInvocationIndex, lanes = MID_TILE * MID_TILE;
+    if (pc.gate_k == MID_GATE_NONE) {
+        if (t == 0u)
+            pub.gate_c = pub.gate_h = pub.gate_gain = 0.0;
+        return;
+    }
+    float sc = 0.0, sh = 0.0;
+    float idf = INVDT_F(pc.gate_k), idb = INVDT_B(pc.gate_k);
+    for (uint q = t; q < pc.ns; q += lanes) {
+        uint i = pc.gate_k * pc.ns + q;
+        mid_link lf = link[i], lb = link[pc.cap + i];
+        if (lf.mask == 0u || lb.mask == 0u)
+            continue;
+        float ga = gather_g(lf), gb = gather_g(lb), g = G(i);
+        float ec = mid_accel_residual(gather_candidate(lf), candidate(i), gather_candidate(lb), ga, g, gb, idf, idb);
+        float eh = mid_accel_residual(mid_link_apply(mid_link_taps(lf), H(lf.base), H(lf.base + 1u), H(lf.base + pc.nx),
+                                                     H(lf.base + pc.nx + 1u)),
+                                      H(i),
+                                      mid_link_apply(mid_link_taps(lb), H(lb.base), H(lb.base + 1u), H(lb.base + pc.nx),
+                                                     H(lb.base + pc.nx + 1u)),
+                                      ga, g, gb, idf, idb);
+        sc += ec * ec;
+        sh += eh * eh;
+    }
+    s_c[t] = sc;
+    s_h[t] = sh;
+    barrier();
+    for (uint s = lanes / 2u; s > 0u; s >>= 1u) {
+        if (t < s) {
+            s_c[t] += s_c[t + s];
+            s_h[t] += s_h[t + s];
+        }
+        barrier();
+    }
+    if (t == 0u) {
+        float c = MID_GATE_DECAY * pub.gate_c + s_c[0], h = MID_GATE_DECAY * pub.gate_h + s_h[0];
+        pub.gate_c = c;
+        pub.gate_h = h;
+        pub.gate_gain = mid_gate_gain(c, h, float(pc.ns), pub.gate_gain);
+    }
+}
+
 void main()
 {
+    if (OP == MID_OP_GATE) {
+        if (pc.gate != 0u)
+            gate();
+        return;
+    }
     element_init();
     if (!inside)
         return;
@@ -29,10 +105,12 @@ void main()
         mid_link lf = link[i], lb = link[pc.cap + i];
         float r = ratio_at(i);
         float rf = lf.mask != 0u ? gather_ratio(lf) : r, rb = lb.mask != 0u ? gather_ratio(lb) : r;
+        float slope = mid_ratio_slope(r, rf, rb, lf.mask, lb.mask, INVDT_F(ek), INVDT_B(ek));
+        float gain = pc.gate != 0u ? pub.gate_gain : 1.0;
         uint q = ey * pc.nx + ex;
-        pub_ratio[slot * pc.ns + q] = r;
-        pub_ratio[(pc.store_cap + slot) * pc.ns + q] =
-            mid_ratio_slope(r, rf, rb, lf.mask, lb.mask, INVDT_F(ek), INVDT_B(ek));
+        pub_ratio[slot * pc.ns + q] = pc.gate != 0u ? 1.0 + gain * (r - 1.0) : r;
+        pub_ratio[(pc.store_cap + slot) * pc.ns + q] = gain * slope;
+        pub_ratio[(2u * pc.store_cap + slot) * pc.ns + q] = r;
     }
     if (i == 0u) {
         pub.range_lo = st.range_lo;

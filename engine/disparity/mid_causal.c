@@ -138,6 +138,28 @@ static void copy_keyframe(const mid_window *all, int j, mid_window *w, int dst)
     memcpy(w->flow_bwd + 2 * od, all->flow_bwd + 2 * o, 2 * ns * sizeof(float));
 }
 
+/* The gate's sums over keyframe m of w (mid_shared.h MID_GATE_*): the
+ * squared c_a residuals of the candidate x (window-indexed, at m - 1 ..
+ * m + 1) and of h; samples without both links count 0, as in the MID
+ * metric. */
+static void gate_sums(const mid_window *w, int m, const float *x, double *sc, double *sh)
+{
+    float idf = w->inv_dt_f[m] / w->time_unit, idb = w->inv_dt_b[m] / w->time_unit;
+    *sc = *sh = 0.0;
+    for (int q = 0; q < w->ns; q++) {
+        int i = m * w->ns + q;
+        if (!w->fwd[i].mask || !w->bwd[i].mask)
+            continue;
+        float ga = mid_link_gather(w->fwd, w->nx, i, w->g), gb = mid_link_gather(w->bwd, w->nx, i, w->g);
+        float ec = mid_accel_residual(mid_link_gather(w->fwd, w->nx, i, x), x[i], mid_link_gather(w->bwd, w->nx, i, x),
+                                      ga, w->g[i], gb, idf, idb);
+        float eh = mid_accel_residual(mid_link_gather(w->fwd, w->nx, i, w->h), w->h[i],
+                                      mid_link_gather(w->bwd, w->nx, i, w->h), ga, w->g[i], gb, idf, idb);
+        *sc += (double)ec * ec;
+        *sh += (double)eh * eh;
+    }
+}
+
 vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, float *f, mid_causal_stats *stats)
 {
     int nt = all->nt, ns = all->ns, past = d->past > 0 ? d->past : 0, future = d->future;
@@ -146,14 +168,19 @@ vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, floa
         return VG_ERR_ARG;
     }
     int cap = past + future + 1;
-    float *ratio = malloc((size_t)all->n * sizeof(float));
-    float *sol = malloc((size_t)cap * ns * sizeof(float) * 3);
+    float *ratio = malloc((size_t)all->n * sizeof(float) * 2);
+    float *sol = malloc((size_t)cap * ns * sizeof(float) * 4);
     if (!ratio || !sol) {
         free(ratio);
         free(sol);
         return VG_ERR_NOMEM;
     }
-    float *prev = sol + (size_t)cap * ns, *init = prev + (size_t)cap * ns;
+    /* cand: the ratio each keyframe's solve gave, before the gate (the
+     * GPU's third plane of published ratios); xw: the candidate f in the
+     * window's indexing. */
+    float *prev = sol + (size_t)cap * ns, *init = prev + (size_t)cap * ns, *xw = init + (size_t)cap * ns;
+    float *cand = ratio + all->n;
+    float gate_c = 0.0f, gate_h = 0.0f, gain = 0.0f;
     int prev_first = 0, prev_nt = 0;
     mid_causal_stats s = {0};
     vg_status st = VG_OK;
@@ -204,12 +231,34 @@ vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, floa
             s.cost_initial = ss.cost_initial;
             s.cost_final = ss.cost_final;
         }
+        if (st == VG_OK && d->gate) {
+            /* The gate (mid_shared.h MID_GATE_*), as the GPU's publish.gate:
+             * keyframe k - 1 is realized once k - 2 is in the window. */
+            int m = k - 1 - first;
+            if (m >= 1) {
+                for (int t = m - 1; t <= m + 1; t++)
+                    for (int i = 0; i < ns; i++) {
+                        size_t b = (size_t)t * ns + i;
+                        xw[b] = w->h[b] * cand[(size_t)(first + t) * ns + i];
+                    }
+                double sc, sh;
+                gate_sums(w, m, xw, &sc, &sh);
+                gate_c = MID_GATE_DECAY * gate_c + (float)sc;
+                gate_h = MID_GATE_DECAY * gate_h + (float)sh;
+                gain = mid_gate_gain(gate_c, gate_h, (float)ns, gain);
+            } else {
+                gate_c = gate_h = gain = 0.0f;
+            }
+        }
         if (st == VG_OK) {
             /* Publish k + 2 (the first window: k .. k + 2). */
             for (int j = k == 0 ? 0 : k + 2; j <= k + 2 && j < nt; j++) {
                 size_t om = (size_t)(j - first) * ns, oj = (size_t)j * ns;
-                for (int i = 0; i < ns; i++)
-                    ratio[oj + i] = w->h[om + i] != 0.0f ? sol[om + i] / w->h[om + i] : 1.0f;
+                for (int i = 0; i < ns; i++) {
+                    float r = w->h[om + i] != 0.0f ? sol[om + i] / w->h[om + i] : 1.0f;
+                    cand[oj + i] = r;
+                    ratio[oj + i] = d->gate ? 1.0f + gain * (r - 1.0f) : r;
+                }
             }
             memcpy(prev, sol, (size_t)wnt * ns * sizeof(float));
             prev_first = first;
@@ -221,8 +270,11 @@ vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, floa
     }
     vg_progress("optimize: causal windows", 1, 1);
     if (st == VG_OK)
-        for (int i = 0; i < all->n; i++)
+        for (int i = 0; i < all->n; i++) {
             f[i] = fminf(fmaxf(all->h[i] * ratio[i], all->range_lo), all->range_hi);
+            if (d->ungated)
+                d->ungated[i] = fminf(fmaxf(all->h[i] * cand[i], all->range_lo), all->range_hi);
+        }
     free(ratio);
     free(sol);
     if (stats)

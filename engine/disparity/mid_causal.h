@@ -14,9 +14,12 @@
  * ratio f / h of keyframe k + 2 (the first window: k .. k + 2), as the
  * GPU's mid.solve does; f at a keyframe is its observed h times the
  * published ratio. So f at keyframe j uses data up to keyframe j - 2:
- * the frames from j - 1 on depend on nothing after them. Measured in
- * docs/method.md section 15: without a true future it does worse than h
- * wherever motion changes within the window. */
+ * the frames from j - 1 on depend on nothing after them. Without a true
+ * future the solve's f does worse than h wherever motion changes within
+ * the window, so what is published passes the gate first (mid_shared.h
+ * MID_GATE_*, the GPU's publish.gate): the correction shows only where it
+ * was measured better than h on the keyframes already shown. Measured in
+ * docs/method.md section 15. */
 #pragma once
 #include "core/status.h"
 #include "mid_solver.h"
@@ -27,6 +30,10 @@ typedef struct mid_causal_desc {
     mid_solve_desc solve;     /* the first window's solve; later ones take MID_GN_WARM_ITERATIONS
                                  (Gauss-Newton) unless solve.iterations is set; f_init is ignored */
     float keyframe_seconds;   /* dt of intervals after the sequence's last keyframe, 0 = its last interval's */
+    bool gate;                /* publish h + gain (f - h), the gain measured on realized keyframes
+                                 (mid_shared.h MID_GATE_*); false: f as solved */
+    float *ungated;           /* optional: all->n values, f as solved (each keyframe's h times the
+                                 ratio its solve gave, before the gate), clamped to the range */
 } mid_causal_desc;
 
 typedef struct mid_causal_stats {

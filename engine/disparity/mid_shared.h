@@ -337,11 +337,52 @@ MID_FN float disp_saliency_computed(float delta_e, float speed, float depth, flo
     return s < 0.0f ? 0.0f : (s > 1.0f ? 1.0f : s);
 }
 
+/* The causal gate (docs/method.md "Look-ahead"): a window whose future is
+ * predicted publishes h + gain (f - h) instead of f. Each move, the keyframe
+ * one before the newest observed one is realized (it and both neighbours
+ * are observed, and their ratios were published), so the MID metric's c_a
+ * residual of the solve's own f (h times its ratio, the candidate) and of h
+ * are known there. Their squared sums over the keyframe's samples decay by
+ * MID_GATE_DECAY a keyframe; the gain goes towards 1 where the candidate's
+ * sum is at most MID_GATE_FULL of h's and 0 from MID_GATE_OPEN of it,
+ * rising at most MID_GATE_RISE a keyframe and falling at once. So a
+ * correction reaches the screen only after it was measured clearly better
+ * than h on what was then shown (its RMS at most 84 % of h's to open at
+ * all: a wrong correction costs more than a right one gains), and stops
+ * when it is not. */
+#define MID_GATE_DECAY 0.7f
+#define MID_GATE_OPEN 0.7f
+#define MID_GATE_FULL 0.4f
+#define MID_GATE_RISE 0.5f
+#define MID_GATE_EPS 0.01f /* JND^2 a sample: a keyframe without motion in depth leaves the gain shut */
+#define MID_GATE_NONE 0xffffffffu /* no realized keyframe in the window: the gate starts shut */
+
+/* The c_a residual of x along a sample's links (the MID metric's,
+ * disp_metrics.c): x and g at the sample, ahead (a) and behind (b). */
+MID_FN float mid_accel_residual(float xa, float x, float xb, float ga, float g, float gb, float inv_dt_f,
+                                float inv_dt_b)
+{
+    return (mid_p((xa - x) * inv_dt_f) - mid_p((x - xb) * inv_dt_b)) -
+           (mid_p((ga - g) * inv_dt_f) - mid_p((g - gb) * inv_dt_b));
+}
+
+/* The gain for the keyframe published next, from the decayed sums (the
+ * candidate's, h's) over `samples` samples and the gain published last. */
+MID_FN float mid_gate_gain(float sum_c, float sum_h, float samples, float gain_before)
+{
+    float eps = MID_GATE_EPS * samples;
+    float q = (sum_c + eps) / (sum_h + eps);
+    float t = (MID_GATE_OPEN - q) / (MID_GATE_OPEN - MID_GATE_FULL);
+    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+    float rise = gain_before + MID_GATE_RISE;
+    return t < rise ? t : rise;
+}
+
 /* ------------------------------------------------------------------------- */
 /* GPU passes (docs/method.md "GPU passes")                                  */
 /* ------------------------------------------------------------------------- */
 
-/* Push constants of every mid_*.comp kernel (window build and solver; 112
+/* Push constants of every mid_*.comp kernel (window build and solver; 128
  * bytes). The window is n = ns * nt elements; every array of the solver
  * arena is `cap` elements long (the largest window). */
 struct mid_push {
@@ -354,6 +395,8 @@ struct mid_push {
     uint range_hull, jacobi, store_first, store_cap; /* store: ring slot of window keyframe 0 */
     uint publish_from, adj_cap, shift, warm;     /* first window keyframe to publish; warm start:
                                                     keyframe k takes the last solution's k + shift */
+    uint gate, gate_k, pad0, pad1;               /* the causal gate applies to the publish; its
+                                                    realized window keyframe (MID_GATE_NONE) */
 };
 
 /* Solver state on the GPU (mid_control.comp writes it; 96 bytes). The CPU
@@ -453,6 +496,7 @@ struct mid_solve_state {
 #define MID_OP_FACTOR 41u
 #define MID_OP_APPLY 42u
 #define MID_OP_APPLY_CG 43u    /* ... a CG step's r and s updates, the apply and r.z, in one walk */
+#define MID_OP_GATE 44u        /* mid_publish: the causal gate's sums and gain (one workgroup) */
 #define MID_OP_C_RESET 50u     /* mid_control: sums, then the solver's branches */
 #define MID_OP_C_RANGE 51u
 #define MID_OP_C_INIT_COST 52u
@@ -478,10 +522,13 @@ struct mid_solve_state {
 #define MID_STORE_FLOW_B 5u  /* 2 floats per sample */
 #define MID_STORE_ID 7u      /* instance id (0: sky), as a float (exact below 2^24) */
 #define MID_STORE_FLOATS 8u
-/* Published solution: a header, then per ring slot ns ratios f / h. */
+/* Published solution: a header, then three planes of ring slots of ns
+ * floats: the ratio f / h the upsampling reads, its slope in time, and the
+ * solve's own ratio before the causal gate (equal to the first without it). */
 struct mid_published {
     float range_lo, range_hi; /* the range f was solved in (the clamp of upsampling) */
     uint keyframe_lo, keyframe_hi; /* keyframes published so far (absolute, inclusive) */
+    float gate_c, gate_h, gate_gain, gate_pad; /* the causal gate's sums and gain (MID_GATE_*) */
 };
 
 /* Operator passes (disparity_operator_*.comp): push constants (96 bytes). */
@@ -538,11 +585,11 @@ _Static_assert(sizeof(mid_params) == 48 && offsetof(mid_params, w_data) == 16 &&
                    offsetof(mid_params, range_lo) == 32, "mid_params layout");
 _Static_assert(sizeof(mid_link) == 16 && offsetof(mid_link, mask) == 12, "mid_link layout");
 _Static_assert(sizeof(mid_adj_entry) == 8, "mid_adj_entry layout");
-_Static_assert(sizeof(mid_push) == 112 && offsetof(mid_push, w_data) == 32 &&
+_Static_assert(sizeof(mid_push) == 128 && offsetof(mid_push, w_data) == 32 &&
                    offsetof(mid_push, publish_from) == 96, "mid_push layout");
 _Static_assert(sizeof(mid_solve_state) == 96 && offsetof(mid_solve_state, running) == 48,
                "mid_solve_state layout");
-_Static_assert(sizeof(mid_published) == 16, "mid_published layout");
+_Static_assert(sizeof(mid_published) == 32, "mid_published layout");
 _Static_assert(sizeof(disp_op_push) == 96 && offsetof(disp_op_push, width) == 64, "disp_op_push layout");
 _Static_assert(sizeof(disp_op_state) == 32 && DISP_OP_STATE_FLOATS >= 8 + DISP_OP_MAX_BINS + 1,
                "disp_op_state layout");

@@ -53,6 +53,7 @@ typedef struct seq {
     double raw_min, raw_max; /* known g as read, before any unit conversion */
     double raw_median;    /* of the first frame's known g, as read */
     int past, future, windows; /* the causal window (desc.causal) */
+    float *f_ungated;          /* ... and its f before the gate (the solve's own; mid_causal_desc.ungated) */
     bool computed_sal;    /* no --saliency, --h or --uniform-saliency: computed_saliency() */
     float *sal_scratch;   /* 3 planes: depth and flow of one frame (computed saliency) */
 } seq;
@@ -877,6 +878,12 @@ static vg_status write_results(seq *s, const mid_window *w, const float *f_sol, 
     json_metrics(&j, "h", &mh, o->h_out / np);
     json_metrics(&j, "f", &mf, o->f_out / np);
     json_metrics(&j, "f_solver", &ms, ms.range_violation);
+    if (s->f_ungated) { /* the causal window's f before its gate: what it would show without one */
+        disp_metrics mu;
+        disp_metrics_window(w, s->f_ungated, NULL, &mu);
+        json_metrics(&j, "f_ungated", &mu, mu.range_violation);
+        vg_json_num(&j, "ungated_mid_ratio", mh.mid_distortion_jnd > 0 ? mu.mid_distortion_jnd / mh.mid_distortion_jnd : NAN);
+    }
     vg_json_num(&j, "mid_reduction", mh.mid_distortion_jnd > 0 ? 1.0 - mf.mid_distortion_jnd / mh.mid_distortion_jnd : 0.0);
     vg_json_num(&j, "mid_ratio", mh.mid_distortion_jnd > 0 ? mf.mid_distortion_jnd / mh.mid_distortion_jnd : NAN);
     vg_json_object_begin(&j, "solve");
@@ -1147,8 +1154,13 @@ vg_status offline_run(const offline_desc *d)
     if (d->causal) {
         mid_causal_stats cs = {0};
         mid_window_split(MID_WINDOW_SECONDS, s.stride / s.fps, MID_WINDOW_FUTURE, &s.past, &s.future);
+        if (!(s.f_ungated = malloc((size_t)w->n * sizeof(float)))) {
+            st = VG_ERR_NOMEM;
+            goto done;
+        }
         if ((st = mid_causal_solve(w, &(mid_causal_desc){.past = s.past, .future = s.future, .solve = sd,
-                                                         .keyframe_seconds = (float)(s.stride / s.fps)},
+                                                         .keyframe_seconds = (float)(s.stride / s.fps), .gate = true,
+                                                         .ungated = s.f_ungated},
                                    f_sol, &cs)) != VG_OK)
             goto done;
         s.windows = cs.windows;
@@ -1164,7 +1176,7 @@ vg_status offline_run(const offline_desc *d)
     if ((st = pass_output(&s, w, f_sol, &o)) == VG_OK)
         st = write_results(&s, w, f_sol, &o, &ss);
 done:
-    free(g); free(h); free(z); free(scratch); free(pos); free(f_sol);
+    free(g); free(h); free(z); free(scratch); free(pos); free(f_sol); free(s.f_ungated);
     free(o.f_key); free(o.slice_g); free(o.slice_h); free(o.slice_f);
     free(s.sal);
     free(s.sal_scratch);

@@ -727,11 +727,17 @@ def case_optimize_roundtrip():
     optc = os.path.join(tmp, "opt_causal")
     run(["optimize", "--capture", cap, "--out", optc, "--look-ahead", "causal", "--no-video"])
     mc = json.load(open(os.path.join(optc, "metrics.json")))
-    print(f"optimize --look-ahead causal: f/h {mc['mid_ratio']:.3f} (foresight {ro:.3f}) over "
-          f"{mc['solve']['windows']} windows, range violation {mc['f']['range_violation']}")
+    # Its solve, without the true future, is worse than h on these frames (the gate's candidate,
+    # f_ungated); what it shows passes the gate and is not (docs/method.md section 15).
+    print(f"optimize --look-ahead causal: f/h {mc['mid_ratio']:.4f}, its solve's own {mc['ungated_mid_ratio']:.3f} "
+          f"(foresight {ro:.3f}) over {mc['solve']['windows']} windows, range violation {mc['f']['range_violation']}")
     if mc["solve"]["look_ahead"] != "causal" or mc["solve"]["windows"] != 3 or mc["f"]["range_violation"] != 0 or \
-            not 0 < mc["mid_ratio"] < 100 or abs(mc["h"]["mid_distortion_jnd"] - ho) > 1e-6 * ho:
+            abs(mc["h"]["mid_distortion_jnd"] - ho) > 1e-6 * ho:
         sys.exit(f"FAIL: optimize --look-ahead causal: {mc['solve']}, f/h {mc['mid_ratio']}")
+    if not mc["ungated_mid_ratio"] > 1.0:
+        sys.exit(f"FAIL: the causal solve's own f/h is {mc['ungated_mid_ratio']}: these frames no longer test the gate")
+    if not mc["mid_ratio"] <= 1.0 + 1e-6:
+        sys.exit(f"FAIL: optimize --look-ahead causal shows f/h {mc['mid_ratio']}: worse than h")
     expect_error(["capture", "--scene", os.path.join("content", "cubes.gltf"), "--throw", "0", "--out",
                   os.path.join(tmp, "x")], "ball")
     expect_error(["optimize", "--capture", tmp, "--out", os.path.join(tmp, "x")], "capture.json")

@@ -30,8 +30,9 @@ SCENE, SIZE, TIME, FRAMES = "content/balloon.gltf", "160x90", "1", 41  # frames 
 # differ by a pixel; elsewhere the maps are float round-off, which the solve
 # behind f carries a little further (2026-11-25: the worst frame's 99th
 # percentile 2e-6 m, 3e-5, 6e-5 and 8e-4 arcmin for depth, g, h and f). f
-# differs from h by up to 0.3 arcmin with predicted keyframes and 3.4 with
-# causal ones on these frames, so a host that showed h would fail.
+# differs from h by up to 0.3 arcmin with predicted keyframes, so a host
+# that showed h would fail; with causal ones the gate stays shut on these
+# five keyframes (the solve's own f is worse than h) and f is h.
 # The eyes: the same tessellation levels (vgx_edge_level, which the
 # engine's warp.classify runs too) and the same vertex warp put every pixel
 # on the same centre-view point up to round-off (2026-11-25: 99th percentile
@@ -169,9 +170,12 @@ def main():
         m = mid[look]
         print(f"MID distortion, {look}: h {m['h']['mid_distortion_jnd']:.3f} JND, f {m['f']['mid_distortion_jnd']:.3f} "
               f"JND, f/h {ratio[look]:.3f}")
+    # Causal: balloon's bob changes within the window, so the solve's own f is worse than h here
+    # (f/h 5.06 before the gate); the gate shows h + gain (f - h) and never worse than h.
     if not (ratio["foresight"] is not None and ratio["foresight"] < 1 and ratio["causal"] is not None
-            and ratio["causal"] > ratio["foresight"]):
-        print("FAIL: predicted keyframes should keep motion in depth (f/h < 1) and beat the causal mode")
+            and ratio["foresight"] < ratio["causal"] <= 1.0 + 1e-6):
+        print("FAIL: predicted keyframes should keep motion in depth (f/h < 1) and beat the causal mode, "
+              "which must not be worse than h (f/h <= 1)")
         failed = True
     if failed:
         sys.exit("FAIL: the host's maps are not vergence capture's")

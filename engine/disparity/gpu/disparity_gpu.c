@@ -281,6 +281,8 @@ static void window_begin(disparity_gpu *d, long k, bool restart)
         /* Keyframes k and k + 1 were already used as the ends of a keyframe
          * interval: publishing them again would make f jump (a pop). */
         .publish_from = restart ? 0 : (int)(k + 2 - d->win_first),
+        /* A predicted future: keyframe k - 1 is realized (mid_shared.h MID_GATE_*). */
+        .gate = d->causal, .gate_keyframe = restart ? -1 : (int)(k - 1 - d->win_first),
     };
     solve_gpu_begin(d->mid, &d->solve);
 }
@@ -468,7 +470,7 @@ vg_status disparity_gpu_create(const disparity_gpu_desc *desc, disparity_gpu **o
                                                      .usage = usage, .host_visible = fd->readback}, &d->store);
     if (st == VG_OK)
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "mid.published",
-                                                     .size = sizeof(mid_published) + 2 * (VkDeviceSize)d->ring * d->ns * sizeof(float),
+                                                     .size = sizeof(mid_published) + 3 * (VkDeviceSize)d->ring * d->ns * sizeof(float),
                                                      .usage = usage, .host_visible = fd->readback}, &d->published);
     if (st == VG_OK)
         st = solve_gpu_create(g, &(solve_gpu_desc){.nx = (int)d->nx, .ny = (int)d->ny,

@@ -118,6 +118,7 @@ static const step_def k_descent[] = {
     STEP("vec.commit", K_VEC, MID_OP_COMMIT, GATE_COMMIT, SIZE_N, ONLY_ALL),
 };
 static const step_def k_publish[] = {
+    STEP("publish.gate", K_PUBLISH, MID_OP_GATE, GATE_NONE, SIZE_ONE, ONLY_ALL),
     STEP("publish", K_PUBLISH, MID_OP_PUBLISH, GATE_NONE, SIZE_N, ONLY_ALL),
 };
 
@@ -575,6 +576,8 @@ void solve_gpu_begin(solve_gpu *m, const solve_gpu_params *s)
         .store_first = s->store_first, .store_cap = s->store_cap ? s->store_cap : 1,
         .publish_from = (uint32_t)(s->publish_from > 0 ? s->publish_from : 0), .adj_cap = m->adj_cap,
         .shift = (uint32_t)s->shift, .warm = s->warm && s->prev_keyframes > 0,
+        .gate = s->gate, .gate_k = s->gate && s->gate_keyframe >= 1 && s->gate_keyframe + 1 < (int)nt
+                                       ? (uint32_t)s->gate_keyframe : MID_GATE_NONE,
     };
     pr->gather = s->gather;
     pr->jacobi = s->precond == MID_PRECOND_JACOBI;

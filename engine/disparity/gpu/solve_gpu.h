@@ -50,6 +50,8 @@ typedef struct solve_gpu_params {
     int prev_keyframes;             /* n_t of the last solution */
     bool publish;                   /* end with the publish step */
     int publish_from;               /* first window keyframe whose ratio is published */
+    bool gate;                      /* the causal gate (mid_shared.h MID_GATE_*) scales what is published */
+    int gate_keyframe;              /* ... measured at this realized window keyframe (-1: none, the gate shuts) */
 } solve_gpu_params;
 
 typedef struct solve_gpu solve_gpu;

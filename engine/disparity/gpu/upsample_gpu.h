@@ -33,7 +33,7 @@ void upsample_gpu_destroy(upsample_gpu *u);
  * (RGBA32F: px to the previous keyframe xy, to the next zw), instance ids
  * (R32_UINT), the keyframe store and the published ratios and slopes
  * (mid_published, then slots x nx x ny ratios, then as many slopes per
- * second). */
+ * second; the gate's plane after them is not read here). */
 void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, const VkDescriptorImageInfo *ids, VkBuffer store,
                          VkBuffer published, const VkDescriptorImageInfo *ratio);
