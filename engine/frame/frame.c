@@ -497,7 +497,7 @@ static vg_status disparity_create(frame *f)
     vgx_result r = vgx_engine_context_create(&d, &(disparity_gpu_desc){
         .coarse_stride = fd->coarse_stride, .window_future = fd->window_future, .solver = fd->solver,
         .solver_iterations = fd->solver_iterations, .temporal_depth_only = fd->temporal_depth_only,
-        .readback = fd->readback}, &f->vgx);
+        .readback = fd->readback, .budgeted = fd->budgeted_solve}, &f->vgx);
     if (r != VGX_SUCCESS)
         return vgx_engine_status(r);
     f->disparity = vgx_engine_disparity(f->vgx);

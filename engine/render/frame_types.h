@@ -123,6 +123,9 @@ typedef struct frame_desc {
     frame_saliency saliency;     /* the operator's saliency: authored, computed, or auto (0) */
     frame_look_ahead look_ahead; /* the window's future keyframes: the scene's own (perfect foresight,
                                     0) or predicted from the past (causal; docs/method.md "Look-ahead") */
+    bool budgeted_solve;         /* a constant share of the solve a rendered frame, published settled
+                                    when its keyframe is due (disparity_gpu_desc.budgeted; live play);
+                                    false: frames that skip ticks catch up (f as if every tick rendered) */
     bool temporal_depth_only;    /* the temporal upsampling's occlusion test by depth alone (paper 4.4),
                                     not the links' test: kept to measure the two (docs/method.md Sec. 8) */
     /* Instance ids whose pixels the probe measures in every frame (frame_take_probes: the game's

@@ -258,6 +258,7 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
         dd.solver_iterations = tuning->solver_iterations;
         dd.temporal_depth_only = tuning->temporal_depth_only;
         dd.readback = tuning->readback;
+        dd.budgeted = tuning->budgeted;
     }
     st = disparity_gpu_create(&dd, &c->d);
     if (st != VG_OK)

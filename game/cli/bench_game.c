@@ -27,7 +27,9 @@
 
 #define THROW_EVERY_S 3.0
 #define READY_S 1.0 /* the ball rests at its start for a second before a throw, as in play */
-#define MODES 3
+#define MODES 4 /* original, manipulated, optimized (full solve), optimized (budgeted solve: play's) */
+#define FULL 2
+#define BUDGETED 3
 #define MAX_PASSES 64
 
 typedef struct replay {
@@ -56,8 +58,10 @@ typedef struct mode_samples {
 vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int frames, int ticks,
                      bench_report *rep)
 {
-    static const frame_mode modes[MODES] = {FRAME_MODE_ORIGINAL, FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED};
-    static const char *const labels[MODES] = {"original g", "manipulated h", "optimized f"};
+    static const frame_mode modes[MODES] = {FRAME_MODE_ORIGINAL, FRAME_MODE_MANIPULATED, FRAME_MODE_OPTIMIZED,
+                                            FRAME_MODE_OPTIMIZED};
+    static const char *const labels[MODES] = {"original g", "manipulated h", "optimized f, full solve",
+                                              "optimized f, budgeted (play)"};
     vg_status st = VG_OK;
     replay r = {0};
     if (!game_ball_attach(sc, &r.ball, &r.cam)) {
@@ -73,6 +77,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     for (int m = 0; m < MODES && st == VG_OK; m++) {
         frame_desc fd = game_frame_desc(g, 0, modes[m], w, h, GAME_LAYOUT, DISP_OPERATOR_DEFAULT, false, &r.cam);
         fd.display = display;
+        fd.budgeted_solve = m == BUDGETED;
         st = frame_create(g, sc, &fd, &f[m]);
         if (st == VG_OK && !(ms[m].wall = calloc((size_t)frames, sizeof(double))))
             st = VG_ERR_NOMEM;
@@ -160,7 +165,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
         bench_row_values(rep, "passes / wall (timed frames)", MODES, v, "%.1f%%");
         /* Every pass of the optimised frame, mean ms (the solve's share of a
          * keyframe interval included), beside the same pass in the others. */
-        const mode_samples *of = &ms[MODES - 1];
+        const mode_samples *of = &ms[FULL];
         for (int q = 0; q < of->passes; q++) {
             char label[64];
             snprintf(label, sizeof label, "  %s (mean ms)", of->pass_name[q]);
@@ -170,13 +175,14 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
                     if (!strcmp(ms[m].pass_name[p], of->pass_name[q]))
                         v[m] = ms[m].pass_sum[p] / ms[m].n_timed;
             }
-            if (v[MODES - 1] >= 0.2)
+            if (v[FULL] >= 0.2)
                 bench_row_values(rep, label, MODES, v, "%.1f");
         }
         char line[512];
-        snprintf(line, sizeof line, "Optimized / original median fps: %.2f (target, issue 40: 0.75 or more); "
-                 "frames / wall seconds: %.2f. The window's present is not counted.",
-                 median[0] / median[MODES - 1], fps[MODES - 1] / fps[0]);
+        snprintf(line, sizeof line, "Optimized / original median fps: %.2f with the full solve, %.2f budgeted "
+                 "(play's; target, issue 40: 0.75 or more); frames / wall seconds: %.2f, %.2f. The window's present "
+                 "is not counted.", median[0] / median[FULL], median[0] / median[BUDGETED], fps[FULL] / fps[0],
+                 fps[BUDGETED] / fps[0]);
         bench_note(rep, line);
         /* The floor of this design: the optimized frame's passes without the
          * solver's iterations (mid.solve), against the original's passes. */
@@ -188,8 +194,8 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
                 solve = of->pass_sum[p] / of->n_timed;
         snprintf(line, sizeof line, "Floor: the timed frames' passes, %.1f ms original and %.1f ms optimized, "
                  "%.1f of them mid.solve; without any solver iteration the ratio would be %.2f (the window's "
-                 "build, the keyframes and the upsampling remain).", sums[0], sums[MODES - 1], solve,
-                 sums[0] / (sums[MODES - 1] - solve));
+                 "build, the keyframes and the upsampling remain).", sums[0], sums[FULL], solve,
+                 sums[0] / (sums[FULL] - solve));
         bench_note(rep, line);
     }
     for (int m = 0; m < MODES; m++) {

@@ -16,7 +16,7 @@
 
 typedef struct play_opts {
     const char *scene;
-    int mode, op, look_ahead;
+    int mode, op, look_ahead, solve;
     double visible_s;
     display_cli display;
     play_window_cli win;
@@ -27,6 +27,8 @@ static play_opts o = {
     .win = {.size = {GAME_WINDOW_W, GAME_WINDOW_H}, .compose = GAME_LAYOUT, .seed = -1, .gpu = {.device = -1}},
 };
 
+static const char *const k_solve_names[] = {"budget", "full", NULL};
+
 static const vg_opt k_opts[] = {
     {"--mode", VG_OPT_ENUM, &o.mode, "MODE", "disparity shown first: original (g), manipulated (h) or "
      "optimized (f); default original", frame_mode_names, 0, 0},
@@ -34,6 +36,10 @@ static const vg_opt k_opts[] = {
     {"--look-ahead", VG_OPT_CHOICE, &o.look_ahead, "HOW", "the optimized mode's keyframe window future: "
      "foresight (the game's own future; default) or causal (predicted from the past frames only)",
      frame_look_ahead_names, 0, 0},
+    {"--solve", VG_OPT_CHOICE, &o.solve, "HOW", "the optimized mode's window solve: budget (default: one "
+     "frame's share of it each frame, a keyframe published from it as it stands when due, after two iterations "
+     "at least; paper 4.5) or full "
+     "(a frame that skips ticks runs their share too: f as if every tick were rendered)", k_solve_names, 0, 0},
     {"--visible", VG_OPT_FLOAT, &o.visible_s, "S", "seconds the ball is shown after launch (default 0.6)",
      NULL, 0.1, 3},
     {"--seed", VG_OPT_INT, &o.win.seed, "S", "seed of the throws (default: the clock)", NULL, 0, 2147483647},
@@ -61,7 +67,8 @@ static int run(int argc, char **argv)
     uint64_t seed = o.win.seed >= 0 ? (uint64_t)o.win.seed : (uint64_t)time(NULL);
     vg_status st = play_session_run(&(play_session_desc){
         .win = &o.win, .scene_path = scene_path, .mode = (frame_mode)o.mode,
-        .op = (disp_operator_kind)o.op, .look_ahead = (frame_look_ahead)o.look_ahead, .display = display_cli_desc(&o.display),
+        .op = (disp_operator_kind)o.op, .look_ahead = (frame_look_ahead)o.look_ahead, .full_solve = o.solve == 1,
+        .display = display_cli_desc(&o.display),
         .visible_s = o.visible_s, .seed = seed,
     });
     return vg_status_exit_code(st);
@@ -70,7 +77,7 @@ static int run(int argc, char **argv)
 const vg_cmd vg_cmd_play = {
     .name = "play",
     .summary = "the hit-prediction game in a window (anaglyph by default)",
-    .usage = "vergence play [--output LAYOUT] [--mode MODE] [--operator OP] [--look-ahead HOW] [--fullscreen] [--size WxH]",
+    .usage = "vergence play [--output LAYOUT] [--mode MODE] [--operator OP] [--look-ahead HOW] [--solve HOW] [--fullscreen] [--size WxH]",
     .details = "Watch the ball for its first moments, then click where it will land on the\n"
                "ground; the miss is the distance from the true landing spot to the ray through\n"
                "your click (paper Sec. 5). Keys: M cycles original / manipulated / optimized,\n"

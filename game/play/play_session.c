@@ -260,6 +260,7 @@ static frame_desc session_frame_desc(const session *ss, frame_mode mode)
     fd.display = d->display;
     fd.swap_eyes = ss->swap_eyes;
     fd.look_ahead = d->look_ahead;
+    fd.budgeted_solve = !ss->study && !d->full_solve;
     return fd;
 }
 

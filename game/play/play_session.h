@@ -80,6 +80,8 @@ typedef struct play_session_desc {
     frame_mode mode;             /* free play: the first mode (0 = original) */
     disp_operator_kind op;
     frame_look_ahead look_ahead; /* the optimized mode's window future (0: the scene's own) */
+    bool full_solve;             /* live frames catch up on the solve of skipped ticks (frame_desc
+                                    budgeted_solve off); a study's frames always do */
     stereo_display_desc display;
     double visible_s;            /* 0 = GAME_VISIBLE_S */
     uint64_t seed;               /* the throws */

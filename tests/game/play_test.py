@@ -23,7 +23,8 @@ usage: xvfb-run -a play_test.py VERGENCE CASE     (CTest runs it under xvfb-run)
                      records the late frames
   frame_ticks        live play at 3 ticks per frame (a device at 20 fps), with
                      a pause that draws the same frame again, shows at every
-                     frame the f of one tick per frame (issue 13)
+                     frame the f of one tick per frame with --solve full
+                     (issue 13)
   play_keys          the mode badge (its colour follows M / 1-3), the markers
                      on the click and the landing spot, L (next layout) and
                      E (swap eyes), each seen on screen and in the log
@@ -320,7 +321,8 @@ def case_frame_ticks():
                                  ("causal", "90 key Q\n", ["--look-ahead", "causal"])):
         out = tempfile.mkdtemp(prefix="vergence_dumpf_")
         g = Game(["play", "--size", "320x180", "--render-size", "160x90", "--seed", "4", "--mode", "optimized",
-                  "--replay", replay_file(script), "--frame-ticks", str(3 if extra else ticks), "--dump-f", out] + extra)
+                  "--replay", replay_file(script), "--frame-ticks", str(3 if extra else ticks), "--dump-f", out,
+                  "--solve", "full"] + extra)
         g.finish(300)
         runs[ticks] = {int(re.search(r"\d+", n).group(0)): os.path.join(out, n)
                        for n in os.listdir(out) if n.endswith(".pfm")}

@@ -51,7 +51,9 @@ struct disparity_gpu {
     long last_index;                  /* the frame rendered last */
     long store_hi, final_hi;          /* newest keyframe in the store; newest whose ratio is final */
     int done;                         /* items of the current solve recorded so far */
+    int frames_in;                    /* frames rendered since the window moved (budgeted) */
     int tail_first, tail_last;        /* the last solve's items this frame (before the build) */
+    bool tail_publish;                /* ... then its publish step (budgeted: the solve as it stands) */
     bool build;                       /* mid.window runs this frame */
     int rec_first, rec_last;          /* mid.solve's items this frame */
     long tiles_first;                 /* keyframes rendered this frame */
@@ -139,6 +141,10 @@ static void window_execute(const rg_context *ctx, void *user)
     disparity_gpu *d = user;
     uint32_t slot = (uint32_t)d->slot;
     solve_gpu_record_previous(d->mid, rg_ctx_cmd(ctx), slot, d->tail_first, d->tail_last);
+    if (d->tail_publish) {
+        int n = solve_gpu_previous_item_count(d->mid);
+        solve_gpu_record_previous(d->mid, rg_ctx_cmd(ctx), slot, n - 1, n);
+    }
     if (d->build)
         solve_gpu_record(d->mid, rg_ctx_cmd(ctx), slot, 0, 1);
 }
@@ -317,6 +323,7 @@ vg_status disparity_gpu_prepare(disparity_gpu *d, long index, int slot)
     d->build = false;
     d->rec_first = d->rec_last = 0;
     d->tail_first = d->tail_last = 0;
+    d->tail_publish = false;
     d->tiles = 0;
     if (d->started && index == d->last_index) {
         /* The same frame again (a pause that keeps drawing, a display faster
@@ -359,13 +366,25 @@ vg_status disparity_gpu_prepare(disparity_gpu *d, long index, int slot)
                 d->tiles = 1;
             }
             window_begin(d, k, false);
+            if (d->desc.budgeted) {
+                /* The last solve as it stands: at least
+                 * MID_GN_BUDGET_ITERATIONS and the iteration under way
+                 * finished, then its publish. */
+                int n = solve_gpu_previous_item_count(d->mid);
+                d->tail_last = solve_gpu_previous_settled(d->mid, d->tail_first, MID_GN_BUDGET_ITERATIONS);
+                d->tail_publish = d->tail_last < n;
+            }
             slices_plan(d);
             d->build = true;
             d->done = 1;
+            d->frames_in = 0;
         }
-        /* Every item due by this phase, also those of skipped phases. */
+        /* Every item due by this phase, also those of skipped phases; with
+         * a budget, one phase's share a rendered frame. */
+        int due = d->desc.budgeted ? (d->frames_in < d->interval ? d->frames_in : d->interval - 1) : phase;
+        d->frames_in++;
         d->rec_first = d->done;
-        d->rec_last = d->slice[phase + 1] > d->done ? d->slice[phase + 1] : d->done;
+        d->rec_last = d->slice[due + 1] > d->done ? d->slice[due + 1] : d->done;
         d->done = d->rec_last;
     }
     d->last_index = index;

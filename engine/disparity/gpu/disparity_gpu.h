@@ -44,6 +44,9 @@ typedef struct disparity_gpu_desc {
     bool keyframes;              /* the caller renders the window's keyframes (disparity_gpu_keyframes) */
     bool f;                      /* steps 6 and 7 (needs keyframes): the window, the solve and f */
     bool readback;               /* the store and the published ratios host-visible (keyframe_read) */
+    bool budgeted;               /* a constant share of the solve a rendered frame (a keyframe interval's
+                                    work over its frames), not the share of the frames it skipped too;
+                                    a window moves on with its solve settled, not finished (prepare) */
 } disparity_gpu_desc;
 
 /* The keyframes the frame renders into the atlas (docs/method.md "GPU
@@ -73,7 +76,12 @@ void disparity_gpu_bind(disparity_gpu *d, rg_graph *g);
  * solve's work due in frames that were skipped runs in the next one that is
  * rendered (a window moves on only once its solve is finished), an index
  * rendered again records nothing, and an index before the last one or past
- * the window starts the window afresh (docs/method.md "GPU passes"). */
+ * the window starts the window afresh (docs/method.md "GPU passes"). With
+ * desc.budgeted, a frame runs one frame's share whatever it skipped, and a
+ * window that moves on settles its solve (the iteration under way and at
+ * least MID_GN_BUDGET_ITERATIONS done) and publishes it (paper 4.5: a
+ * constant number of iterations a frame): f then depends on how many
+ * frames were rendered, not only on their indices. */
 vg_status disparity_gpu_prepare(disparity_gpu *d, long index, int slot);
 /* After prepare: the keyframes this frame renders into the atlas (count 0: none). */
 void disparity_gpu_keyframes(const disparity_gpu *d, long *first, int *count);

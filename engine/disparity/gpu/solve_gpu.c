@@ -604,6 +604,19 @@ void solve_gpu_begin(solve_gpu *m, const solve_gpu_params *s)
         add_item(pr, G_PUBLISH, 0);
 }
 
+int solve_gpu_previous_settled(const solve_gpu *m, int from, int iterations)
+{
+    const program *pr = &m->prog[m->cur ^ 1];
+    int ends = 0;
+    for (int i = 1; i < pr->count; i++) {
+        int g = pr->items[i - 1].graph;
+        ends += g == G_END || g == G_DESCENT;
+        if (i >= from && ends >= iterations && (g == G_INIT || g == G_END || g == G_DESCENT || g == G_PUBLISH))
+            return i;
+    }
+    return pr->count;
+}
+
 int solve_gpu_item_count(const solve_gpu *m) { return m->prog[m->cur].count; }
 int solve_gpu_previous_item_count(const solve_gpu *m) { return m->prog[m->cur ^ 1].count; }
 

@@ -63,6 +63,11 @@ void solve_gpu_destroy(solve_gpu *m);
  * stays recordable as the previous one: a frame that skipped the frames its
  * last items were due in records them before the new window's build. */
 void solve_gpu_begin(solve_gpu *m, const solve_gpu_params *solve);
+/* The first item at or after `from` of the previous program where its
+ * solution is settled: its start (f0) made, at least `iterations` outer
+ * iterations done and none under way, so its publish step may run next (a
+ * budgeted solve stopped early). */
+int solve_gpu_previous_settled(const solve_gpu *m, int from, int iterations);
 /* Items of the current (previous) program and their estimated cost (element traversals). */
 int solve_gpu_item_count(const solve_gpu *m);
 int solve_gpu_previous_item_count(const solve_gpu *m);
