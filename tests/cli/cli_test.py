@@ -437,8 +437,9 @@ def case_validation_sweep():
                      "--tess", "8", "--no-solver", "--markdown", os.path.join(tmp, "bench.md")] + V,
            check=bench_table)
 
-    # bench --game: two frames a mode; the passes (pass clock) add up to
-    # something, every mode (the optimized one solved in full and budgeted) has a frame rate.
+    # bench --game: two frames a mode and a throw of each kind (game.ball_figures checks the ball's
+    # figures); the passes (pass clock) add up to something, every mode (the optimized one solved
+    # in full and budgeted) has a frame rate.
     def game_table(p):
         rows = {l.rsplit(None, 4)[0].strip(): l.split()[-4:] for l in p.stdout.splitlines()
                 if l.startswith("  ") and len(l.split()) > 4}
@@ -449,7 +450,7 @@ def case_validation_sweep():
         if not all(float(v) > 0 for v in fps) or not all(0 < float(v.rstrip("%")) <= 100 for v in share):
             return "bench --game: fps %s, passes / wall %s" % (fps, share)
         return None
-    sw.run("bench --game", ["bench", "--game", "--game-frames", "2"] + V, check=game_table)
+    sw.run("bench --game", ["bench", "--game", "--game-frames", "2", "--game-throws", "1"] + V, check=game_table)
 
     # play needs a window: under a virtual display, a replay that switches
     # the three modes and the HUD, then quits.

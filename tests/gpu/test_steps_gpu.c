@@ -251,7 +251,8 @@ static int seek(void)
 #define BUDGET_BOUND 0.05
 static int budget(void)
 {
-    static const char *const scenes[] = {"balloon", "cubes", "bird", "arena"};
+    /* The arena without a throw holds still: the budget changes nothing there. */
+    static const char *const scenes[] = {"balloon", "cubes", "bird"};
     sequence every = make_sequence("step 1", 1, 1, 0), third = make_sequence("step 3", 3, 3, 0);
     int fail = 0;
     double most = 0;
