@@ -67,9 +67,10 @@ typedef unsigned int uint;
  * 3 / 2: cubes 0.499 / 0.500, balloon 0.552 / 0.630. */
 #define MID_GN_WARM_ITERATIONS 3
 /* A budgeted solve (disparity_gpu_desc.budgeted) that a move overtakes
- * still finishes this many of them before it publishes: with one, the bird
- * at every third frame loses 0.16 of f/h to the full solve (0.71 against
- * 0.55; tests/gpu/test_steps_gpu.c budget), with two it keeps it. */
+ * still finishes this many of them before it publishes: finishing only the
+ * one under way, the bird at every third frame loses 0.16 of f/h to the
+ * full solve (0.71 against 0.55; tests/gpu/test_steps_gpu.c budget); with
+ * two it keeps it. */
 #define MID_GN_BUDGET_ITERATIONS 2
 /* A flow link is valid when the bilinear taps that pass the depth test
  * carry at least this much of the bilinear weight (occlusion, Sec. 4.4). */
