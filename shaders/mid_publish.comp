@@ -16,30 +16,12 @@ layout(constant_id = 0) const uint OP = 0u;
 
 float ratio_at(uint j) { return vf[j] / H(j); }
 
-// (A r)_i over the ratio of the solution; taps outside the mask weigh 0.
-float gather_ratio(mid_link l)
-{
-    return mid_link_apply(mid_link_taps(l), ratio_at(l.base), ratio_at(l.base + 1u), ratio_at(l.base + pc.nx),
-                          ratio_at(l.base + pc.nx + 1u));
-}
-
 // The solve's own f at window element j as published: h times the ratio
 // of the gate's plane (its keyframe is observed and its ratio final).
 float candidate(uint j)
 {
     uint k = j / pc.ns, slot = (pc.store_first + k) % pc.store_cap;
     return H(j) * pub_ratio[(2u * pc.store_cap + slot) * pc.ns + (j - k * pc.ns)];
-}
-
-float gather_candidate(mid_link l)
-{
-    return mid_link_apply(mid_link_taps(l), candidate(l.base), candidate(l.base + 1u), candidate(l.base + pc.nx),
-                          candidate(l.base + pc.nx + 1u));
-}
-
-float gather_g(mid_link l)
-{
-    return mid_link_apply(mid_link_taps(l), G(l.base), G(l.base + 1u), G(l.base + pc.nx), G(l.base + pc.nx + 1u));
 }
 
 shared float s_c[MID_TILE * MID_TILE], s_h[MID_TILE * MID_TILE];
@@ -59,14 +41,10 @@ void gate()
         mid_link lf = link[i], lb = link[pc.cap + i];
         if (lf.mask == 0u || lb.mask == 0u)
             continue;
-        float ga = gather_g(lf), gb = gather_g(lb), g = G(i);
-        float ec = mid_accel_residual(gather_candidate(lf), candidate(i), gather_candidate(lb), ga, g, gb, idf, idb);
-        float eh = mid_accel_residual(mid_link_apply(mid_link_taps(lf), H(lf.base), H(lf.base + 1u), H(lf.base + pc.nx),
-                                                     H(lf.base + pc.nx + 1u)),
-                                      H(i),
-                                      mid_link_apply(mid_link_taps(lb), H(lb.base), H(lb.base + 1u), H(lb.base + pc.nx),
-                                                     H(lb.base + pc.nx + 1u)),
-                                      ga, g, gb, idf, idb);
+        float ga = R_LINK_GATHER(lf, G), gb = R_LINK_GATHER(lb, G), g = G(i);
+        float ec = mid_accel_residual(R_LINK_GATHER(lf, candidate), candidate(i), R_LINK_GATHER(lb, candidate), ga, g,
+                                      gb, idf, idb);
+        float eh = mid_accel_residual(R_LINK_GATHER(lf, H), H(i), R_LINK_GATHER(lb, H), ga, g, gb, idf, idb);
         sc += ec * ec;
         sh += eh * eh;
     }
@@ -104,7 +82,8 @@ void main()
         uint slot = (pc.store_first + ek) % pc.store_cap;
         mid_link lf = link[i], lb = link[pc.cap + i];
         float r = ratio_at(i);
-        float rf = lf.mask != 0u ? gather_ratio(lf) : r, rb = lb.mask != 0u ? gather_ratio(lb) : r;
+        // (A r)_i over the ratio of the solution; taps outside the mask weigh 0.
+        float rf = lf.mask != 0u ? R_LINK_GATHER(lf, ratio_at) : r, rb = lb.mask != 0u ? R_LINK_GATHER(lb, ratio_at) : r;
         float slope = mid_ratio_slope(r, rf, rb, lf.mask, lb.mask, INVDT_F(ek), INVDT_B(ek));
         float gain = pc.gate != 0u ? pub.gate_gain : 1.0;
         uint q = ey * pc.nx + ex;

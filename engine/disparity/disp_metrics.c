@@ -35,11 +35,10 @@ void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics
             if (w->fwd[i].mask && w->bwd[i].mask) {
                 /* The c_a residual of Sec. 4.3 with x in place of f (g's term
                  * as the solve's pg_acc, in arcmin/s). */
-                float xa = mid_link_gather(w->fwd, w->nx, i, x);
-                float xb = mid_link_gather(w->bwd, w->nx, i, x);
-                float ga = mid_link_gather(w->fwd, w->nx, i, w->g), gb = mid_link_gather(w->bwd, w->nx, i, w->g);
-                double e = (double)mid_p((xa - x[i]) * idf) - (double)mid_p((x[i] - xb) * idb) -
-                           ((double)mid_p((ga - w->g[i]) * idf) - (double)mid_p((w->g[i] - gb) * idb));
+                double e = mid_accel_residual(mid_link_gather(w->fwd, w->nx, i, x), x[i],
+                                              mid_link_gather(w->bwd, w->nx, i, x),
+                                              mid_link_gather(w->fwd, w->nx, i, w->g), w->g[i],
+                                              mid_link_gather(w->bwd, w->nx, i, w->g), idf, idb);
                 mid2 += e * e;
                 m.moving_measured++;
             }

@@ -363,8 +363,9 @@ MID_FN float disp_saliency_computed(float delta_e, float speed, float depth, flo
 #define MID_GATE_EPS 0.01f /* JND^2 a sample: a keyframe without motion in depth leaves the gain shut */
 #define MID_GATE_NONE 0xffffffffu /* no realized keyframe in the window: the gate starts shut */
 
-/* The c_a residual of x along a sample's links (the MID metric's,
- * disp_metrics.c): x and g at the sample, ahead (a) and behind (b). */
+/* The c_a residual of x along a sample's links (Sec. 4.3; the MID metric,
+ * disp_metrics.c, and the causal gate): x and g at the sample, ahead (a)
+ * and behind (b). */
 MID_FN float mid_accel_residual(float xa, float x, float xb, float ga, float g, float gb, float inv_dt_f,
                                 float inv_dt_b)
 {
