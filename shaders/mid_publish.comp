@@ -4,17 +4,24 @@
 // realized keyframe's c_a residuals of the solve's own f and of h, summed
 // and decayed into the gain (mid_shared.h MID_GATE_*). publish: the solution becomes
 // the next warm start (paper 4.5) and, from keyframe publish_from on, the
-// ratio f / h that mid.upsample reads (Fig. 4: only the correction is
-// upsampled; vergence is never 0), times the gate's gain, with its slope in
-// time along the links (mid_ratio_slope), so the upsampling in time is C1
-// at keyframes (mid_hermite); and the solve's own ratio, which the gate
-// measures once its keyframe is realized.
+// correction m = f / g that mid.upsample reads (Fig. 4: only the correction
+// is upsampled; vergence is never 0; mid_ratio_to_h), f as the gate's gain
+// shows it, with its slope in time along the links (mid_ratio_slope), so the
+// upsampling in time is C1 at keyframes (mid_hermite); and the solve's own
+// ratio f / h, which the gate measures once its keyframe is realized.
 #include "mid_arena.glsl"
 MID_ELEMENT_LAYOUT;
 
 layout(constant_id = 0) const uint OP = 0u;
 
 float ratio_at(uint j) { return vf[j] / H(j); }
+
+// f / g of f as shown: h + gain (f - h) (the gate's gain, 1 without it).
+float shown_at(uint j)
+{
+    float gain = pc.gate != 0u ? pub.gate_gain : 1.0;
+    return (H(j) + gain * (vf[j] - H(j))) / G(j);
+}
 
 // The solve's own f at window element j as published: h times the ratio
 // of the gate's plane (its keyframe is observed and its ratio final).
@@ -81,15 +88,13 @@ void main()
     if (ek >= pc.publish_from) {
         uint slot = (pc.store_first + ek) % pc.store_cap;
         mid_link lf = link[i], lb = link[pc.cap + i];
-        float r = ratio_at(i);
-        // (A r)_i over the ratio of the solution; taps outside the mask weigh 0.
-        float rf = lf.mask != 0u ? R_LINK_GATHER(lf, ratio_at) : r, rb = lb.mask != 0u ? R_LINK_GATHER(lb, ratio_at) : r;
-        float slope = mid_ratio_slope(r, rf, rb, lf.mask, lb.mask, INVDT_F(ek), INVDT_B(ek));
-        float gain = pc.gate != 0u ? pub.gate_gain : 1.0;
+        float m = shown_at(i);
+        // (A m)_i over the shown correction; taps outside the mask weigh 0.
+        float mf = lf.mask != 0u ? R_LINK_GATHER(lf, shown_at) : m, mb = lb.mask != 0u ? R_LINK_GATHER(lb, shown_at) : m;
         uint q = ey * pc.nx + ex;
-        pub_ratio[slot * pc.ns + q] = pc.gate != 0u ? 1.0 + gain * (r - 1.0) : r;
-        pub_ratio[(pc.store_cap + slot) * pc.ns + q] = gain * slope;
-        pub_ratio[(2u * pc.store_cap + slot) * pc.ns + q] = r;
+        pub_ratio[slot * pc.ns + q] = m;
+        pub_ratio[(pc.store_cap + slot) * pc.ns + q] = mid_ratio_slope(m, mf, mb, lf.mask, lb.mask, INVDT_F(ek), INVDT_B(ek));
+        pub_ratio[(2u * pc.store_cap + slot) * pc.ns + q] = ratio_at(i);
     }
     if (i == 0u) {
         pub.range_lo = st.range_lo;

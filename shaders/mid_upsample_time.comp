@@ -1,12 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// mid.upsample.time: the ratio at the coarse samples of this frame, from the
-// two nearest keyframes along the motion (the G-buffer's exact motion to the
-// previous and next keyframe), each keyframe's ratio and slope sampled
-// bilinearly over the taps on the sample's surface as the solver's links
-// decide it (its instance, and its depth or its trajectory), interpolated by
-// cubic Hermite in time (C1 at keyframes); a keyframe that fails (occluded,
-// out of frame) drops out (disp_upsample_temporal()).
+// mid.upsample.time: the ratio f / h at the coarse samples of this frame,
+// from the two nearest keyframes along the motion (the G-buffer's exact
+// motion to the previous and next keyframe), each keyframe's correction
+// m = f / g and its slope sampled bilinearly over the taps on the sample's
+// surface as the solver's links decide it (its instance, and its depth or
+// its trajectory), interpolated by cubic Hermite in time (C1 at keyframes)
+// and applied to this frame's g (mid_ratio_to_h); a keyframe that fails
+// (occluded, out of frame) drops out (disp_upsample_temporal()).
 #include "mid_upsample.glsl"
 layout(local_size_x = 64) in;
 layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
@@ -15,6 +16,8 @@ layout(set = 0, binding = 2) readonly buffer StoreBlock { float store[]; };
 layout(set = 0, binding = 3, scalar) readonly buffer PublishedBlock { mid_published pub; float pub_ratio[]; };
 layout(set = 0, binding = 4, r32f) uniform writeonly image2D ratio_image; // the coarse grid
 layout(set = 0, binding = 5, r32ui) uniform readonly uimage2D id_image;
+layout(set = 0, binding = 6, r32f) uniform readonly image2D g_image;
+layout(set = 0, binding = 7, r32f) uniform readonly image2D h_image;
 
 const float LOST = -1.0e30;
 
@@ -40,21 +43,28 @@ float key_field(uint slot, uint field, uint i)
     return store[slot * MID_STORE_FLOATS * up.nx * up.ny + field * up.nx * up.ny + i];
 }
 
-// The keyframe's ratio, weight and slope at a full-resolution position:
-// bilinear over the coarse samples, keeping only taps on the sample's
+// The keyframe's ratio f / h at tap q (its correction through its own g and h).
+float key_ratio_to_h(uint slot, int q)
+{
+    return mid_ratio_to_h(key_ratio(slot, q), key_field(slot, MID_STORE_G, uint(q)), key_field(slot, MID_STORE_H, uint(q)));
+}
+
+// The keyframe's correction f / g, weight, slope of f / g and ratio f / h
+// at a full-resolution position: bilinear over the coarse samples, keeping
+// only taps on the sample's
 // surface: its instance id, and its depth or its trajectory (its own flow to
 // the interval's other keyframe, forward from k0, backward from k1, lands at
 // `other`, the sample's position there; LOST: none) (sample_keyframe()).
-vec3 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool forward, bool test)
+vec4 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool forward, bool test)
 {
     if (pos.x == LOST)
-        return vec3(1.0, 0.0, 0.0);
+        return vec4(1.0, 0.0, 0.0, 1.0);
     float s2 = float(up.stride / 2u);
     float cx = min(max((pos.x - s2) / float(up.stride), 0.0), float(up.nx - 1u));
     float cy = min(max((pos.y - s2) / float(up.stride), 0.0), float(up.ny - 1u));
     int x0 = int(cx), y0 = int(cy);
     float fx = cx - float(x0), fy = cy - float(y0);
-    float acc = 0.0, wsum = 0.0, sacc = 0.0;
+    float acc = 0.0, wsum = 0.0, sacc = 0.0, racc = 0.0;
     for (int t = 0; t < 4; t++) {
         int x = x0 + (t & 1), y = y0 + (t >> 1);
         float w = ((t & 1) != 0 ? fx : 1.0 - fx) * ((t >> 1) != 0 ? fy : 1.0 - fy);
@@ -76,9 +86,16 @@ vec3 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool fo
         }
         acc += w * key_ratio(slot, q);
         sacc += w * key_slope(slot, q);
+        racc += w * key_ratio_to_h(slot, q);
         wsum += w;
     }
-    return wsum > 0.0 ? vec3(acc / wsum, wsum, sacc / wsum) : vec3(1.0, 0.0, 0.0);
+    return wsum > 0.0 ? vec4(acc / wsum, wsum, sacc / wsum, racc / wsum) : vec4(1.0, 0.0, 0.0, 1.0);
+}
+
+// The ratio f / h of this frame at the sample, from the correction m.
+void store_ratio(ivec2 c, ivec2 x, float m)
+{
+    imageStore(ratio_image, c, vec4(mid_ratio_to_h(m, imageLoad(g_image, x).r, imageLoad(h_image, x).r)));
 }
 
 void main()
@@ -95,27 +112,29 @@ void main()
     bool has1 = up.has1 != 0u && up.at_key == 0u;
     // At a keyframe (no k1) the sample itself: depth and id alone.
     vec2 other1 = has1 && up.tau > 0.0 ? pos1 : vec2(LOST);
-    vec3 a = sample_keyframe(pos0, z, id, other1, up.slot0, true, true);
-    vec3 b = vec3(1.0, 0.0, 0.0);
+    vec4 a = sample_keyframe(pos0, z, id, other1, up.slot0, true, true);
+    vec4 b = vec4(1.0, 0.0, 0.0, 1.0);
     if (has1 && up.tau > 0.0)
         b = sample_keyframe(pos1, z, id, pos0, up.slot1, false, true);
-    // Fig. 4: interpolate along the flow in time; one keyframe alone when
-    // the other fails.
+    // Fig. 4: interpolate f / g along the flow in time and apply it to this
+    // frame's g; one keyframe alone when the other fails, its f / h (a
+    // constant f / g would hold the manipulation's change over the interval).
     bool ok0 = a.y >= MID_LINK_MIN_WEIGHT && up.tau < 1.0, ok1 = b.y >= MID_LINK_MIN_WEIGHT && up.tau > 0.0;
     if (ok0 && ok1) {
-        imageStore(ratio_image, c, vec4(mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span)));
+        store_ratio(c, x, mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span));
         return;
     }
     if (ok0 || ok1) {
-        imageStore(ratio_image, c, vec4(ok0 ? a.x : b.x));
+        imageStore(ratio_image, c, vec4(ok0 ? a.w : b.w));
         return;
     }
     // Both lost (disocclusion, or out of frame for both): the temporally
-    // nearer keyframe at the tracked position, else at the sample itself.
+    // nearer keyframe's ratio f / h at the tracked position, else at the
+    // sample itself, whatever surface it shows there.
     bool near0 = up.tau < 0.5 || !has1;
     vec2 pos = near0 ? pos0 : pos1;
     if (pos.x == LOST)
         pos = vec2(x);
-    vec3 k = sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false);
-    imageStore(ratio_image, c, vec4(k.x));
+    vec4 k = sample_keyframe(pos, z, id, vec2(LOST), near0 ? up.slot0 : up.slot1, near0, false);
+    imageStore(ratio_image, c, vec4(k.w));
 }

@@ -174,9 +174,9 @@ static void time_execute(const rg_context *ctx, void *user)
     alone *a = user;
     upsample_gpu_frame fr = ups_frame(a);
     VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion), id = image_of(ctx, a->ids);
-    VkDescriptorImageInfo r = image_of(ctx, a->ratio);
-    upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, &id, rg_ctx_buffer(ctx, a->r_store), rg_ctx_buffer(ctx, a->r_pub),
-                        &r);
+    VkDescriptorImageInfo r = image_of(ctx, a->ratio), g = image_of(ctx, a->g), h = image_of(ctx, a->hmap);
+    upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, &id, rg_ctx_buffer(ctx, a->r_store),
+                             rg_ctx_buffer(ctx, a->r_pub), &g, &h, &r);
 }
 
 static void space_execute(const rg_context *ctx, void *user)
@@ -230,6 +230,8 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
         rg_use(g, p, a->depth, RG_STORAGE_READ);
         rg_use(g, p, a->motion, RG_STORAGE_READ);
         rg_use(g, p, a->ids, RG_STORAGE_READ);
+        rg_use(g, p, a->g, RG_STORAGE_READ);
+        rg_use(g, p, a->hmap, RG_STORAGE_READ);
         rg_use(g, p, a->r_store, RG_STORAGE_READ);
         rg_use(g, p, a->r_pub, RG_STORAGE_READ);
         rg_use(g, p, a->ratio, RG_STORAGE_WRITE);

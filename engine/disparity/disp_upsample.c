@@ -76,7 +76,8 @@ void disp_flow_advect(const float *flow, int w, int h, float *pos, int count)
 /* ------------------------------------------------------------------------- */
 
 typedef struct keyframe_sample {
-    float ratio, slope;
+    float ratio, slope; /* the correction f / g and its slope */
+    float ratio_h;      /* f / h (the view's g and h; without them, f / g) */
     float weight; /* bilinear weight of the taps on the sample's surface */
 } keyframe_sample;
 
@@ -89,7 +90,7 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
                                        const float *other, const disp_keyframe_view *k, float log_tol, bool test,
                                        bool depth_only)
 {
-    keyframe_sample s = {1.0f, 0.0f, 0.0f};
+    keyframe_sample s = {1.0f, 0.0f, 1.0f, 0.0f};
     if (isnan(px) || isnan(py))
         return s;
     float s2 = (float)(g->stride / 2);
@@ -97,7 +98,7 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
     float cy = fminf(fmaxf((py - s2) / (float)g->stride, 0.0f), (float)(g->ny - 1));
     int x0 = (int)cx, y0 = (int)cy;
     float fx = cx - (float)x0, fy = cy - (float)y0;
-    float acc = 0.0f, sacc = 0.0f, wsum = 0.0f;
+    float acc = 0.0f, sacc = 0.0f, racc = 0.0f, wsum = 0.0f;
     for (int t = 0; t < 4; t++) {
         int x = x0 + (t & 1), y = y0 + (t >> 1);
         float w = ((t & 1) ? fx : 1 - fx) * ((t >> 1) ? fy : 1 - fy);
@@ -115,11 +116,13 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
         }
         acc += w * k->ratio[q];
         sacc += w * (k->slope ? k->slope[q] : 0.0f);
+        racc += w * (k->g && k->h ? mid_ratio_to_h(k->ratio[q], k->g[q], k->h[q]) : k->ratio[q]);
         wsum += w;
     }
     if (wsum > 0.0f) {
         s.ratio = acc / wsum;
         s.slope = sacc / wsum;
+        s.ratio_h = racc / wsum;
     }
     s.weight = wsum;
     return s;
@@ -128,10 +131,16 @@ static keyframe_sample sample_keyframe(const disp_grid *g, float px, float py, f
 typedef struct time_ctx {
     const disp_upsample_desc *d;
     float tau, span, log_tol;
-    const float *depth_t, *id_t;
+    const float *depth_t, *id_t, *g_t, *h_t;
     const disp_keyframe_view *k0, *k1;
     float *out;
 } time_ctx;
+
+/* The ratio f / h of frame t at sample q from the correction m. */
+static float to_h(const time_ctx *x, int q, float m)
+{
+    return x->g_t && x->h_t ? mid_ratio_to_h(m, x->g_t[q], x->h_t[q]) : m;
+}
 
 static void temporal_block(void *c, int block, int begin, int end)
 {
@@ -144,26 +153,29 @@ static void temporal_block(void *c, int block, int begin, int end)
         /* At a keyframe (no k1) the sample itself: depth and id alone. */
         const float *at0 = k0->pos + 2 * q, *at1 = k1 && x->tau > 0.0f ? k1->pos + 2 * q : NULL;
         keyframe_sample a = sample_keyframe(g, at0[0], at0[1], z, id, at1, k0, x->log_tol, true, x->d->depth_only);
-        keyframe_sample b = {1.0f, 0.0f, 0.0f};
+        keyframe_sample b = {1.0f, 0.0f, 1.0f, 0.0f};
         if (at1)
             b = sample_keyframe(g, at1[0], at1[1], z, id, at0, k1, x->log_tol, true, x->d->depth_only);
-        /* Fig. 4: interpolate along the flow in time, by cubic Hermite with
-         * the keyframes' slopes (C1 at keyframes), or linearly without them;
-         * a keyframe whose sample is occluded (not the sample's surface) or
-         * out of frame drops out. */
+        /* Fig. 4: interpolate f / g along the flow in time, by cubic Hermite
+         * with the keyframes' slopes (C1 at keyframes), or linearly without
+         * them, and apply it to frame t's g; a keyframe whose sample is
+         * occluded (not the sample's surface) or out of frame drops out. */
         bool ok0 = a.weight >= MID_LINK_MIN_WEIGHT && x->tau < 1.0f;
         bool ok1 = b.weight >= MID_LINK_MIN_WEIGHT && x->tau > 0.0f;
         if (ok0 && ok1) {
-            x->out[q] = k0->slope && k1->slope ? mid_hermite(a.ratio, a.slope, b.ratio, b.slope, x->tau, x->span)
-                                               : (1.0f - x->tau) * a.ratio + x->tau * b.ratio;
+            x->out[q] = to_h(x, q, k0->slope && k1->slope ? mid_hermite(a.ratio, a.slope, b.ratio, b.slope, x->tau, x->span)
+                                                          : (1.0f - x->tau) * a.ratio + x->tau * b.ratio);
             continue;
         }
+        /* One keyframe alone: its f / h (a constant f / g would hold the
+         * manipulation's change over the interval). */
         if (ok0 || ok1) {
-            x->out[q] = ok0 ? a.ratio : b.ratio;
+            x->out[q] = ok0 ? a.ratio_h : b.ratio_h;
             continue;
         }
         /* Both lost (disocclusion, or out of frame for both): the temporally
-         * nearer keyframe at the tracked position, else at the sample itself. */
+         * nearer keyframe's ratio f / h at the tracked position, else at the
+         * sample itself, whatever surface it shows there. */
         bool near0 = x->tau < 0.5f || !k1;
         const disp_keyframe_view *k = near0 ? k0 : k1;
         float px = k->pos[2 * q], py = k->pos[2 * q + 1];
@@ -171,17 +183,17 @@ static void temporal_block(void *c, int block, int begin, int end)
             px = (float)disp_grid_px(g, q % g->nx);
             py = (float)disp_grid_py(g, q / g->nx);
         }
-        x->out[q] = sample_keyframe(g, px, py, z, id, NULL, k, x->log_tol, false, false).ratio;
+        x->out[q] = sample_keyframe(g, px, py, z, id, NULL, k, x->log_tol, false, false).ratio_h;
     }
 }
 
 void disp_upsample_temporal(const disp_upsample_desc *d, float tau, float span, const float *depth_t,
-                            const float *id_t, const disp_keyframe_view *k0, const disp_keyframe_view *k1,
-                            float *ratio_t, vg_pool *pool)
+                            const float *id_t, const float *g_t, const float *h_t, const disp_keyframe_view *k0,
+                            const disp_keyframe_view *k1, float *ratio_t, vg_pool *pool)
 {
     float tol = d->occlusion_tolerance > 0 ? d->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
     time_ctx c = {.d = d, .tau = tau, .span = span, .log_tol = logf(1.0f + tol), .depth_t = depth_t, .id_t = id_t,
-                  .k0 = k0, .k1 = k1, .out = ratio_t};
+                  .g_t = g_t, .h_t = h_t, .k0 = k0, .k1 = k1, .out = ratio_t};
     vg_parallel_for(pool, d->grid.nx * d->grid.ny, MID_BLOCK, temporal_block, &c);
 }
 

@@ -54,11 +54,12 @@ typedef struct disp_upsample_desc {
 /* One keyframe as frame t sees it (coarse arrays of the keyframe). */
 typedef struct disp_keyframe_view {
     const float *pos;   /* where frame t's coarse samples are in it (full-resolution px, 2 floats; NaN lost) */
-    const float *ratio; /* f / h */
-    const float *slope; /* d(f / h)/dt along the motion, per second (mid_window_ratio_slopes); NULL: linear */
+    const float *ratio; /* the correction m = f / g */
+    const float *slope; /* dm/dt along the motion, per second (mid_window_ratio_slopes); NULL: linear */
     const float *depth;
     const float *id;    /* instance ids (0: sky); NULL: all 0 (sequences from files without ids) */
     const float *flow;  /* coarse px to the interval's other keyframe (k0: forward, k1: backward); NULL: none */
+    const float *g, *h; /* the keyframe's g and h: its ratio f / h where no tap is the sample's surface; NULL: m */
 } disp_keyframe_view;
 
 /* Time. tau = (t - t0) / (t1 - t0), span = t1 - t0 in seconds; depth_t,
@@ -66,12 +67,17 @@ typedef struct disp_keyframe_view {
  * be NULL (no later keyframe, or tau = 0). A keyframe tap counts when it is
  * the sample's surface as the solver's links decide it: the same instance,
  * and the depth test or the trajectory test (mid_on_trajectory: the tap's
- * flow to the other keyframe lands where the sample is there). Cubic Hermite
- * between the keyframes when both have slopes (C1 at keyframes), else
- * linear. Writes ratio_t. */
+ * flow to the other keyframe lands where the sample is there). The keyframes'
+ * corrections m = f / g by cubic Hermite in time when both have slopes (C1
+ * at keyframes), else linearly; applied to frame t's coarse g_t and h_t,
+ * ratio_t = m g_t / h_t (mid_ratio_to_h: f follows the original's motion
+ * between keyframes). g_t and h_t NULL: ratio_t is m. Where only one
+ * keyframe has taps on the sample's surface, that keyframe's own f / h (the
+ * views' g and h); where neither has, the nearer one's f / h whatever surface
+ * it shows. */
 void disp_upsample_temporal(const disp_upsample_desc *d, float tau, float span, const float *depth_t,
-                            const float *id_t, const disp_keyframe_view *k0, const disp_keyframe_view *k1,
-                            float *ratio_t, vg_pool *pool);
+                            const float *id_t, const float *g_t, const float *h_t, const disp_keyframe_view *k0,
+                            const disp_keyframe_view *k1, float *ratio_t, vg_pool *pool);
 
 /* Space. f_full = clamp(h_full * JBU(ratio_coarse; guide h_full)). */
 void disp_upsample_spatial(const disp_upsample_desc *d, const float *h_full,

@@ -257,7 +257,22 @@ MID_FN mid_pixel mid_pixel_eval(float f, float fa, float fb, float inv_dt_f, flo
 /* Temporal upsampling (Sec. 4.4, docs/method.md Sec. 8)                     */
 /* ------------------------------------------------------------------------- */
 
-/* Slope in time (per second) of the ratio r = f / h at a keyframe sample,
+/* What the upsampling in time interpolates is the correction to the
+ * original, m = f / g at the keyframes, and what it hands the spatial pass
+ * is the ratio f / h of frame t: m g_t / h_t at the coarse sample. So f
+ * between keyframes carries the original's motion (g_t: the paper's "add
+ * them to the current high-resolution original frame", 4.4), not the
+ * manipulation's: where h changes faster than the keyframes (a ball crossing
+ * a gap the operator compresses, in 3 frames), f / h interpolated puts that
+ * change into f (docs/method.md Sec. 8). Vergence is never 0; a missing g or
+ * h (not a positive finite vergence: a video's unknown pixels) keeps m. */
+MID_FN float mid_ratio_to_h(float m, float g, float h)
+{
+    float r = m * g / h;
+    return g > 0.0f && h > 0.0f && r < 1.0e3f ? r : m;
+}
+
+/* Slope in time (per second) of a ratio r (m = f / g) at a keyframe sample,
  * along the motion: the mean of the one-sided slopes to the keyframes its
  * links reach (rf = (A_f r)_i, rb = (A_b r)_i), one of them alone, or 0. */
 MID_FN float mid_ratio_slope(float r, float rf, float rb, uint has_f, uint has_b, float inv_dt_f, float inv_dt_b)
@@ -530,8 +545,9 @@ struct mid_solve_state {
 #define MID_STORE_ID 7u      /* instance id (0: sky), as a float (exact below 2^24) */
 #define MID_STORE_FLOATS 8u
 /* Published solution: a header, then three planes of ring slots of ns
- * floats: the ratio f / h the upsampling reads, its slope in time, and the
- * solve's own ratio before the causal gate (equal to the first without it). */
+ * floats: the correction m = f / g the upsampling reads (f as shown: after
+ * the causal gate), its slope in time, and the solve's own ratio f / h before
+ * the gate, which the gate measures. */
 struct mid_published {
     float range_lo, range_hi; /* the range f was solved in (the clamp of upsampling) */
     uint keyframe_lo, keyframe_hi; /* keyframes published so far (absolute, inclusive) */

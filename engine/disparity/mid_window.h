@@ -94,9 +94,10 @@ mid_params mid_window_params(const mid_window *w, float w_data, float w_spatial,
  * takes keyframe k + shift of prev where it exists, h elsewhere (Sec. 4.5). */
 void mid_window_warm_start(const mid_window *w, const float *prev, int shift, float *out);
 
-/* Slopes in time (per second) of the ratio r = f / h at every sample, along
- * the links (mid_ratio_slope): what the upsampling in time interpolates with
- * (mid_hermite). The GPU's mid.solve publishes the same. */
+/* Slopes in time (per second) of a ratio (the correction m = f / g) at
+ * every sample, along the links (mid_ratio_slope): what the upsampling in
+ * time interpolates with (mid_hermite). The GPU's mid.solve publishes the
+ * same. */
 void mid_window_ratio_slopes(const mid_window *w, const float *ratio, float *slope);
 
 /* Values of the links at pixel i: (A x)_i for a link array. */

@@ -698,12 +698,14 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
     float *f = malloc(np * sizeof(float)), *ratio = malloc((size_t)w->n * sizeof(float));
     float *slope = malloc((size_t)w->n * sizeof(float));
     float *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float)), *idc = malloc(nc * sizeof(float));
+    float *gc = malloc(nc * sizeof(float)), *hc = malloc(nc * sizeof(float));
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     float *prev = malloc((size_t)s->stride * nf2 * sizeof(float)), *next = malloc((size_t)s->stride * nf2 * sizeof(float));
     uint8_t *rgb = malloc(np * 3);
     figure_video *video[3] = {NULL, NULL, NULL}, *pair_video = NULL;
     vg_status st = VG_OK;
-    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !idc || !pos0 || !pos1 || !prev || !next || !rgb) {
+    if (!g || !h || !z || !f || !ratio || !slope || !zc || !rt || !idc || !gc || !hc || !pos0 || !pos1 || !prev ||
+        !next || !rgb) {
         st = VG_ERR_NOMEM;
         goto done;
     }
@@ -714,9 +716,10 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             vg_path_join(path, sizeof path, d->out_dir, "stereo.mp4") == VG_OK)
             pair_video = figure_video_open(ffmpeg, path, 2 * s->w, s->h, s->fps);
     }
-    /* Fig. 4: the correction is the ratio f / h (vergence is never 0). */
+    /* Fig. 4: the correction is the ratio f / g (vergence is never 0),
+     * applied to each frame's g (mid_ratio_to_h). */
     for (int i = 0; i < w->n; i++)
-        ratio[i] = f_sol[i] / w->h[i];
+        ratio[i] = f_sol[i] / w->g[i];
     mid_window_ratio_slopes(w, ratio, slope);
     disp_upsample_desc ud = {.grid = s->grid, .occlusion_tolerance = d->occlusion_tolerance,
                              .range_lo = (float)s->lo, .range_hi = (float)s->hi};
@@ -732,9 +735,10 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
                 st = read_flow(s, t, true, next + (size_t)(t - t0) * nf2);
         }
         size_t ko = (size_t)k * nc;
-        disp_keyframe_view k0 = {pos0, ratio + ko, slope + ko, w->depth + ko, w->id + ko, w->flow_fwd + 2 * ko};
+        disp_keyframe_view k0 = {pos0, ratio + ko, slope + ko, w->depth + ko, w->id + ko, w->flow_fwd + 2 * ko,
+                                 w->g + ko, w->h + ko};
         disp_keyframe_view k1 = {pos1, ratio + ko + nc, slope + ko + nc, w->depth + ko + nc, w->id + ko + nc,
-                                 w->flow_bwd + 2 * (ko + nc)};
+                                 w->flow_bwd + 2 * (ko + nc), w->g + ko + nc, w->h + ko + nc};
         bool has1 = k + 1 < s->nt;
         float span = has1 && w->inv_dt_f[k] > 0 ? 1.0f / w->inv_dt_f[k] : 0.0f;
         for (int t = t0; t < t_end && st == VG_OK; t++) {
@@ -747,6 +751,8 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             if (st != VG_OK)
                 break;
             disp_grid_sample(&s->grid, z, 1, zc);
+            disp_grid_sample(&s->grid, g, 1, gc);
+            disp_grid_sample(&s->grid, h, 1, hc);
             if (s->has_id) { /* f is free until the upsampling */
                 if ((st = read_ids(s, t, f)) != VG_OK)
                     break;
@@ -761,7 +767,8 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             for (int m = t; m < t1 && t > t0; m = direct ? t1 : m + 1) /* at a keyframe only k0 counts */
                 disp_flow_advect(next + (size_t)(m - t0) * nf2, s->w, s->h, pos1, nc);
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
-            disp_upsample_temporal(&ud, tau, span, zc, s->has_id ? idc : NULL, &k0, has1 ? &k1 : NULL, rt, s->pool);
+            disp_upsample_temporal(&ud, tau, span, zc, s->has_id ? idc : NULL, gc, hc, &k0, has1 ? &k1 : NULL, rt,
+                                   s->pool);
             disp_upsample_spatial(&ud, h, rt, f, s->pool);
             /* A result is a vergence at every known pixel: never a map of
              * NaN or zeros written as if it were one (issue 44). */
@@ -812,7 +819,7 @@ done:
         figure_video_close(video[m]);
     figure_video_close(pair_video);
     free(rgb);
-    free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt); free(idc);
+    free(g); free(h); free(z); free(f); free(ratio); free(slope); free(zc); free(rt); free(idc); free(gc); free(hc);
     free(pos0); free(pos1); free(prev); free(next);
     return st;
 }

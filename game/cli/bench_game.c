@@ -214,7 +214,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
 #define BALL_LAUNCH 60 /* frame of every launch (a keyframe, one second in, as in play) */
 
 vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int per_kind,
-                     bool each, bench_report *rep)
+                     bool every_frame, bool each, bench_report *rep)
 {
     /* In game_throw_kind's order. */
     static const char *const kinds[BALL_KINDS] = {"straight, near-to-far", "ballistic, near-to-far",
@@ -230,7 +230,8 @@ vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     frame_desc fd = game_frame_desc(g, 0, FRAME_MODE_OPTIMIZED, w, h, GAME_LAYOUT, DISP_OPERATOR_DEFAULT, false, &cam);
     fd.display = display;
     ball_measure *m;
-    vg_status st = ball_measure_create(&(ball_measure_desc){.gpu = g, .scene = sc, .ball = &ball, .frame = fd}, &m);
+    vg_status st = ball_measure_create(&(ball_measure_desc){.gpu = g, .scene = sc, .ball = &ball, .frame = fd,
+                                                                  .every_frame = every_frame}, &m);
     if (st != VG_OK) {
         scene_set_pose_hook(sc, NULL, NULL);
         return st;
@@ -256,12 +257,13 @@ vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_d
         ball_figures b;
         if ((st = ball_measure_throw(m, &th, BALL_LAUNCH, &b)) != VG_OK)
             break;
-        hj[done] = b.h_jnd, fj[done] = b.f_jnd, kind[done] = k;
+        hj[done] = every_frame ? b.h_frame_jnd : b.h_jnd, fj[done] = every_frame ? b.f_frame_jnd : b.f_jnd;
+        kind[done] = k;
         ratio[done] = b.h_jnd > 0 ? b.f_jnd / b.h_jnd : NAN;
         min_samples[k] = b.min_samples < min_samples[k] ? b.min_samples : min_samples[k];
         min_px[k] = b.min_pixels < min_px[k] ? b.min_pixels : min_px[k];
         if (each) {
-            printf("  %5d  %-24s %7.3f %7.3f %6.3f %8d %7d  g", n, kinds[k], b.h_jnd, b.f_jnd, ratio[done],
+            printf("  %5d  %-24s %7.3f %7.3f %6.3f %8d %7d  g", n, kinds[k], hj[done], fj[done], ratio[done],
                    b.min_samples, b.min_pixels);
             for (int q = 0; q < b.keys; q++)
                 printf(" %.1f", b.g[q]);
@@ -276,8 +278,9 @@ vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_d
     if (st == VG_OK) {
         char title[320], cells[8][32];
         snprintf(title, sizeof title,
-                 "The ball's own MID distortion (issue 39): %d throws of each kind as free play draws them (seed 1), "
-                 "%ux%u per eye, the game's operator; medians", per_kind, w, h);
+                 "The ball's own MID distortion %s: %d throws of each kind as free play draws them (seed 1), "
+                 "%ux%u per eye, the game's operator; medians",
+                 every_frame ? "at the frame rate" : "at the keyframes", per_kind, w, h);
         bench_heading(rep, title);
         const char *head[] = {"throws", "h JND", "f JND", "f / h", "f < h", "fewest samples", "fewest px"};
         for (int c = 0; c < 7; c++)
@@ -305,10 +308,17 @@ vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_d
             bench_row(rep, false, k == BALL_KINDS ? "all" : kinds[k], 7, cells);
         }
         free(v);
-        bench_note(rep, "Per throw: the ball's displayed vergence under g, h and f at every keyframe of its visible "
-                        "flight (its centre's g plus the mean of map - g over its pixels) and its MID distortion "
-                        "against g (docs/method.md §11 on that track; game/observer/ball_measure.h). Samples: the "
-                        "solver grid's samples on the ball, fewest at a keyframe of the flight; px: its pixels.");
+        bench_note(rep, every_frame
+                            ? "Per throw: the ball's displayed vergence under g, h and f at every frame of its visible "
+                              "flight (its centre's g plus the mean of map - g over its pixels) and its MID distortion "
+                              "against g at the frame rate (docs/method.md §11 on that track; "
+                              "game/observer/ball_measure.h). Samples: the solver grid's samples on the ball, fewest "
+                              "at a keyframe of the flight; px: its pixels."
+                            : "Per throw: the ball's displayed vergence under g, h and f at every keyframe of its "
+                              "visible flight (its centre's g plus the mean of map - g over its pixels) and its MID "
+                              "distortion against g (docs/method.md §11 on that track; "
+                              "game/observer/ball_measure.h); --ball-frames: at every frame. Samples: the solver "
+                              "grid's samples on the ball, fewest at a keyframe of the flight; px: its pixels.");
     }
     free(hj), free(fj), free(ratio), free(kind);
     ball_measure_destroy(m);

@@ -14,6 +14,7 @@ vg_status bench_game(gpu *g, scene *sc, const char *scene_path, stereo_display_d
                      bench_report *rep);
 /* The ball's own MID distortion under h and f (issue 39): per_kind throws of
  * each kind (path x direction) as free play draws them, at the game's
- * defaults; each: a line per throw too. */
+ * defaults, at its keyframes (every_frame: at the frame rate, every frame of
+ * the flight rendered); each: a line per throw too. */
 vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_desc display, int per_kind,
-                     bool each, bench_report *rep);
+                     bool every_frame, bool each, bench_report *rep);

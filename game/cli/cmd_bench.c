@@ -38,7 +38,7 @@
 static struct {
     const char *scene, *sizes, *tess, *markdown;
     int frames, tess_frames, game_frames, frame_ticks, game_throws;
-    bool no_solver, all_passes, game, each_throw;
+    bool no_solver, all_passes, game, each_throw, ball_frames;
     gpu_cli gpu;
     display_cli display;
 } o;
@@ -62,6 +62,9 @@ static const vg_opt k_opts[] = {
      "with --game: 1/60 s ticks the clock advances a frame (default 3: a 20 fps game)", NULL, 1, 60},
     {"--game-throws", VG_OPT_INT, &o.game_throws, "N",
      "with --game: throws of each kind whose ball is measured (default 5; 0: none)", NULL, 0, 1000},
+    {"--ball-frames", VG_OPT_FLAG, &o.ball_frames, NULL,
+     "with --game: measure the ball at every frame of its flight, not only at its keyframes (10x the frames)", NULL,
+     0, 0},
     {"--each-throw", VG_OPT_FLAG, &o.each_throw, NULL,
      "with --game: a line for every throw measured (its figures, g and f - h at its keyframes)", NULL, 0, 0},
     {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL, "skip the CPU solver and memory bandwidth figures", NULL, 0, 0},
@@ -567,7 +570,8 @@ static int run(int argc, char **argv)
         if (o.game_frames > 0)
             st = bench_game(g, sc, o.scene, display_cli_desc(&o.display), o.game_frames, o.frame_ticks, &r);
         if (st == VG_OK && o.game_throws > 0)
-            st = bench_ball(g, sc, o.scene, display_cli_desc(&o.display), o.game_throws, o.each_throw, &r);
+            st = bench_ball(g, sc, o.scene, display_cli_desc(&o.display), o.game_throws, o.ball_frames, o.each_throw,
+                            &r);
     } else {
         printf("vergence bench: %s on %s, %d CPU cores; medians of %d frames per setting\n", o.scene,
                g->props.deviceName, vg_cpu_count(), o.frames);

@@ -277,6 +277,15 @@ static void write_ball(vg_json *j, const ball_figures *b)
             vg_json_num(j, "f_over_h", b->f_jnd / b->h_jnd);
     }
     vg_json_num(j, "max_f_minus_h_arcmin", b->max_f_minus_h);
+    /* At the frame rate, where every frame from the launch was captured. */
+    vg_json_int(j, "frames", b->frames);
+    if (b->frames >= 3) {
+        vg_json_num(j, "h_frame_mid_distortion_jnd", b->h_frame_jnd);
+        vg_json_num(j, "f_frame_mid_distortion_jnd", b->f_frame_jnd);
+        if (b->h_frame_jnd > 0)
+            vg_json_num(j, "f_over_h_frame", b->f_frame_jnd / b->h_frame_jnd);
+        vg_json_num(j, "max_f_minus_h_frame_arcmin", b->max_f_minus_h_frame);
+    }
     vg_json_int(j, "min_pixels", b->min_pixels);
     vg_json_int(j, "min_grid_samples", b->min_samples);
     vg_json_nums(j, "g_arcmin", g, b->keys);
@@ -405,7 +414,7 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
     }
     free(ball_ids);
     if (ball_fig.keys)
-        ball_figures_finish(&ball_fig, d->keyframe_stride / d->fps);
+        ball_figures_finish(&ball_fig, d->keyframe_stride / d->fps, d->fps);
     if (st == VG_OK) {
         vg_progress("capture", o.frames, o.frames);
         st = capture_log_finish(&log);
@@ -422,6 +431,10 @@ static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manif
                     "f - h up to %.2f arcmin; %d grid samples on it at least", ball_fig.h_jnd, ball_fig.f_jnd,
                     ball_fig.h_jnd > 0 ? ball_fig.f_jnd / ball_fig.h_jnd : NAN, ball_fig.keys,
                     ball_fig.max_f_minus_h, ball_fig.min_samples);
+        if (st == VG_OK && ball_fig.frames >= 3)
+            vg_info("the ball at the frame rate: MID distortion h %.2f JND, f %.2f JND (%.3f of h's) over %d frames",
+                    ball_fig.h_frame_jnd, ball_fig.f_frame_jnd,
+                    ball_fig.h_frame_jnd > 0 ? ball_fig.f_frame_jnd / ball_fig.h_frame_jnd : NAN, ball_fig.frames);
     }
     capture_log_free(&log);
     frame_destroy(f);

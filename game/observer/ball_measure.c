@@ -15,10 +15,12 @@ bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, do
     const frame_times *t = frame_get_times(fr);
     long launch = lround(t_launch * fd->fps), stride = fd->keyframe_stride;
     long k = t->index - launch;
-    if (k < 0 || k % stride || k >= lround(th->visible_s * fd->fps) || b->keys >= BALL_MEASURE_MAX_KEYS)
+    if (k < 0 || k >= lround(th->visible_s * fd->fps))
         return false;
-    if (!b->keys)
-        *b = (ball_figures){.min_pixels = -1, .min_samples = -1};
+    if (!b->started)
+        *b = (ball_figures){.min_pixels = -1, .min_samples = -1, .started = true};
+    bool key = k % stride == 0 && b->keys < BALL_MEASURE_MAX_KEYS;
+    bool in_turn = b->next_frame == k && b->frames < BALL_MEASURE_MAX_FRAMES;
     const frame_outputs *o = frame_get_outputs(fr);
     frame_info info;
     frame_get_info(fr, &info);
@@ -35,24 +37,41 @@ bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, do
              * §4; the clamped last column or row is not counted). */
             samples += s && x % s == s / 2 && y % s == s / 2;
         }
-    if (!px)
+    if (!px) {
+        b->next_frame = -1;
         return false;
+    }
+    double g = game_ball_vergence(fr, frame_get_camera(fr), th, (double)k / fd->fps);
+    if (in_turn) {
+        int n = b->frames++;
+        b->fg[n] = g, b->fh[n] = g + dh / px, b->ff[n] = g + df / px;
+        b->next_frame = (int)k + 1;
+    } else if (b->next_frame != k)
+        b->next_frame = -1;
+    if (!key)
+        return true;
     int n = b->keys++;
-    b->g[n] = game_ball_vergence(fr, frame_get_camera(fr), th, (double)k / fd->fps);
-    b->h[n] = b->g[n] + dh / px, b->f[n] = b->g[n] + df / px;
+    b->g[n] = g, b->h[n] = g + dh / px, b->f[n] = g + df / px;
     b->min_pixels = b->min_pixels < 0 || px < b->min_pixels ? px : b->min_pixels;
     b->min_samples = b->min_samples < 0 || samples < b->min_samples ? samples : b->min_samples;
     return true;
 }
 
-void ball_figures_finish(ball_figures *b, double keyframe_seconds)
+void ball_figures_finish(ball_figures *b, double keyframe_seconds, double fps)
 {
-    double fps = 1.0 / keyframe_seconds;
-    b->h_jnd = observer_track_mid_distortion(b->h, b->g, b->keys, 1, fps, STEREO_WEBER_K);
-    b->f_jnd = observer_track_mid_distortion(b->f, b->g, b->keys, 1, fps, STEREO_WEBER_K);
-    b->max_f_minus_h = 0;
+    b->h_jnd = observer_track_mid_distortion(b->h, b->g, b->keys, 1, 1.0 / keyframe_seconds, STEREO_WEBER_K);
+    b->f_jnd = observer_track_mid_distortion(b->f, b->g, b->keys, 1, 1.0 / keyframe_seconds, STEREO_WEBER_K);
+    b->max_f_minus_h = b->max_f_minus_h_frame = 0;
     for (int i = 0; i < b->keys; i++)
         b->max_f_minus_h = fmax(b->max_f_minus_h, fabs(b->f[i] - b->h[i]));
+    /* Only a run of every frame from the launch: a capture that starts
+     * later, or a measure of keyframes alone, has none. */
+    if (b->frames < 2 * (int)lround(keyframe_seconds * fps))
+        b->frames = 0;
+    b->h_frame_jnd = b->frames >= 3 ? observer_track_mid_distortion(b->fh, b->fg, b->frames, 1, fps, STEREO_WEBER_K) : NAN;
+    b->f_frame_jnd = b->frames >= 3 ? observer_track_mid_distortion(b->ff, b->fg, b->frames, 1, fps, STEREO_WEBER_K) : NAN;
+    for (int i = 0; i < b->frames; i++)
+        b->max_f_minus_h_frame = fmax(b->max_f_minus_h_frame, fabs(b->ff[i] - b->fh[i]));
 }
 
 struct ball_measure {
@@ -99,14 +118,15 @@ vg_status ball_measure_throw(ball_measure *m, const game_throw *th, long launch,
     *out = (ball_figures){0};
     frame_restart(m->frame);
     vg_status st = VG_OK;
+    long step = m->d.every_frame ? 1 : stride;
     for (long index = launch - stride; index < launch + lround(th->visible_s * fd->fps) && st == VG_OK;
-         index += stride)
+         index += index < launch ? stride : step)
         if ((st = frame_render(m->frame, index)) == VG_OK && index >= launch &&
             !ball_figures_add(out, m->frame, th, m->d.ball->t_launch, m->ids)) {
             vg_error("ball measure: the ball covers no pixel at frame %ld", index);
             st = VG_ERR_ARG;
         }
     if (st == VG_OK)
-        ball_figures_finish(out, stride / fd->fps);
+        ball_figures_finish(out, stride / fd->fps, fd->fps);
     return st;
 }

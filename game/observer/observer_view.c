@@ -254,16 +254,18 @@ static vg_status optimize_track(observer_view *v, const double *g, const double 
     if (st == VG_OK)
         st = mid_solve(w, &(mid_solve_desc){0}, f, NULL);
     if (st == VG_OK) {
+        /* The correction f / g, in time as the engine's upsampling
+         * interpolates it, applied to the original (mid_ratio_to_h). */
         for (int i = 0; i < w->n; i++)
-            ratio[i] = f[i] / w->h[i];
+            ratio[i] = f[i] / w->g[i];
         mid_window_ratio_slopes(w, ratio, slope);
         for (int i = 0; i < count; i++) {
             int k0 = i / stride;
             float tau = (float)(i - k0 * stride) / (float)stride;
-            double r = k0 + 1 < nk ? mid_hermite(ratio[k0 * 4], slope[k0 * 4], ratio[(k0 + 1) * 4],
-                                                 slope[(k0 + 1) * 4], tau, span)
-                                   : ratio[k0 * 4];
-            a[i] = fmin(hi, fmax(lo, a[i] * r));
+            float m = k0 + 1 < nk ? mid_hermite(ratio[k0 * 4], slope[k0 * 4], ratio[(k0 + 1) * 4],
+                                                slope[(k0 + 1) * 4], tau, span)
+                                  : ratio[k0 * 4];
+            a[i] = fmin(hi, fmax(lo, a[i] * mid_ratio_to_h(m, (float)g[i], (float)a[i])));
         }
     }
     free(f);

@@ -125,8 +125,9 @@ static int temporal_flow_and_occlusion(void)
         pos1[2 * q + 1] = py;
         pos0[2 * q] = px + (st ? (float)(x0 - xt) : 0.0f);
     }
-    disp_keyframe_view k0 = {pos0, ratio0, NULL, depth0, NULL, NULL}, k1 = {pos1, ratio1, NULL, depth1, NULL, NULL};
-    disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, depth_t, NULL, &k0, &k1, out, NULL);
+    disp_keyframe_view k0 = {pos0, ratio0, NULL, depth0, NULL, NULL, NULL, NULL};
+    disp_keyframe_view k1 = {pos1, ratio1, NULL, depth1, NULL, NULL, NULL, NULL};
+    disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, depth_t, NULL, NULL, NULL, &k0, &k1, out, NULL);
     double err_square = 0, err_uncovered = 0, err_static = 0;
     int n_square = 0, n_uncovered = 0;
     for (int q = 0; q < nc; q++) {
@@ -150,7 +151,7 @@ static int temporal_flow_and_occlusion(void)
     CHECK(err_static < 1e-6, "%.3g", err_static);
     /* At a keyframe (tau 0) the keyframe's own correction comes back exactly. */
     disp_grid_positions(&d.grid, pos0);
-    disp_upsample_temporal(&d, 0.0f, 0.0f, depth0, NULL, &k0, NULL, out, NULL);
+    disp_upsample_temporal(&d, 0.0f, 0.0f, depth0, NULL, NULL, NULL, &k0, NULL, out, NULL);
     for (int q = 0; q < nc; q++)
         CHECK(out[q] == ratio0[q], "tau 0, sample %d: %.7f vs %.7f", q, out[q], ratio0[q]);
 #undef IN_SQUARE
@@ -192,10 +193,11 @@ static int temporal_hermite(void)
         for (int t = 0; t <= 2 * frames; t++) {
             int k = t < frames ? 0 : 1;
             float tau = (float)(t - k * frames) / (float)frames;
-            disp_keyframe_view k0 = {pos, r + (size_t)k * nc, pass ? NULL : sl + (size_t)k * nc, depth, NULL, NULL};
+            disp_keyframe_view k0 = {pos, r + (size_t)k * nc, pass ? NULL : sl + (size_t)k * nc, depth, NULL, NULL,
+                                     NULL, NULL};
             disp_keyframe_view k1 = {pos, r + (size_t)(k + 1) * nc, pass ? NULL : sl + (size_t)(k + 1) * nc, depth, NULL,
-                                     NULL};
-            disp_upsample_temporal(&d, tau, span, depth, NULL, &k0, tau > 0 ? &k1 : NULL, out + (size_t)t * nc, NULL);
+                                     NULL, NULL, NULL};
+            disp_upsample_temporal(&d, tau, span, depth, NULL, NULL, NULL, &k0, tau > 0 ? &k1 : NULL, out + (size_t)t * nc, NULL);
         }
         for (int t = 1; t < 2 * frames; t++)
             for (int q = 0; q < nc; q++) {
@@ -268,8 +270,9 @@ static int temporal_trajectory(void)
         {"no flow (depth test only, as before): the nearer keyframe alone", id, NULL, 1.2f},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        disp_keyframe_view k0 = {pos, r0, NULL, z0, id, cases[c].flow}, k1 = {pos, r1, NULL, z1, id, cases[c].flow};
-        disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, zt, cases[c].id_t, &k0, &k1, out, NULL);
+        disp_keyframe_view k0 = {pos, r0, NULL, z0, id, cases[c].flow, NULL, NULL};
+        disp_keyframe_view k1 = {pos, r1, NULL, z1, id, cases[c].flow, NULL, NULL};
+        disp_upsample_temporal(&d, 0.5f, 1.0f / 6.0f, zt, cases[c].id_t, NULL, NULL, &k0, &k1, out, NULL);
         double worst = 0;
         for (int q = 0; q < NC; q++)
             worst = fmax(worst, fabs(out[q] - cases[c].want));

@@ -153,16 +153,16 @@ static int operator_lang_smoothed(void) { return operator_agrees(DISP_OPERATOR_L
 typedef struct up_test {
     upsample_gpu *u;
     upsample_gpu_frame fr;
-    rg_res depth, motion, ids, h, f, ratio, store, published;
+    rg_res depth, motion, ids, g, h, f, ratio, store, published;
 } up_test;
 
 static void up_time_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
     VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion), id = image_info(ctx, t->ids);
-    VkDescriptorImageInfo r = image_info(ctx, t->ratio);
+    VkDescriptorImageInfo r = image_info(ctx, t->ratio), g = image_info(ctx, t->g), h = image_info(ctx, t->h);
     upsample_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, &id, rg_ctx_buffer(ctx, t->store),
-                        rg_ctx_buffer(ctx, t->published), &r);
+                             rg_ctx_buffer(ctx, t->published), &g, &h, &r);
 }
 
 static void up_space_execute(const rg_context *ctx, void *user)
@@ -225,6 +225,7 @@ static int upsample_agrees(float tau, bool at_key)
     int nc = grid.nx * grid.ny, np = UP_W * UP_H;
     float *depth = malloc(np * sizeof(float)), *motion = malloc(4 * (size_t)np * sizeof(float));
     float *h = malloc(np * sizeof(float)), *f = malloc(np * sizeof(float)), *flow = malloc(2 * (size_t)np * sizeof(float));
+    float *g = malloc(np * sizeof(float)), *gc = malloc(nc * sizeof(float)), *hc = malloc(nc * sizeof(float));
     float *z0 = malloc(nc * sizeof(float)), *z1 = malloc(nc * sizeof(float)), *r0 = malloc(nc * sizeof(float));
     float *r1 = malloc(nc * sizeof(float)), *zc = malloc(nc * sizeof(float)), *rt = malloc(nc * sizeof(float));
     float *s0 = malloc(nc * sizeof(float)), *s1 = malloc(nc * sizeof(float));
@@ -234,6 +235,12 @@ static int upsample_agrees(float tau, bool at_key)
     const float span = 1.0f / 6.0f;
     float *pos0 = malloc(2 * (size_t)nc * sizeof(float)), *pos1 = malloc(2 * (size_t)nc * sizeof(float));
     up_inputs(depth, motion, h, ids, &grid, z0, z1, r0, r1, id0, id1, fl0, fl1);
+    /* The original: not a multiple of h, so the correction's move from
+     * f / g to f / h (mid_ratio_to_h) is checked too. */
+    for (int i = 0; i < np; i++)
+        g[i] = h[i] * (float)(1.0 + 0.03 * sin(0.07 * (i % UP_W) + 0.11 * (i / UP_W)));
+    disp_grid_sample(&grid, g, 1, gc);
+    disp_grid_sample(&grid, h, 1, hc);
     for (int q = 0; q < nc; q++)
         idc[q] = (float)ids[disp_grid_py(&grid, q / grid.nx) * UP_W + disp_grid_px(&grid, q % grid.nx)];
     for (int q = 0; q < nc; q++) { /* slopes per second: up to 0.05 of the ratio over the interval */
@@ -252,8 +259,17 @@ static int upsample_agrees(float tau, bool at_key)
         }
         disp_flow_advect(flow, UP_W, UP_H, c ? pos1 : pos0, nc);
     }
-    disp_keyframe_view k0 = {pos0, r0, s0, z0, id0, fl0}, k1 = {pos1, r1, s1, z1, id1, fl1};
-    disp_upsample_temporal(&ud, tau, span, zc, idc, &k0, at_key ? NULL : &k1, rt, NULL);
+    /* The keyframes' own g and h (their f / h where no tap is the sample's
+     * surface): this frame's, shifted apart. */
+    float *gk = malloc(2 * (size_t)nc * sizeof(float)), *hk = malloc(2 * (size_t)nc * sizeof(float));
+    for (int q = 0; q < nc; q++)
+        for (int k = 0; k < 2; k++) {
+            gk[k * nc + q] = gc[q] + (k ? 1.5f : -1.0f);
+            hk[k * nc + q] = hc[q] + (k ? 0.5f : -2.0f);
+        }
+    disp_keyframe_view k0 = {pos0, r0, s0, z0, id0, fl0, gk, hk};
+    disp_keyframe_view k1 = {pos1, r1, s1, z1, id1, fl1, gk + nc, hk + nc};
+    disp_upsample_temporal(&ud, tau, span, zc, idc, gc, hc, &k0, at_key ? NULL : &k1, rt, NULL);
     disp_upsample_spatial(&ud, h, rt, f, NULL);
 
     harness hs;
@@ -264,6 +280,7 @@ static int upsample_agrees(float tau, bool at_key)
     t.depth = harness_image_add(&hs, "depth", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.motion = harness_image_add(&hs, "motion", VK_FORMAT_R32G32B32A32_SFLOAT, UP_W, UP_H, true, false);
     t.ids = harness_image_add(&hs, "ids", VK_FORMAT_R32_UINT, UP_W, UP_H, true, false);
+    t.g = harness_image_add(&hs, "g", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.h = harness_image_add(&hs, "h", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, true, false);
     t.f = harness_image_add(&hs, "f", VK_FORMAT_R32_SFLOAT, UP_W, UP_H, false, true);
     CHECK(harness_upload(&hs) == 0, "upload");
@@ -277,6 +294,10 @@ static int upsample_agrees(float tau, bool at_key)
                                                         .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
                             &pub) == VG_OK, "published");
     float *sf = store.mapped, *pr = (float *)((mid_published *)pub.mapped + 1);
+    memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_G) * (size_t)nc, gk, nc * sizeof(float));
+    memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_H) * (size_t)nc, hk, nc * sizeof(float));
+    memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_G) * (size_t)nc, gk + nc, nc * sizeof(float));
+    memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_H) * (size_t)nc, hk + nc, nc * sizeof(float));
     memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z0, nc * sizeof(float));
     memcpy(sf + (0 * MID_STORE_FLOATS + MID_STORE_DEPTH) * (size_t)nc, z1, nc * sizeof(float));
     memcpy(sf + (1 * MID_STORE_FLOATS + MID_STORE_ID) * (size_t)nc, id0, nc * sizeof(float));
@@ -297,6 +318,8 @@ static int upsample_agrees(float tau, bool at_key)
     rg_use(hs.graph, time, t.depth, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.motion, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.ids, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.g, RG_STORAGE_READ);
+    rg_use(hs.graph, time, t.h, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.store, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.published, RG_STORAGE_READ);
     rg_use(hs.graph, time, t.ratio, RG_STORAGE_WRITE);
@@ -312,6 +335,7 @@ static int upsample_agrees(float tau, bool at_key)
     memcpy(harness_data(&hs, t.depth), depth, np * sizeof(float));
     memcpy(harness_data(&hs, t.motion), motion, 4 * (size_t)np * sizeof(float));
     memcpy(harness_data(&hs, t.ids), ids, np * sizeof(uint32_t));
+    memcpy(harness_data(&hs, t.g), g, np * sizeof(float));
     memcpy(harness_data(&hs, t.h), h, np * sizeof(float));
     CHECK(harness_run(&hs) == 0, "run");
     const float *fg = harness_data(&hs, t.f);
@@ -335,7 +359,7 @@ static int upsample_agrees(float tau, bool at_key)
     CHECK(harness_close(&hs) == 0, "validation messages");
     free(depth); free(motion); free(h); free(f); free(flow); free(z0); free(z1); free(r0); free(r1);
     free(zc); free(rt); free(pos0); free(pos1); free(s0); free(s1);
-    free(id0); free(id1); free(idc); free(fl0); free(fl1); free(ids);
+    free(id0); free(id1); free(idc); free(fl0); free(fl1); free(ids); free(g); free(gc); free(hc); free(gk); free(hk);
     return 0;
 }
 

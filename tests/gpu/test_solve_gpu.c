@@ -162,26 +162,26 @@ static int solve_agrees(synth_motion motion, mid_solve_desc d, const char *what)
            what, worst, at, fg[at], f[at], sum / w->n, h_change);
     CHECK(worst < AGREEMENT_ARCMIN, "GPU and CPU solutions differ by %.4g arcmin", worst);
     CHECK(h_change > 1.0, "the solve must change f for the comparison to mean something");
-    /* The published ratios f / h and their slopes in time (what mid.upsample
-     * interpolates with), against mid_window_ratio_slopes on the CPU's f; a
-     * slope as the change of f it makes over a keyframe interval. */
+    /* The published corrections f / g and their slopes in time (what
+     * mid.upsample interpolates with), against mid_window_ratio_slopes on the
+     * CPU's f; a slope as the change of f it makes over a keyframe interval. */
     float *ratio = malloc((size_t)w->n * sizeof(float)), *slope = malloc((size_t)w->n * sizeof(float));
     CHECK(ratio && slope, "memory");
     for (int i = 0; i < w->n; i++)
-        ratio[i] = f[i] / w->h[i];
+        ratio[i] = f[i] / w->g[i];
     mid_window_ratio_slopes(w, ratio, slope);
     const float *pr = (const float *)((const mid_published *)c.published.mapped + 1);
     double worst_r = 0, worst_s = 0, slope_max = 0;
     for (int i = 0; i < w->n; i++) {
         int k = i / w->ns;
         double span = 1.0 / (w->inv_dt_f[k] > 0 ? w->inv_dt_f[k] : w->inv_dt_b[k]);
-        worst_r = fmax(worst_r, fabs((double)pr[i] - ratio[i]) * w->h[i]);
-        worst_s = fmax(worst_s, fabs((double)pr[w->n + i] - slope[i]) * span * w->h[i]);
-        slope_max = fmax(slope_max, fabs((double)slope[i]) * span * w->h[i]);
+        worst_r = fmax(worst_r, fabs((double)pr[i] - ratio[i]) * w->g[i]);
+        worst_s = fmax(worst_s, fabs((double)pr[w->n + i] - slope[i]) * span * w->g[i]);
+        slope_max = fmax(slope_max, fabs((double)slope[i]) * span * w->g[i]);
     }
     printf("%s: published ratio max |gpu - cpu| %.4g arcmin, slope %.4g arcmin per interval (slopes up to %.3g)\n",
            what, worst_r, worst_s, slope_max);
-    CHECK(worst_r < AGREEMENT_ARCMIN && worst_s < AGREEMENT_ARCMIN, "published ratios or slopes differ");
+    CHECK(worst_r < AGREEMENT_ARCMIN && worst_s < AGREEMENT_ARCMIN, "published corrections or slopes differ");
     CHECK(slope_max > 0.1, "the slopes must be non-trivial for the comparison to mean something");
     free(ratio);
     free(slope);

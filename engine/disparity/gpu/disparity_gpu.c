@@ -160,8 +160,9 @@ static void time_execute(const rg_context *ctx, void *user)
     disparity_gpu *d = user;
     VkDescriptorImageInfo z = image_of(ctx, d->res->depth), m = image_of(ctx, d->res->motion);
     VkDescriptorImageInfo ids = image_of(ctx, d->res->ids), ratio = image_of(ctx, d->ratio);
+    VkDescriptorImageInfo g = image_of(ctx, d->res->g), h = image_of(ctx, d->res->h);
     upsample_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, &ids, rg_ctx_buffer(ctx, d->r_store),
-                        rg_ctx_buffer(ctx, d->r_published), &ratio);
+                             rg_ctx_buffer(ctx, d->r_published), &g, &h, &ratio);
 }
 
 static void space_execute(const rg_context *ctx, void *user)
@@ -252,6 +253,8 @@ void disparity_gpu_add(disparity_gpu *d, rg_graph *g, frame_resources *res, cons
     rg_use(g, p, res->depth, RG_STORAGE_READ);
     rg_use(g, p, res->motion, RG_STORAGE_READ);
     rg_use(g, p, res->ids, RG_STORAGE_READ);
+    rg_use(g, p, res->g, RG_STORAGE_READ);
+    rg_use(g, p, res->h, RG_STORAGE_READ);
     rg_use(g, p, d->r_store, RG_STORAGE_READ);
     rg_use(g, p, d->r_published, RG_STORAGE_READ);
     rg_use(g, p, d->ratio, RG_STORAGE_WRITE);
@@ -571,9 +574,10 @@ vg_status disparity_gpu_keyframe_read(const disparity_gpu *d, long keyframe, dis
     memcpy(out->id, st + MID_STORE_ID * ns, ns * sizeof(float));
     memcpy(out->flow_fwd, st + MID_STORE_FLOW_F * ns, 2 * ns * sizeof(float));
     memcpy(out->flow_bwd, st + MID_STORE_FLOW_B * ns, 2 * ns * sizeof(float));
-    /* f as the upsampling makes it at the keyframe's samples (Fig. 4). */
+    /* f as the upsampling makes it at the keyframe's samples (Fig. 4): the
+     * published correction is f / g. */
     for (size_t q = 0; q < ns; q++) {
-        float f = out->h[q] * ratio[q];
+        float f = out->g[q] * ratio[q];
         if (pub->range_hi > pub->range_lo)
             f = fminf(fmaxf(f, pub->range_lo), pub->range_hi);
         out->f[q] = f;

@@ -25,9 +25,9 @@ vg_status upsample_gpu_create(gpu *g, upsample_gpu **out)
         return VG_ERR_NOMEM;
     u->gpu = g;
     static const VkDescriptorType IMG = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, BUF = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    static const VkDescriptorType time_types[] = {IMG, IMG, BUF, BUF, IMG, IMG}, space_types[] = {IMG, BUF, IMG, IMG};
+    static const VkDescriptorType time_types[] = {IMG, IMG, BUF, BUF, IMG, IMG, IMG, IMG}, space_types[] = {IMG, BUF, IMG, IMG};
     vg_status st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
-        .name = "mid.upsample.time", .types = time_types, .count = 6, .push_size = sizeof(disp_upsample_push),
+        .name = "mid.upsample.time", .types = time_types, .count = 8, .push_size = sizeof(disp_upsample_push),
         .kernels = {GPU_KERNEL(spv_mid_upsample_time_comp, "mid.upsample.time")}}, &u->kit[P_TIME]);
     if (st == VG_OK)
         st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){
@@ -68,12 +68,14 @@ static disp_upsample_push push_of(const upsample_gpu_frame *f)
 
 void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, const VkDescriptorImageInfo *ids, VkBuffer store,
-                         VkBuffer published, const VkDescriptorImageInfo *ratio)
+                         VkBuffer published, const VkDescriptorImageInfo *g, const VkDescriptorImageInfo *h,
+                         const VkDescriptorImageInfo *ratio)
 {
     disp_upsample_push pc = push_of(f);
-    gpu_binding b[6] = {GPU_STORAGE_IMAGE(depth), GPU_STORAGE_IMAGE(motion), GPU_STORAGE_BUFFER(store),
-                        GPU_STORAGE_BUFFER(published), GPU_STORAGE_IMAGE(ratio), GPU_STORAGE_IMAGE(ids)};
-    gpu_compute_kit_bind_list(u->gpu, cmd, &u->kit[P_TIME], 0, b, 6, &pc);
+    gpu_binding b[8] = {GPU_STORAGE_IMAGE(depth), GPU_STORAGE_IMAGE(motion), GPU_STORAGE_BUFFER(store),
+                        GPU_STORAGE_BUFFER(published), GPU_STORAGE_IMAGE(ratio), GPU_STORAGE_IMAGE(ids),
+                        GPU_STORAGE_IMAGE(g), GPU_STORAGE_IMAGE(h)};
+    gpu_compute_kit_bind_list(u->gpu, cmd, &u->kit[P_TIME], 0, b, 8, &pc);
     vkCmdDispatch(cmd, (pc.nx * pc.ny + 63) / 64, 1, 1);
 }
 

@@ -36,7 +36,8 @@ void upsample_gpu_destroy(upsample_gpu *u);
  * second; the gate's plane after them is not read here). */
 void upsample_gpu_record_time(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *depth,
                          const VkDescriptorImageInfo *motion, const VkDescriptorImageInfo *ids, VkBuffer store,
-                         VkBuffer published, const VkDescriptorImageInfo *ratio);
+                         VkBuffer published, const VkDescriptorImageInfo *g, const VkDescriptorImageInfo *h,
+                         const VkDescriptorImageInfo *ratio);
 /* Full-resolution f from h and the coarse ratio, clamped to the published range. */
 void upsample_gpu_record_space(upsample_gpu *u, VkCommandBuffer cmd, const upsample_gpu_frame *f, const VkDescriptorImageInfo *h,
                           VkBuffer published, const VkDescriptorImageInfo *ratio, const VkDescriptorImageInfo *out);
