@@ -259,7 +259,7 @@ vg_status bench_ball(gpu *g, scene *sc, const char *scene_path, stereo_display_d
             break;
         hj[done] = every_frame ? b.h_frame_jnd : b.h_jnd, fj[done] = every_frame ? b.f_frame_jnd : b.f_jnd;
         kind[done] = k;
-        ratio[done] = b.h_jnd > 0 ? b.f_jnd / b.h_jnd : NAN;
+        ratio[done] = hj[done] > 0 ? fj[done] / hj[done] : NAN;
         min_samples[k] = b.min_samples < min_samples[k] ? b.min_samples : min_samples[k];
         min_px[k] = b.min_pixels < min_px[k] ? b.min_pixels : min_px[k];
         if (each) {
