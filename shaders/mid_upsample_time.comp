@@ -117,9 +117,10 @@ void main()
     if (has1 && up.tau > 0.0)
         b = sample_keyframe(pos1, z, id, pos0, up.slot1, false, true);
     // Fig. 4: interpolate f / g along the flow in time and apply it to this
-    // frame's g; one keyframe alone when the other fails, its f / h (a
-    // constant f / g would hold the manipulation's change over the interval).
-    bool ok0 = a.y >= MID_LINK_MIN_WEIGHT && up.tau < 1.0, ok1 = b.y >= MID_LINK_MIN_WEIGHT && up.tau > 0.0;
+    // frame's g; one keyframe alone when the other fails (none of its taps
+    // is the sample's surface, or it is out of frame), its f / h (a constant
+    // f / g would hold the manipulation's change over the interval).
+    bool ok0 = a.y > 0.0 && up.tau < 1.0, ok1 = b.y > 0.0 && up.tau > 0.0;
     if (ok0 && ok1) {
         store_ratio(c, x, mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span));
         return;

@@ -158,10 +158,13 @@ static void temporal_block(void *c, int block, int begin, int end)
             b = sample_keyframe(g, at1[0], at1[1], z, id, at0, k1, x->log_tol, true, x->d->depth_only);
         /* Fig. 4: interpolate f / g along the flow in time, by cubic Hermite
          * with the keyframes' slopes (C1 at keyframes), or linearly without
-         * them, and apply it to frame t's g; a keyframe whose sample is
-         * occluded (not the sample's surface) or out of frame drops out. */
-        bool ok0 = a.weight >= MID_LINK_MIN_WEIGHT && x->tau < 1.0f;
-        bool ok1 = b.weight >= MID_LINK_MIN_WEIGHT && x->tau > 0.0f;
+         * them, and apply it to frame t's g; a keyframe none of whose taps
+         * is the sample's surface (occluded), or out of frame, drops out.
+         * One tap of the surface is enough: with the links' ½ of the
+         * weight, the edge of a ball that shrinks between keyframes lost
+         * the later keyframe and followed h (docs/method.md §8). */
+        bool ok0 = a.weight > 0.0f && x->tau < 1.0f;
+        bool ok1 = b.weight > 0.0f && x->tau > 0.0f;
         if (ok0 && ok1) {
             x->out[q] = to_h(x, q, k0->slope && k1->slope ? mid_hermite(a.ratio, a.slope, b.ratio, b.slope, x->tau, x->span)
                                                           : (1.0f - x->tau) * a.ratio + x->tau * b.ratio);
