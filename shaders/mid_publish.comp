@@ -16,11 +16,11 @@ layout(constant_id = 0) const uint OP = 0u;
 
 float ratio_at(uint j) { return vf[j] / H(j); }
 
-// f / g of f as shown: h + gain (f - h) (the gate's gain, 1 without it).
+// The correction of f as shown: h + gain (f - h) under the causal gate, as
+// f / h (a closed gate shows h at every frame); f / g without it.
 float shown_at(uint j)
 {
-    float gain = pc.gate != 0u ? pub.gate_gain : 1.0;
-    return (H(j) + gain * (vf[j] - H(j))) / G(j);
+    return pc.gate != 0u ? 1.0 + pub.gate_gain * (vf[j] / H(j) - 1.0) : vf[j] / G(j);
 }
 
 // The solve's own f at window element j as published: h times the ratio
@@ -99,5 +99,6 @@ void main()
     if (i == 0u) {
         pub.range_lo = st.range_lo;
         pub.range_hi = st.range_hi;
+        pub.of_h = pc.gate;
     }
 }

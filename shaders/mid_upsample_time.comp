@@ -43,10 +43,13 @@ float key_field(uint slot, uint field, uint i)
     return store[slot * MID_STORE_FLOATS * up.nx * up.ny + field * up.nx * up.ny + i];
 }
 
-// The keyframe's ratio f / h at tap q (its correction through its own g and h).
+// The keyframe's ratio f / h at tap q (its correction through its own g and
+// h; the correction itself under the causal gate).
 float key_ratio_to_h(uint slot, int q)
 {
-    return mid_ratio_to_h(key_ratio(slot, q), key_field(slot, MID_STORE_G, uint(q)), key_field(slot, MID_STORE_H, uint(q)));
+    return pub.of_h != 0u ? key_ratio(slot, q)
+                          : mid_ratio_to_h(key_ratio(slot, q), key_field(slot, MID_STORE_G, uint(q)),
+                                           key_field(slot, MID_STORE_H, uint(q)));
 }
 
 // The keyframe's correction f / g, weight, slope of f / g and ratio f / h
@@ -92,10 +95,12 @@ vec4 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool fo
     return wsum > 0.0 ? vec4(acc / wsum, wsum, sacc / wsum, racc / wsum) : vec4(1.0, 0.0, 0.0, 1.0);
 }
 
-// The ratio f / h of this frame at the sample, from the correction m.
+// The ratio f / h of this frame at the sample, from the correction m (f / g;
+// f / h already under the causal gate).
 void store_ratio(ivec2 c, ivec2 x, float m)
 {
-    imageStore(ratio_image, c, vec4(mid_ratio_to_h(m, imageLoad(g_image, x).r, imageLoad(h_image, x).r)));
+    float r = pub.of_h != 0u ? m : mid_ratio_to_h(m, imageLoad(g_image, x).r, imageLoad(h_image, x).r);
+    imageStore(ratio_image, c, vec4(r));
 }
 
 void main()
@@ -123,6 +128,10 @@ void main()
     bool ok0 = a.y > 0.0 && up.tau < 1.0, ok1 = b.y > 0.0 && up.tau > 0.0;
     if (ok0 && ok1) {
         store_ratio(c, x, mid_hermite(a.x, a.z, b.x, b.z, up.tau, up.span));
+        return;
+    }
+    if (ok0 && up.tau == 0.0) { // at the keyframe itself: its f / g on this frame's g, as either side
+        store_ratio(c, x, a.x);
         return;
     }
     if (ok0 || ok1) {

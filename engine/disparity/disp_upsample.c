@@ -172,6 +172,10 @@ static void temporal_block(void *c, int block, int begin, int end)
         }
         /* One keyframe alone: its f / h (a constant f / g would hold the
          * manipulation's change over the interval). */
+        if (ok0 && x->tau == 0.0f) { /* at the keyframe itself: its f / g on this frame's g, as either side */
+            x->out[q] = to_h(x, q, a.ratio);
+            continue;
+        }
         if (ok0 || ok1) {
             x->out[q] = ok0 ? a.ratio_h : b.ratio_h;
             continue;

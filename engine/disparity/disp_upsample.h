@@ -54,7 +54,7 @@ typedef struct disp_upsample_desc {
 /* One keyframe as frame t sees it (coarse arrays of the keyframe). */
 typedef struct disp_keyframe_view {
     const float *pos;   /* where frame t's coarse samples are in it (full-resolution px, 2 floats; NaN lost) */
-    const float *ratio; /* the correction m = f / g */
+    const float *ratio; /* the correction m = f / g (f / h: pass no g, h, g_t, h_t) */
     const float *slope; /* dm/dt along the motion, per second (mid_window_ratio_slopes); NULL: linear */
     const float *depth;
     const float *id;    /* instance ids (0: sky); NULL: all 0 (sequences from files without ids) */

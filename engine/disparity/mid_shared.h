@@ -43,10 +43,8 @@ typedef unsigned int uint;
 /* Constants                                                                 */
 /* ------------------------------------------------------------------------- */
 
-/* Weber fraction of disparity-velocity discrimination (paper Sec. 4.2), and
- * its inverse (exact in float: the kernels multiply instead of divide). */
-#define MID_WEBER_K 0.08f
-#define MID_INV_WEBER_K 12.5f
+/* The Weber fraction STEREO_WEBER_K and its inverse (paper Sec. 4.2). */
+#include "stereo/stereo_shared.h"
 /* a = exp(-10 |dh|) on h normalised to [0,1] over the target range (Sec. 4.1, DESIGN.md). */
 #define MID_EDGE_SHARPNESS 10.0f
 /* The paper's weights (Sec. 4.3). */
@@ -186,14 +184,14 @@ typedef struct mid_taps mid_taps;
 /* p(v) = sign(v) ln(1 + |v|) / k (Sec. 4.2, symmetric form of DESIGN.md). */
 MID_FN float mid_p(float v)
 {
-    float s = v < 0.0f ? -MID_INV_WEBER_K : MID_INV_WEBER_K;
+    float s = v < 0.0f ? -STEREO_INV_WEBER_K : STEREO_INV_WEBER_K;
     return s * mid_log(1.0f + mid_abs(v));
 }
 
 /* dp/dv = 1 / (k (1 + |v|)). */
 MID_FN float mid_dp(float v)
 {
-    return MID_INV_WEBER_K / (1.0f + mid_abs(v));
+    return STEREO_INV_WEBER_K / (1.0f + mid_abs(v));
 }
 
 /* Edge weight a of Sec. 4.1 for a difference of h normalised to the range. */
@@ -545,13 +543,16 @@ struct mid_solve_state {
 #define MID_STORE_ID 7u      /* instance id (0: sky), as a float (exact below 2^24) */
 #define MID_STORE_FLOATS 8u
 /* Published solution: a header, then three planes of ring slots of ns
- * floats: the correction m = f / g the upsampling reads (f as shown: after
- * the causal gate), its slope in time, and the solve's own ratio f / h before
- * the gate, which the gate measures. */
+ * floats: the correction the upsampling reads (f as shown), its slope in
+ * time, and the solve's own ratio f / h before the gate, which the gate
+ * measures. The correction is m = f / g (docs/method.md Sec. 8); under the
+ * causal gate (of_h) it is f / h, so that a closed gate shows h at every
+ * frame, not only at keyframes. */
 struct mid_published {
     float range_lo, range_hi; /* the range f was solved in (the clamp of upsampling) */
     uint keyframe_lo, keyframe_hi; /* keyframes published so far (absolute, inclusive) */
-    float gate_c, gate_h, gate_gain, gate_pad; /* the causal gate's sums and gain (MID_GATE_*) */
+    float gate_c, gate_h, gate_gain; /* the causal gate's sums and gain (MID_GATE_*) */
+    uint of_h; /* 1: the first two planes hold f / h and its slope (causal gate), 0: f / g */
 };
 
 /* Operator passes (disparity_operator_*.comp): push constants (96 bytes). */

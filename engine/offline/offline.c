@@ -717,9 +717,11 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             pair_video = figure_video_open(ffmpeg, path, 2 * s->w, s->h, s->fps);
     }
     /* Fig. 4: the correction is the ratio f / g (vergence is never 0),
-     * applied to each frame's g (mid_ratio_to_h). */
+     * applied to each frame's g (mid_ratio_to_h); under the causal gate
+     * f / h, applied to h, so that a closed gate shows h at every frame. */
+    bool of_h = d->causal;
     for (int i = 0; i < w->n; i++)
-        ratio[i] = f_sol[i] / w->g[i];
+        ratio[i] = f_sol[i] / (of_h ? w->h[i] : w->g[i]);
     mid_window_ratio_slopes(w, ratio, slope);
     disp_upsample_desc ud = {.grid = s->grid, .occlusion_tolerance = d->occlusion_tolerance,
                              .range_lo = (float)s->lo, .range_hi = (float)s->hi};
@@ -736,9 +738,9 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
         }
         size_t ko = (size_t)k * nc;
         disp_keyframe_view k0 = {pos0, ratio + ko, slope + ko, w->depth + ko, w->id + ko, w->flow_fwd + 2 * ko,
-                                 w->g + ko, w->h + ko};
+                                 of_h ? NULL : w->g + ko, of_h ? NULL : w->h + ko};
         disp_keyframe_view k1 = {pos1, ratio + ko + nc, slope + ko + nc, w->depth + ko + nc, w->id + ko + nc,
-                                 w->flow_bwd + 2 * (ko + nc), w->g + ko + nc, w->h + ko + nc};
+                                 w->flow_bwd + 2 * (ko + nc), of_h ? NULL : w->g + ko + nc, of_h ? NULL : w->h + ko + nc};
         bool has1 = k + 1 < s->nt;
         float span = has1 && w->inv_dt_f[k] > 0 ? 1.0f / w->inv_dt_f[k] : 0.0f;
         for (int t = t0; t < t_end && st == VG_OK; t++) {
@@ -767,8 +769,8 @@ static vg_status pass_output(seq *s, const mid_window *w, const float *f_sol, ou
             for (int m = t; m < t1 && t > t0; m = direct ? t1 : m + 1) /* at a keyframe only k0 counts */
                 disp_flow_advect(next + (size_t)(m - t0) * nf2, s->w, s->h, pos1, nc);
             float tau = t1 > t0 ? (float)(t - t0) / (float)(t1 - t0) : 0.0f;
-            disp_upsample_temporal(&ud, tau, span, zc, s->has_id ? idc : NULL, gc, hc, &k0, has1 ? &k1 : NULL, rt,
-                                   s->pool);
+            disp_upsample_temporal(&ud, tau, span, zc, s->has_id ? idc : NULL, of_h ? NULL : gc, of_h ? NULL : hc,
+                                   &k0, has1 ? &k1 : NULL, rt, s->pool);
             disp_upsample_spatial(&ud, h, rt, f, s->pool);
             /* A result is a vergence at every known pixel: never a map of
              * NaN or zeros written as if it were one (issue 44). */

@@ -24,6 +24,18 @@
 
 #define VGX_INPUTS 8 /* frame depth, saliency, motion, ids; the atlas's four */
 
+/* The public enums are the engine's, value for value (vgx_context_create
+ * casts one to the other). */
+_Static_assert((int)VGX_OPERATOR_DEFAULT == (int)DISP_OPERATOR_DEFAULT &&
+                   (int)VGX_OPERATOR_NONE == (int)DISP_OPERATOR_NONE &&
+                   (int)VGX_OPERATOR_LINEAR == (int)DISP_OPERATOR_LINEAR &&
+                   (int)VGX_OPERATOR_LANG == (int)DISP_OPERATOR_LANG &&
+                   (int)VGX_OPERATOR_LANG_SMOOTHED == (int)DISP_OPERATOR_LANG_SMOOTHED,
+               "vgx_operator and disp_operator_kind differ");
+_Static_assert((int)VGX_PRESET_DEFAULT == (int)DISP_PRESET_DEFAULT &&
+                   (int)VGX_PRESET_STUDY == (int)DISP_PRESET_STUDY,
+               "vgx_preset and disp_operator_preset differ");
+
 /* include/vergence/warp.glsl's VgxWarpConstants (std140). */
 typedef struct warp_constants {
     float view_proj[16];

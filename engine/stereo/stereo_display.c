@@ -1,10 +1,10 @@
 #include "stereo_display.h"
+#include "stereo_shared.h"
 
 #include "core/json.h"
 
 #include <math.h>
 
-#define ARCMIN_PER_RAD (60.0 * 180.0 / M_PI)
 #define METRES_PER_INCH 0.0254
 
 /* ------------------------------------------------------------------------- */
@@ -25,17 +25,17 @@ void stereo_display_init(stereo_display *d, const stereo_display_desc *desc)
     d->pitch_m = d->width_m / d->res_x;
     d->distance_m = z.distance_m > 0 ? z.distance_m : 0.80;
     d->ipd_m = z.ipd_m > 0 ? z.ipd_m : 0.065;
-    d->screen_vergence = 2.0 * atan(d->ipd_m / (2.0 * d->distance_m)) * ARCMIN_PER_RAD;
+    d->screen_vergence = 2.0 * atan(d->ipd_m / (2.0 * d->distance_m)) * STEREO_ARCMIN_PER_RAD;
 }
 
 double stereo_vergence_from_distance(const stereo_display *d, double z_m)
 {
-    return 2.0 * atan(d->ipd_m / (2.0 * z_m)) * ARCMIN_PER_RAD;
+    return 2.0 * atan(d->ipd_m / (2.0 * z_m)) * STEREO_ARCMIN_PER_RAD;
 }
 
 double stereo_distance_from_vergence(const stereo_display *d, double a_arcmin)
 {
-    return d->ipd_m / (2.0 * tan(0.5 * a_arcmin / ARCMIN_PER_RAD));
+    return d->ipd_m / (2.0 * tan(0.5 * a_arcmin / STEREO_ARCMIN_PER_RAD));
 }
 
 /* Similar triangles between the eye baseline e at 0 and the screen at D. */
@@ -53,12 +53,12 @@ double stereo_distance_from_parallax(const stereo_display *d, double p_m)
  * which stays finite (and turns negative) past P = e. */
 double stereo_vergence_from_parallax(const stereo_display *d, double p_m)
 {
-    return 2.0 * atan((d->ipd_m - p_m) / (2.0 * d->distance_m)) * ARCMIN_PER_RAD;
+    return 2.0 * atan((d->ipd_m - p_m) / (2.0 * d->distance_m)) * STEREO_ARCMIN_PER_RAD;
 }
 
 double stereo_parallax_from_vergence(const stereo_display *d, double a_arcmin)
 {
-    return d->ipd_m - 2.0 * d->distance_m * tan(0.5 * a_arcmin / ARCMIN_PER_RAD);
+    return d->ipd_m - 2.0 * d->distance_m * tan(0.5 * a_arcmin / STEREO_ARCMIN_PER_RAD);
 }
 
 double stereo_pixels_from_parallax(const stereo_display *d, double p_m)

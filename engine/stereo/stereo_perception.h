@@ -9,7 +9,7 @@
  * kernels of the optimiser use the same formula from disparity/mid_shared.h. */
 #pragma once
 
-#define STEREO_WEBER_K 0.08
+#include "stereo_shared.h" /* STEREO_WEBER_K */
 
 /* p(v) for Weber fraction k (0 = STEREO_WEBER_K). */
 double stereo_p(double v_arcmin_s, double k);

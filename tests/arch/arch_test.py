@@ -14,6 +14,12 @@ usage: arch_test.py BUILD_DIR CASE
              its folder, and no other
   graph      the frame-graph dump in docs/architecture.md is what the binary
              prints for the settings the doc states (vergence capture --dump-graph)
+  constants  each constant C and GLSL share has one definition: the Weber
+             fraction in stereo/stereo_shared.h alone (no other 0.08 or 12.5
+             defined in the sources); where the public GLSL of the SDK must
+             spell a value again (include/vergence/*.glsl, for hosts that
+             include no engine header), both sides are read and must agree:
+             arcmin per radian, the curve's bins, the cascade's stage ids
 """
 import os
 import re
@@ -249,10 +255,72 @@ def case_graph(vergence):
     print(f"docs/architecture.md's graph dump is the binary's: {got.splitlines()[0]}")
 
 
+SOURCE_EXT = (".c", ".h", ".cpp", ".glsl", ".comp", ".vert", ".frag", ".tesc", ".tese")
+
+
+def source_texts():
+    for top in ("engine", "game", "shaders", "include", "sdk", "examples", "bench"):
+        for root, _, names in os.walk(os.path.join(ROOT, top)):
+            for n in names:
+                if n.endswith(SOURCE_EXT):
+                    path = os.path.join(root, n)
+                    yield os.path.relpath(path, ROOT), open(path, encoding="utf-8").read()
+
+
+def defined(path, name):
+    """The text of `#define NAME v` or `const T NAME = v;` in ROOT/path."""
+    text = open(os.path.join(ROOT, path)).read()
+    m = re.search(r"^[ \t]*(?:#define[ \t]+%s[ \t]+([^\n]+?)[ \t]*(?:/[*/].*)?$|const\s+\w+\s+%s\s*=\s*([^;]+);)"
+                  % (name, name), text, re.M)
+    if not m:
+        fail(f"{path} defines no {name}")
+    return m.group(1) or m.group(2)
+
+
+def number(text):
+    """A constant's value: a literal (f, u suffixes) or arithmetic of them."""
+    expr = re.sub(r"(\d(?:\.\d*)?(?:[eE][-+]?\d+)?)[fFuU]\b", r"\1", text)
+    if not re.fullmatch(r"[\d.eE+\-*/() ]+", expr):
+        fail(f"not a number: {text}")
+    return float(eval(expr, {"__builtins__": {}}))
+
+
+def case_constants():
+    # One definition: the Weber fraction's value is written in one file.
+    home = "engine/stereo/stereo_shared.h"
+    k, inv = number(defined(home, "STEREO_WEBER_K")), number(defined(home, "STEREO_INV_WEBER_K"))
+    if abs(k * inv - 1.0) > 1e-6:
+        fail(f"{home}: STEREO_INV_WEBER_K {inv} is not 1 / STEREO_WEBER_K {k}")
+    pattern = re.compile(r"^\s*(?:#define\s+\w+|(?:static\s+)?const\s+\w+\s+\w+\s*=)\s*\(?\s*(0\.08|12\.5)f?\b", re.M)
+    for path, text in source_texts():
+        if path == home:
+            continue
+        m = pattern.search(text)
+        if m:
+            line = text[:m.start()].count("\n") + 1
+            fail(f"{path}:{line} defines the Weber fraction again ({m.group(1)}): include {home}")
+    # Written twice by necessity (the SDK's GLSL is for hosts): the same value.
+    pairs = [
+        ("arcmin per radian", "engine/stereo/stereo_shared.h", "STEREO_ARCMIN_PER_RAD",
+         "include/vergence/display.glsl", "VGX_ARCMIN_PER_RAD", 1e-5),
+        ("curve bins", "shaders/shared.h", "VG_CURVE_BINS", "include/vergence/warp.glsl", "VGX_CURVE_BINS", 0),
+    ]
+    for stage in ("DIRECT", "NEIGHBORHOOD", "HALTON", "CURVE"):
+        pairs.append((f"stage {stage.lower()}", "shaders/shared.h", f"VG_STAGE_{stage}", "include/vergence/warp.glsl",
+                      f"VGX_STAGE_{stage}", 0))
+    for what, fa, na, fb, nb, tol in pairs:
+        a, b = number(defined(fa, na)), number(defined(fb, nb))
+        if abs(a - b) > tol * max(abs(a), 1.0):
+            fail(f"{what}: {fa} {na} = {a}, {fb} {nb} = {b}")
+        print(f"{what}: {na} = {nb} = {a:g}")
+    print(f"the Weber fraction {k:g} (1 / {inv:g}) is defined in {home} alone")
+
+
 if __name__ == "__main__":
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
     {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
-     "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence"))}[case]()
+     "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence")),
+     "constants": case_constants}[case]()
     print("ok")

@@ -559,7 +559,9 @@ static int observer_engine_agrees(void)
      * (docs/game.md: 3.8 / 5.0 / 4.2 arcmin measured). */
     CHECK(worst[0] < 6.0, "h: engine and CPU view differ by %.3f arcmin (bound 6)", worst[0]);
     CHECK(worst[1] < 7.5, "f: engine and CPU view differ by %.3f arcmin (bound 7.5)", worst[1]);
-    CHECK(worst_gain < 6.0, "f - h: engine and CPU view differ by %.3f arcmin (bound 6)", worst_gain);
+    /* f - h holds h's own jump at a gate, which f does not follow (it
+     * follows g: docs/method.md §8), where the two views' h differ most. */
+    CHECK(worst_gain < 7.5, "f - h: engine and CPU view differ by %.3f arcmin (bound 7.5)", worst_gain);
     return 0;
 }
 

@@ -75,6 +75,12 @@ static void report(const char *name, const science_metrics_result *m)
  * about that of the frames either side of it (C1 upsampling in time; linear
  * interpolation put 10-20 times theirs there, docs/method.md). */
 #define KINK_FACTOR 1.5
+/* No pop: f's second difference at keyframe boundaries is about that
+ * between them. f is smoother than h between keyframes (it follows g, not
+ * h's per-frame mapping: balloon 640x360 0.0093 against h's 0.0403 arcmin),
+ * so the two are compared within a tenth (0.0096 at the boundaries there);
+ * a pop, f republished where it was shown, is several times that. */
+#define POP_FACTOR 1.1
 
 /* The G-buffer and the maps only: the disparity passes do not depend on
  * the eyes, which would take a quarter of the time. */
@@ -100,7 +106,7 @@ static frame_desc measured(void)
 /* A measured capture of a scene: silent validation, f inside the range, f's
  * MID distortion at most `bound` of h's (`other_bound` on a driver other
  * than the reference), no kink of f - h at keyframes, and, when asked, no
- * pop: f changes no more at keyframe boundaries than between. */
+ * pop: f changes no more at keyframe boundaries than between (POP_FACTOR). */
 static int measured_capture(const char *name, const char *scene_path, frame_desc fd, double bound, double other_bound,
                             bool pop)
 {
@@ -114,7 +120,7 @@ static int measured_capture(const char *name, const char *scene_path, frame_desc
         bound = other_bound;
     CHECK(r.m.f.mid_distortion_jnd <= bound * r.m.h.mid_distortion_jnd, "f's MID distortion is more than %.2f of h's",
           bound);
-    CHECK(!pop || r.m.f_d2.boundary <= r.m.f_d2.between,
+    CHECK(!pop || r.m.f_d2.boundary <= POP_FACTOR * r.m.f_d2.between,
           "f changes more at keyframe boundaries than between them (a pop)");
     CHECK(r.m.c_d2.at_key <= KINK_FACTOR * r.m.c_d2.next_to_key, "f - h kinks at keyframes");
     return 0;

@@ -444,7 +444,7 @@ static void curve_inputs(float *depth, float *target)
                 }
             }
             depth[i] = z;
-            double a = 2.0 * atan(0.065 / (2.0 * z)) * 3437.74677;
+            double a = 2.0 * atan(0.065 / (2.0 * z)) * STEREO_ARCMIN_PER_RAD;
             target[i] = (float)(220.0 + 40.0 * tanh((a - 280.0) / 120.0) + corr + 0.01 * (x - CV_W / 2));
         }
 }

@@ -575,9 +575,9 @@ vg_status disparity_gpu_keyframe_read(const disparity_gpu *d, long keyframe, dis
     memcpy(out->flow_fwd, st + MID_STORE_FLOW_F * ns, 2 * ns * sizeof(float));
     memcpy(out->flow_bwd, st + MID_STORE_FLOW_B * ns, 2 * ns * sizeof(float));
     /* f as the upsampling makes it at the keyframe's samples (Fig. 4): the
-     * published correction is f / g. */
+     * published correction is f / g (f / h under the causal gate). */
     for (size_t q = 0; q < ns; q++) {
-        float f = out->g[q] * ratio[q];
+        float f = (pub->of_h ? out->h[q] : out->g[q]) * ratio[q];
         if (pub->range_hi > pub->range_lo)
             f = fminf(fmaxf(f, pub->range_lo), pub->range_hi);
         out->f[q] = f;
