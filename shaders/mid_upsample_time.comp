@@ -54,10 +54,10 @@ float key_ratio_to_h(uint slot, int q)
 
 // The keyframe's correction f / g, weight, slope of f / g and ratio f / h
 // at a full-resolution position: bilinear over the coarse samples, keeping
-// only taps on the sample's
-// surface: its instance id, and its depth or its trajectory (its own flow to
-// the interval's other keyframe, forward from k0, backward from k1, lands at
-// `other`, the sample's position there; LOST: none) (sample_keyframe()).
+// only taps on the sample's surface: its instance id, and its depth or its
+// trajectory (its own flow to the interval's other keyframe, forward from
+// k0, backward from k1, lands at `other`, the sample's position there; LOST:
+// none) (sample_keyframe()).
 vec4 sample_keyframe(vec2 pos, float z, float id, vec2 other, uint slot, bool forward, bool test)
 {
     if (pos.x == LOST)

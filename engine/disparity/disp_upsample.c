@@ -166,16 +166,17 @@ static void temporal_block(void *c, int block, int begin, int end)
         bool ok0 = a.weight > 0.0f && x->tau < 1.0f;
         bool ok1 = b.weight > 0.0f && x->tau > 0.0f;
         if (ok0 && ok1) {
-            x->out[q] = to_h(x, q, k0->slope && k1->slope ? mid_hermite(a.ratio, a.slope, b.ratio, b.slope, x->tau, x->span)
-                                                          : (1.0f - x->tau) * a.ratio + x->tau * b.ratio);
+            float m = k0->slope && k1->slope ? mid_hermite(a.ratio, a.slope, b.ratio, b.slope, x->tau, x->span)
+                                             : (1.0f - x->tau) * a.ratio + x->tau * b.ratio;
+            x->out[q] = to_h(x, q, m);
             continue;
         }
-        /* One keyframe alone: its f / h (a constant f / g would hold the
-         * manipulation's change over the interval). */
         if (ok0 && x->tau == 0.0f) { /* at the keyframe itself: its f / g on this frame's g, as either side */
             x->out[q] = to_h(x, q, a.ratio);
             continue;
         }
+        /* One keyframe alone: its f / h (a constant f / g would hold the
+         * manipulation's change over the interval). */
         if (ok0 || ok1) {
             x->out[q] = ok0 ? a.ratio_h : b.ratio_h;
             continue;

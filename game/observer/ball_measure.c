@@ -68,8 +68,9 @@ void ball_figures_finish(ball_figures *b, double keyframe_seconds, double fps)
      * later, or a measure of keyframes alone, has none. */
     if (b->frames < 2 * (int)lround(keyframe_seconds * fps))
         b->frames = 0;
-    b->h_frame_jnd = b->frames >= 3 ? observer_track_mid_distortion(b->fh, b->fg, b->frames, 1, fps, STEREO_WEBER_K) : NAN;
-    b->f_frame_jnd = b->frames >= 3 ? observer_track_mid_distortion(b->ff, b->fg, b->frames, 1, fps, STEREO_WEBER_K) : NAN;
+    bool run = b->frames >= 3;
+    b->h_frame_jnd = run ? observer_track_mid_distortion(b->fh, b->fg, b->frames, 1, fps, STEREO_WEBER_K) : NAN;
+    b->f_frame_jnd = run ? observer_track_mid_distortion(b->ff, b->fg, b->frames, 1, fps, STEREO_WEBER_K) : NAN;
     for (int i = 0; i < b->frames; i++)
         b->max_f_minus_h_frame = fmax(b->max_f_minus_h_frame, fabs(b->ff[i] - b->fh[i]));
 }
