@@ -21,11 +21,11 @@ import argparse
 import glob
 import json
 import os
-import struct
 import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))  # vgformats (numpy), imported by the sweeps that use it
 SCENES = [  # name, extra capture flags
     ("balloon", []),
     ("cubes", []),
@@ -86,23 +86,16 @@ def look_ahead(a):
               f"{c['foresight']['static']:.3f} / {c['causal']['static']:.3f} |")
 
 
-def read_pfm(path):
-    import numpy as np
-    with open(path, "rb") as f:
-        data = f.read()
-    parts = data.split(b"\n", 3)
-    w, h = map(int, parts[1].split())
-    return np.frombuffer(parts[3][:4 * w * h], dtype="<f4" if float(parts[2]) < 0 else ">f4")
-
-
 def saliency(a):
     import numpy as np
+    from vgformats import read_pfm
     print("| scene | h MID authored / computed (JND) | f/h authored / computed | mean abs h change (arcmin) | "
           "99th percentile (arcmin) |")
     print("|---|---:|---:|---:|---:|")
     for name, extra in SCENES:
         runs = {m: capture(a, name, extra, "saliency_" + m, ["--saliency", m]) for m in ("authored", "computed")}
         diffs = np.concatenate([np.abs(read_pfm(p) - read_pfm(os.path.join(runs["computed"][0], os.path.basename(p))))
+                                .ravel()
                                 for p in sorted(glob.glob(os.path.join(runs["authored"][0], "frame_*_h.pfm")))])
         ma, mc = runs["authored"][1], runs["computed"][1]
         label = name + (" (throw 0)" if name == "arena" else "")
@@ -110,27 +103,12 @@ def saliency(a):
               f"{diffs.mean():.3f} | {np.percentile(diffs, 99):.3f} |")
 
 
-def write_pfm(path, a):
-    import numpy as np
-    h, w = a.shape
-    with open(path, "wb") as f:
-        f.write(b"Pf\n%d %d\n-1\n" % (w, h))
-        f.write(np.ascontiguousarray(a[::-1], dtype="<f4").tobytes())
-
-
-def write_flo(path, u, v):
-    import numpy as np
-    h, w = u.shape
-    with open(path, "wb") as f:
-        f.write(struct.pack("<fii", 202021.25, w, h))
-        f.write(np.stack([u, v], axis=-1).astype("<f4").tobytes())
-
-
 def synthetic(out, frames=121, w=320, h=180):
     """A ball thrown toward the viewer (g 250 -> 400 arcmin, accelerating)
     across a static background slanted in depth (230 .. 330 arcmin, bottom
     nearer); g, flow to the next frame, frames 0 .. frames - 1."""
     import numpy as np
+    from vgformats import write_flo, write_pfm
     os.makedirs(out, exist_ok=True)
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
     bg = 230.0 + 100.0 * yy / (h - 1)
@@ -146,7 +124,7 @@ def synthetic(out, frames=121, w=320, h=180):
         nx_, ny_, nr, _ = ball(min(t + 1, frames - 1))
         u = np.where(inside, nx_ + (xx - cx) * nr / r - xx, 0.0)
         v = np.where(inside, ny_ + (yy - cy) * nr / r - yy, 0.0)
-        write_flo(os.path.join(out, f"flow_{t:04d}.flo"), u.astype(np.float32), v.astype(np.float32))
+        write_flo(os.path.join(out, f"flow_{t:04d}.flo"), np.stack([u, v], axis=-1).astype(np.float32))
     return frames
 
 

@@ -20,6 +20,12 @@ usage: arch_test.py BUILD_DIR CASE
              spell a value again (include/vergence/*.glsl, for hosts that
              include no engine header), both sides are read and must agree:
              arcmin per radian, the curve's bins, the cascade's stage ids
+  formats    one Python module reads the tests' and tools' PFM, .flo and PNG
+             files and writes their PFM and .flo (issue 41): tools/vgformats.py
+             defines the readers and writers, and no other Python file under
+             tests/ or tools/ holds a PFM or .flo header (the Pf / PF magic,
+             the .flo's magic or its float), defines a function named for PFM
+             or .flo, or decodes a PNG (PIL's open, imread, zlib.decompress)
 """
 import os
 import re
@@ -316,11 +322,45 @@ def case_constants():
     print(f"the Weber fraction {k:g} (1 / {inv:g}) is defined in {home} alone")
 
 
+FORMATS_HOME = "tools/vgformats.py"
+# Written so that this file does not match them itself.
+FORMAT_CODE = [
+    (re.compile(r"""[bBrRfFuU]{0,2}["']P[Ff](?:\\n|\s|["'])"""), "a PFM magic (Pf / PF)"),
+    (re.compile(r"P[I]EH"), "the .flo magic"),
+    (re.compile(r"202021\.25"), "the .flo magic's float"),
+    (re.compile(r"^[ \t]*def\s+(?:\w+_)?(?:pfm|flo)(?:_\w+)?\s*\(", re.M | re.I), "a function named for PFM or .flo"),
+    (re.compile(r"\bImage\.open\(|\bimread\(|\bzlib\.decompress\("), "a PNG decoder"),
+]
+
+
+def case_formats():
+    home = open(os.path.join(ROOT, FORMATS_HOME)).read()
+    for name in ("read_pfm", "write_pfm", "read_flo", "write_flo", "read_png"):
+        if not re.search(r"^def %s\(" % name, home, re.M):
+            fail(f"{FORMATS_HOME} defines no {name}")
+    found, checked = [], 0
+    for top in ("tests", "tools"):
+        for root, _, names in os.walk(os.path.join(ROOT, top)):
+            for n in sorted(names):
+                path = os.path.relpath(os.path.join(root, n), ROOT)
+                if not n.endswith(".py") or path == FORMATS_HOME:
+                    continue
+                checked += 1
+                text = open(os.path.join(ROOT, path), encoding="utf-8").read()
+                for pattern, what in FORMAT_CODE:
+                    for m in pattern.finditer(text):
+                        line = text[:m.start()].count("\n") + 1
+                        found.append(f"{path}:{line}: {what} ({m.group(0).strip()})")
+    if found:
+        fail(f"file formats read or written outside {FORMATS_HOME} (import it instead):\n  " + "\n  ".join(found))
+    print(f"{checked} Python files under tests/ and tools/ leave PFM, .flo and PNG decoding to {FORMATS_HOME}")
+
+
 if __name__ == "__main__":
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
     {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
      "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence")),
-     "constants": case_constants}[case]()
+     "constants": case_constants, "formats": case_formats}[case]()
     print("ok")

@@ -18,6 +18,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "tools"))
+import vgformats  # noqa: E402
+
 ASSETS = os.path.join("..", "shared", "assets", "gltf")
 
 
@@ -177,7 +180,7 @@ def check_shadow_figure(j, out, frames, bound_px):
         sys.exit(f"FAIL: capture.json has no usable shadow figure (two cascades): {sh}")
     per_frame = []
     for i in range(frames):
-        rows = read_pfm(os.path.join(out, f"frame_{i:04d}_depth.pfm"))
+        rows = vgformats.read_pfm(os.path.join(out, f"frame_{i:04d}_depth.pfm"), 1).tolist()
         px_at_1m = 2 * math.tan(0.5 * j["camera"]["yfov"]) / len(rows)
         far = j["camera"]["zfar"]
         per_frame.append(median([(sh["near_texel_m"] if z < sh["split_m"] else sh["texel_m"]) / (px_at_1m * z)
@@ -222,8 +225,8 @@ def case_assets():
         j = json.load(open(os.path.join(out, "capture.json")))
         if j["metrics"].get("saliency") != "computed":
             sys.exit(f"FAIL: {m}: saliency {j['metrics'].get('saliency')}, not computed")
-        _, _, sal = read_png(os.path.join(out, "frame_0000_saliency.png"), 1)
-        _, _, ids = read_png_rgb(os.path.join(out, "frame_0000_ids.png"))
+        sal = vgformats.read_png(os.path.join(out, "frame_0000_saliency.png"), 1).tobytes()
+        ids = vgformats.read_png(os.path.join(out, "frame_0000_ids.png"), 3).tobytes()
         shown = [sal[i] for i in range(len(sal)) if ids[3 * i:3 * i + 3] != b"\0\0\0"]
         computed += bool(shown) and max(shown) > min(shown)
         print(f"ok {m}: {info['nodes']} nodes, {info['meshes']} meshes, {info['animations']} animations, "
@@ -236,7 +239,7 @@ def case_assets():
     a, b = os.path.join(tmp, "sal_computed"), os.path.join(tmp, "sal_authored")
     capture(truck, a, 1, "160x90", ["--time", "1"])
     jb = capture(truck, b, 1, "160x90", ["--time", "1", "--saliency", "authored"])
-    ha, hb = read_pfm(os.path.join(a, "frame_0000_h.pfm")), read_pfm(os.path.join(b, "frame_0000_h.pfm"))
+    ha, hb = (vgformats.read_pfm(os.path.join(d, "frame_0000_h.pfm"), 1).tolist() for d in (a, b))
     moved = max(abs(x - y) for ra, rb in zip(ha, hb) for x, y in zip(ra, rb))
     print(f"CesiumMilkTruck: max |h(computed saliency) - h(uniform)| {moved:.3f} arcmin")
     if jb["metrics"]["saliency"] != "authored" or not moved > 0.05:
@@ -648,38 +651,12 @@ def case_optimize_data():
         sys.exit("FAIL: two frames did not stop with the too-few-frames error")
     big = os.path.join(tmp, "arcmin_%04d.pfm")
     for t in range(3):
-        write(big % t, b"Pf\n%d %d\n-1\n" % (w, h) + struct.pack("<%df" % (w * h), *([280.0 + t] * (w * h))))
+        write(big % t, vgformats.encode_pfm([[280.0 + t] * w] * h))
     p = run(["optimize", "--g", big, "--g-units", "px", "--frames", "0:2", "--keyframe-stride", "1", "--out",
              os.path.join(tmp, "big")], expect_ok=False)
     if "looks like vergence in arcmin" not in p.stderr:
         sys.exit(f"FAIL: arcmin read as pixels without a warning: {p.stderr}")
     print("the pixel / arcmin warnings and the too-few-frames error: as documented")
-
-
-def read_pfm(path):
-    """A PFM 'Pf' map as rows, top row first."""
-    with open(path, "rb") as f:
-        data = f.read()
-    parts = data.split(b"\n", 3)
-    w, h = map(int, parts[1].split())
-    scale = float(parts[2])
-    v = struct.unpack(("<" if scale < 0 else ">") + "%df" % (w * h), parts[3][:4 * w * h])
-    return [v[(h - 1 - y) * w:(h - y) * w] for y in range(h)]
-
-
-def read_png(path, want_channels):
-    """An 8-bit PNG of want_channels as (w, h, bytes): the decoder of tests/warp (one PNG reader for the
-    Python tests)."""
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "warp"))
-    from warp_test import png
-    w, h, channels, rows = png(path)
-    if channels != want_channels:
-        sys.exit(f"FAIL: {path} has {channels} channels, not {want_channels}")
-    return w, h, b"".join(rows)
-
-
-def read_png_rgb(path):
-    return read_png(path, 3)
 
 
 def case_optimize_roundtrip():
@@ -693,11 +670,11 @@ def case_optimize_roundtrip():
     m = json.load(open(os.path.join(opt, "metrics.json")))
     worst, diffs = 0.0, []
     for t in range(m["input"]["first"], m["input"]["last"] + 1):
-        fe = read_pfm(os.path.join(cap, f"frame_{t:04d}_f.pfm"))
-        fo = read_pfm(os.path.join(opt, f"f_{t:04d}.pfm"))
+        fe = vgformats.read_pfm(os.path.join(cap, f"frame_{t:04d}_f.pfm"), 1).tolist()
+        fo = vgformats.read_pfm(os.path.join(opt, f"f_{t:04d}.pfm"), 1).tolist()
         diffs += [abs(a - b) for ra, rb in zip(fe, fo) for a, b in zip(ra, rb)]
         for e in ("left", "right"):
-            w, h, _ = read_png_rgb(os.path.join(opt, f"{e}_{t:04d}.png"))
+            h, w, _ = vgformats.read_png(os.path.join(opt, f"{e}_{t:04d}.png"), 3).shape
             if (w, h) != (160, 90):
                 sys.exit(f"FAIL: {e}_{t:04d}.png is {w}x{h}")
     diffs.sort()
@@ -756,8 +733,9 @@ def case_optimize_roundtrip():
     same = near = covered = holes = 0
     for t in (0, 5, 10):
         for e in ("left", "right"):
-            w, _, gpu = read_png_rgb(os.path.join(cap2, f"frame_{t:04d}_{e}.png"))
-            _, _, cpu = read_png_rgb(os.path.join(opt2, f"{e}_{t:04d}.png"))
+            gpu = vgformats.read_png(os.path.join(cap2, f"frame_{t:04d}_{e}.png"), 3)
+            w, gpu = gpu.shape[1], gpu.tobytes()
+            cpu = vgformats.read_png(os.path.join(opt2, f"{e}_{t:04d}.png"), 3).tobytes()
             for i in range(0, len(gpu), 3):
                 if gpu[i:i + 3] == b"\0\0\0":
                     holes += 1

@@ -51,7 +51,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 GOLDEN = os.path.join(ROOT, "tests", "golden", "game_play.png")
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(ROOT, "tools"))
 import xwd  # noqa: E402
+from vgformats import read_pfm, read_png  # noqa: E402
 
 # Golden tolerance: lavapipe is deterministic on one machine; another LLVM or
 # Mesa moves edges by a pixel, so allow small differences on few pixels.
@@ -302,15 +304,6 @@ def case_play_trace():
              "(want h >= 1.5, f < 0.8 h)")
 
 
-def read_pfm(path):
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"Pf":
-            fail(f"{path} is not a one-channel PFM")
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        return np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4").reshape(h, w)
-
-
 def case_frame_ticks():
     # The first throw launches at tick 60 and is seen until tick 96; the
     # replay ends after the ball is gone. P at 100 and 110: the paused game
@@ -328,8 +321,9 @@ def case_frame_ticks():
                        for n in os.listdir(out) if n.endswith(".pfm")}
     causal = runs.pop("causal")
     shared = sorted(set(causal) & set(runs[3]))
-    moved = max(float(np.abs(read_pfm(causal[i]) - read_pfm(runs[3][i])).max()) for i in shared) if shared else 0
-    finite = all(np.isfinite(read_pfm(p)).all() for p in causal.values())
+    moved = max(float(np.abs(read_pfm(causal[i], 1) - read_pfm(runs[3][i], 1)).max())
+                for i in shared) if shared else 0
+    finite = all(np.isfinite(read_pfm(p, 1)).all() for p in causal.values())
     shutil.rmtree(os.path.dirname(next(iter(causal.values()))), ignore_errors=True)
     print(f"--look-ahead causal: {len(causal)} frames, max |f(causal) - f(foresight)| {moved:.3g} arcmin")
     # The arena's gates make the operator's mapping steep at their depths: a
@@ -338,7 +332,7 @@ def case_frame_ticks():
     if len(shared) < 20 or not finite or not 1e-4 < moved < 120:
         fail(f"play --look-ahead causal: {len(shared)} frames shared, finite {finite}, f moved {moved:.3g} arcmin")
     common = sorted(set(runs[1]) & set(runs[3]))
-    frames = {i: read_pfm(runs[1][i]) - read_pfm(runs[3][i]) for i in common}
+    frames = {i: read_pfm(runs[1][i], 1) - read_pfm(runs[3][i], 1) for i in common}
     for r in runs.values():
         shutil.rmtree(os.path.dirname(next(iter(r.values()))), ignore_errors=True)
     if len(common) < 50 or not any(60 <= i <= 96 for i in common):
@@ -367,13 +361,12 @@ def case_golden():
     img = g.poll(settled, "the paused frame to settle")
     g.key("q")
     g.finish()
-    from matplotlib import image
     from PIL import Image
     if os.environ.get("VG_UPDATE_GOLDENS"):
         Image.fromarray(img).save(GOLDEN, optimize=True)
         print(f"wrote {GOLDEN}")
         return
-    ref = (image.imread(GOLDEN)[:, :, :3] * 255 + 0.5).astype(int)
+    ref = read_png(GOLDEN)[:, :, :3].astype(int)
     if ref.shape != img.shape:
         fail(f"size {img.shape} vs golden {ref.shape}")
     d = np.abs(ref - img.astype(int))

@@ -18,10 +18,12 @@ import atexit
 import json
 import os
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "tools"))
+import vgformats  # noqa: E402
 
 
 def scratch(prefix):
@@ -42,24 +44,13 @@ def capture(scene, frames, size, extra=()):
         return out, json.load(f), p
 
 
-def pfm(path):
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"Pf":
-            sys.exit(f"FAIL: {path} is not a one-channel PFM")
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = f.read()
-    if scale >= 0 or len(data) != 4 * w * h:
-        sys.exit(f"FAIL: {path}: {len(data)} bytes for {w}x{h}, scale {scale}")
-    return struct.unpack(f"<{w * h}f", data)
-
-
 def case_files():
     frames = 25
     out, j, _ = capture("cubes", frames, "160x90", ["--stereo-render", "cameras", "--operator", "lang"])
     differ = 0
     for n in range(frames):
-        maps = {k: pfm(os.path.join(out, f"frame_{n:04d}_{k}.pfm")) for k in "ghf"}
+        maps = {k: vgformats.read_pfm(os.path.join(out, f"frame_{n:04d}_{k}.pfm"), 1, "<").reshape(-1).tolist()
+                for k in "ghf"}
         if not all(0 < v < 1e4 for k in "hf" for v in maps[k]):
             sys.exit(f"FAIL: frame {n}: h or f outside (0, 1e4) arcmin")
         differ += sum(abs(a - b) > 0.01 for a, b in zip(maps["h"], maps["f"]))

@@ -29,8 +29,12 @@ import tempfile
 import time
 import zlib
 
+import numpy as np
+
 VERGENCE = None
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import vgformats  # noqa: E402
 ARG, IO, FORMAT, VULKAN, DEVICE, UNSUPPORTED = 2, 3, 4, 6, 7, 10
 KILLED = -signal.SIGKILL
 FAILURES = []
@@ -213,34 +217,6 @@ def gltf(indices=(0, 1, 2), positions=None, extra=None, count=None, with_camera=
     return json.dumps(doc)
 
 
-def pfm(w, h, values):
-    head = f"Pf\n{w} {h}\n-1.0\n".encode()
-    rows = [values[y * w:(y + 1) * w] for y in range(h)]
-    return head + b"".join(struct.pack(f"<{w}f", *r) for r in reversed(rows))
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    parts = data.split(b"\n", 3)
-    w, h = map(int, parts[1].split())
-    px = struct.unpack(f"<{w * h}f", parts[3][: 4 * w * h])
-    return w, h, [v for y in reversed(range(h)) for v in px[y * w:(y + 1) * w]]  # top row first
-
-
-def read_floats(path):
-    """The values of a PFM (any channels, either endianness) or a .flo."""
-    data = open(path, "rb").read()
-    if path.endswith(".flo"):
-        w, h = struct.unpack_from("<ii", data, 4)
-        return struct.unpack_from(f"<{2 * w * h}f", data, 12)
-    parts = data.split(b"\n", 3)
-    ch = 3 if parts[0].strip() == b"PF" else 1
-    w, h = map(int, parts[1].split())
-    endian = "<" if float(parts[2]) < 0 else ">"
-    return struct.unpack(f"{endian}{w * h * ch}f", parts[3][: 4 * w * h * ch])
-
-
 def result_problems(path):
     """What breaks the property every successful run keeps (issue 44): each
     map it wrote is finite (+inf, a PFM's documented 'unknown', aside), a
@@ -252,7 +228,7 @@ def result_problems(path):
         rel = os.path.relpath(f, os.path.dirname(path))
         try:
             if f.endswith((".pfm", ".flo")):
-                v = read_floats(f)
+                v = (vgformats.read_flo(f) if f.endswith(".flo") else vgformats.read_pfm(f)).reshape(-1).tolist()
                 bad = sum(1 for x in v if x != x or x == float("-inf") or (f.endswith(".flo") and abs(x) == float("inf")))
                 nonzero = sum(1 for x in v if x == x and abs(x) != float("inf") and x != 0)
                 if bad:
@@ -411,10 +387,9 @@ def catalogue_cases(box):
     add("optimize_row_negative", offline_args("out", ["--row", "-1"]), ARG, "--row")
     for tag, value in (("zero", 0.0), ("negative", -2.0)):
         for i in range(11):
-            wd, ht, px = read_pfm(box.p(f"fx/seq/frame_{i:04d}_depth.pfm"))
-            px = list(px)
-            px[5] = value
-            w(f"in/depth_{tag}/d_{i:04d}.pfm", pfm(wd, ht, px))
+            d = vgformats.read_pfm(box.p(f"fx/seq/frame_{i:04d}_depth.pfm"), channels=1)
+            d[0, 5] = value
+            w(f"in/depth_{tag}/d_{i:04d}.pfm", vgformats.encode_pfm(d))
         args = offline_args("out")
         args[args.index("--depth") + 1] = f"in/depth_{tag}/d_%04d.pfm"
         add(f"optimize_depth_{tag}", args, FORMAT, f"d_0000.pfm")
@@ -555,12 +530,12 @@ def catalogue_cases(box):
                                    "--out", "out"], FORMAT, "g_0004.pfm")
     for i in range(11):
         shutil.copy(box.p(f"fx/seq/frame_{i:04d}_g.pfm"), box.p(f"in/g_size/g_{i:04d}.pfm"))
-    w("in/g_size/g_0003.pfm", pfm(32, 18, [30.0] * (32 * 18)))
+    w("in/g_size/g_0003.pfm", vgformats.encode_pfm(np.full((18, 32), 30.0)))
     add("optimize_pfm_other_size", ["optimize", "--g", "in/g_size/g_%04d.pfm", "--frames", "0:10",
                                     "--out", "out"], FORMAT, "g_0003.pfm")
     for i in range(11):
         shutil.copy(box.p(f"fx/seq/frame_{i:04d}_motion_next.flo"), box.p(f"in/flo/n_{i:04d}.flo"))
-    w("in/flo/n_0002.flo", b"PIEH" + b"\0" * 20)
+    w("in/flo/n_0002.flo", vgformats.FLO_MAGIC + b"\0" * 20)
     args = offline_args("out")
     args[args.index("--flow-next") + 1] = "in/flo/n_%04d.flo"
     add("optimize_flo_garbage", args, FORMAT, "n_0002.flo")
@@ -622,15 +597,14 @@ def issue_44_cases(box, add, bad_scene):
             outs=("out_persp",))
     # Silent accepts: values no display or flow field can mean.
     for i in range(11):
-        wd, ht, px = read_pfm(box.p(f"fx/seq/frame_{i:04d}_g.pfm"))
-        px = list(px)
+        g = vgformats.read_pfm(box.p(f"fx/seq/frame_{i:04d}_g.pfm"), channels=1)
         if i == 3:
-            px[7] = 1e30
-        w(f"in/g_huge/g_{i:04d}.pfm", pfm(wd, ht, px))
-        flo = bytearray(open(box.p(f"fx/seq/frame_{i:04d}_motion_next.flo"), "rb").read())
+            g[0, 7] = 1e30
+        w(f"in/g_huge/g_{i:04d}.pfm", vgformats.encode_pfm(g))
+        flo = vgformats.read_flo(box.p(f"fx/seq/frame_{i:04d}_motion_next.flo"))
         if i == 2:
-            struct.pack_into("<f", flo, 12 + 8 * 5, 1e20)
-        w(f"in/flo_huge/n_{i:04d}.flo", bytes(flo))
+            flo[0, 5, 0] = 1e20  # the u of the top row's sixth pixel
+        w(f"in/flo_huge/n_{i:04d}.flo", vgformats.encode_flo(flo))
     args = offline_args("out")
     args[args.index("--g") + 1] = "in/g_huge/g_%04d.pfm"
     add("optimize_g_1e30", args, FORMAT, ("g_0003.pfm", "1e+30"))
@@ -699,19 +673,18 @@ def group_catalogue():
             expect(box, name, args, code, names, env, outs, **kw)
         # What must work: Middlebury's inf in g (unknown disparity) is accepted and stays inf in f.
         for i in range(11):
-            wd, ht, px = read_pfm(box.p(f"fx/seq/frame_{i:04d}_g.pfm"))
-            px = list(px)
-            px[wd + 3] = float("inf")
-            box.write(f"in/g_inf/g_{i:04d}.pfm", pfm(wd, ht, px))
+            g = vgformats.read_pfm(box.p(f"fx/seq/frame_{i:04d}_g.pfm"), channels=1)
+            g[1, 3] = float("inf")
+            box.write(f"in/g_inf/g_{i:04d}.pfm", vgformats.encode_pfm(g))
         args = offline_args("inf_out")
         args[args.index("--g") + 1] = "in/g_inf/g_%04d.pfm"
         r = expect(box, "optimize_g_inf_is_unknown", args, 0, outs=("inf_out",))
         if r and r[0] == 0:
-            _, _, f = read_pfm(box.p("inf_out/f_0004.pfm"))
-            finite = sum(1 for v in f if v == v and abs(v) != float("inf"))
-            if f[wd + 3] != float("inf") or finite != len(f) - 1:
-                fail("optimize_g_inf_is_unknown", f"f at the unknown pixel is {f[wd + 3]}, {finite} finite of "
-                     f"{len(f)} (want inf there and finite elsewhere)")
+            f = vgformats.read_pfm(box.p("inf_out/f_0004.pfm"), channels=1)
+            finite = int(np.isfinite(f).sum())
+            if f[1, 3] != float("inf") or finite != f.size - 1:
+                fail("optimize_g_inf_is_unknown", f"f at the unknown pixel is {f[1, 3]}, {finite} finite of "
+                     f"{f.size} (want inf there and finite elsewhere)")
         # A CRLF CSV resumed gets CRLF lines.
         text = open(box.p("fx/hit.csv")).read().replace("\n", "\r\n")
         box.write("in/crlf.csv", text)

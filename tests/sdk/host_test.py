@@ -18,10 +18,12 @@ import atexit
 import json
 import os
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "tools"))
+import vgformats  # noqa: E402
 
 SCENE, SIZE, TIME, FRAMES = "content/balloon.gltf", "160x90", "1", 41  # frames 60..100: five keyframes
 # Per pixel |host - capture| (arcmin; depth in metres): two renderers
@@ -55,17 +57,11 @@ def run(args, env=None, cwd=None):
     return p
 
 
-def pfm(path, channels=1):
-    with open(path, "rb") as f:
-        if f.readline().strip() != (b"Pf" if channels == 1 else b"PF"):
-            sys.exit(f"FAIL: {path} is not a {channels}-channel PFM")
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = f.read()
-    n = w * h * channels
-    if scale >= 0 or len(data) != 4 * n:
-        sys.exit(f"FAIL: {path}: {len(data)} bytes for {w}x{h}x{channels}, scale {scale}")
-    return (w, h), struct.unpack(f"<{n}f", data)
+def values(path, channels=1):
+    """A little-endian PFM's (w, h) and its values, top row first, channels
+    interleaved (tools/vgformats.py reads it)."""
+    a = vgformats.read_pfm(path, channels, "<")
+    return (a.shape[1], a.shape[0]), a.reshape(-1).tolist()
 
 
 def main():
@@ -120,15 +116,15 @@ def main():
     for name, kind, i in checks:
         p99_max, mean_max = TOLERANCE[kind]
         file = f"frame_{i:04d}_{kind}.pfm"
-        size, a = pfm(os.path.join(outs[name], file))
-        if name == "cmake" and pfm(os.path.join(outs["pkg-config"], file))[1] != a:
+        size, a = values(os.path.join(outs[name], file))
+        if name == "cmake" and values(os.path.join(outs["pkg-config"], file))[1] != a:
             print(f"FAIL: {file}: the CMake and the pkg-config builds of the host differ")
             failed = True
-        csize, c = pfm(os.path.join(caps[runs[name][2]], file))
+        csize, c = values(os.path.join(caps[runs[name][2]], file))
         if size != csize:
             sys.exit(f"FAIL: {file}: host {size}, capture {csize}")
         if kind == "f":
-            _, ch = pfm(os.path.join(caps[runs[name][2]], f"frame_{i:04d}_h.pfm"))
+            _, ch = values(os.path.join(caps[runs[name][2]], f"frame_{i:04d}_h.pfm"))
             correction = max(correction, max(abs(x - y) for x, y in zip(c, ch)))
         d = sorted(abs(x - y) for x, y in zip(a, c))
         p99, mean = d[int(0.99 * (len(d) - 1))], sum(d) / len(d)
@@ -146,8 +142,8 @@ def main():
     # engine's warp; pixels showing geometry in one and not the other count
     # as coverage differences.
     for side in ("left", "right"):
-        size, hx = pfm(os.path.join(outs["cmake"], f"frame_{last:04d}_{side}_x.pfm"))
-        csize, aux = pfm(os.path.join(caps["foresight"], f"frame_{last:04d}_{side}_aux.pfm"), channels=3)
+        size, hx = values(os.path.join(outs["cmake"], f"frame_{last:04d}_{side}_x.pfm"))
+        csize, aux = values(os.path.join(caps["foresight"], f"frame_{last:04d}_{side}_aux.pfm"), channels=3)
         if size != csize:
             sys.exit(f"FAIL: {side} eye: host {size}, capture {csize}")
         cx, stage = aux[0::3], aux[2::3]

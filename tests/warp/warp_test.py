@@ -14,7 +14,9 @@ import struct
 import subprocess
 import sys
 import tempfile
-import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "tools"))
+import vgformats  # noqa: E402
 
 GOLDEN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "golden")
 MODES = ["sbs", "sbs-half", "tb", "tb-half", "rows", "columns", "checker", "anaglyph", "anaglyph-plain",
@@ -39,37 +41,9 @@ def capture(scene, extra=(), frames=1, size="320x180", time=1.5):
 
 
 def png(path):
-    """Decodes an 8-bit grey/RGB/RGBA PNG (stdlib only): width, height, channels, rows of bytes."""
-    d = open(path, "rb").read()
-    w, h, depth, ctype = struct.unpack(">IIBB", d[16:26])
-    if depth != 8 or ctype not in (0, 2, 6):
-        sys.exit(f"FAIL: {path}: unsupported PNG (depth {depth}, type {ctype})")
-    i, idat = 8, b""
-    while i < len(d):
-        n = struct.unpack(">I", d[i:i + 4])[0]
-        if d[i + 4:i + 8] == b"IDAT":
-            idat += d[i + 8:i + 8 + n]
-        i += 12 + n
-    raw, bpp = zlib.decompress(idat), {0: 1, 2: 3, 6: 4}[ctype]
-    stride, rows, prev, p = w * bpp, [], bytearray(w * bpp), 0
-    for _ in range(h):
-        f, line = raw[p], bytearray(raw[p + 1:p + 1 + stride])
-        p += 1 + stride
-        for x in range(stride):
-            a = line[x - bpp] if x >= bpp else 0
-            b, c = prev[x], prev[x - bpp] if x >= bpp else 0
-            if f == 1:
-                line[x] = (line[x] + a) & 255
-            elif f == 2:
-                line[x] = (line[x] + b) & 255
-            elif f == 3:
-                line[x] = (line[x] + (a + b) // 2) & 255
-            elif f == 4:
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return w, h, bpp, rows
+    """An 8-bit grey/RGB/RGBA PNG (tools/vgformats.py decodes it): width, height, channels, rows of bytes."""
+    a = vgformats.read_png(path)
+    return a.shape[1], a.shape[0], a.shape[2], [row.tobytes() for row in a]
 
 
 # ---------------------------------------------------------------------------
