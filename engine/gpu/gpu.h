@@ -165,6 +165,11 @@ uint32_t gpu_format_size(VkFormat f); /* bytes per texel of the formats the engi
 vg_status gpu_oneshot_begin(gpu *g, VkCommandBuffer *cmd);
 vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd);
 
+/* Records an image's first transition, from UNDEFINED (contents discarded)
+ * into the layout every later use finds it in: for the images that live
+ * across frames outside the frame graph (created once, imported after). */
+void gpu_cmd_enter_layout(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout layout);
+
 /* Uploads pixels into a sampled image (layout SHADER_READ_ONLY_OPTIMAL after). */
 vg_status gpu_image_upload(gpu *g, gpu_image *img, const void *pixels, size_t size);
 

@@ -208,27 +208,6 @@ void gpu_compute_kit_destroy(gpu *g, gpu_compute_kit *k)
     *k = (gpu_compute_kit){0};
 }
 
-static void compute_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access)
-{
-    VkMemoryBarrier2 mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-                           .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                           .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                           .dstStageMask = dst_stage, .dstAccessMask = dst_access};
-    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
-                                                   .memoryBarrierCount = 1, .pMemoryBarriers = &mb});
-}
-
-void gpu_compute_barrier(VkCommandBuffer cmd)
-{
-    compute_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-}
-
-void gpu_compute_barrier_indirect(VkCommandBuffer cmd)
-{
-    compute_barrier(cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-}
-
 void gpu_compute_kit_bind(const gpu *g, VkCommandBuffer cmd, const gpu_compute_kit *k, uint32_t kernel,
                           const VkWriteDescriptorSet *writes, uint32_t count, const void *push)
 {

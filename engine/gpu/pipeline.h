@@ -86,12 +86,6 @@ void gpu_compute_kit_destroy(gpu *g, gpu_compute_kit *k);
  * has them, its push constants from `push`. */
 void gpu_compute_kit_bind(const gpu *g, VkCommandBuffer cmd, const gpu_compute_kit *k, uint32_t kernel,
                           const VkWriteDescriptorSet *writes, uint32_t count, const void *push);
-/* Storage writes of the dispatches before it visible to the storage reads
- * of those after it, inside one pass (between passes the graph derives
- * the barriers). */
-void gpu_compute_barrier(VkCommandBuffer cmd);
-/* The same, also to the indirect dispatch sizes read after it. */
-void gpu_compute_barrier_indirect(VkCommandBuffer cmd);
 
 /* The descriptor of one binding: an image, a whole buffer or a texel view. */
 typedef struct gpu_binding {

@@ -67,6 +67,11 @@ rg_state rg_usage_state(rg_usage usage, rg_pass_type type, bool is_image, VkForm
     case RG_INDIRECT:
         return (rg_state){VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT, none, true,
                           false};
+    case RG_INDIRECT_STORAGE:
+        return (rg_state){VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | shaders,
+                          VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT |
+                              VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                          none, true, true};
     case RG_TRANSFER_SRC:
         return (rg_state){VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                           is_image ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : none, true, false};
@@ -220,7 +225,7 @@ const char *rg_usage_name(rg_usage u)
         [RG_STORAGE_WRITE] = "storage-write", [RG_STORAGE_READ_WRITE] = "storage-read-write",
         [RG_UNIFORM] = "uniform",           [RG_VERTEX] = "vertex",
         [RG_INDEX] = "index",               [RG_INDIRECT] = "indirect",
-        [RG_TRANSFER_SRC] = "transfer-src",
+        [RG_INDIRECT_STORAGE] = "indirect-storage", [RG_TRANSFER_SRC] = "transfer-src",
         [RG_TRANSFER_DST] = "transfer-dst", [RG_HOST_READ] = "host-read",
         [RG_PRESENT] = "present",
     };
@@ -280,7 +285,7 @@ static bool image_only(rg_usage u)
 
 static bool buffer_only(rg_usage u)
 {
-    return u == RG_UNIFORM || u == RG_VERTEX || u == RG_INDEX || u == RG_INDIRECT;
+    return u == RG_UNIFORM || u == RG_VERTEX || u == RG_INDEX || u == RG_INDIRECT || u == RG_INDIRECT_STORAGE;
 }
 
 static bool is_transfer(rg_usage u)
@@ -579,6 +584,9 @@ static void alias(rg_graph *g)
         case RG_VERTEX: p->buffer_usage |= VK_BUFFER_USAGE_VERTEX_BUFFER_BIT; break;
         case RG_INDEX: p->buffer_usage |= VK_BUFFER_USAGE_INDEX_BUFFER_BIT; break;
         case RG_INDIRECT: p->buffer_usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT; break;
+        case RG_INDIRECT_STORAGE:
+            p->buffer_usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+            break;
         case RG_TRANSFER_SRC:
             p->image_usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
             p->buffer_usage |= VK_BUFFER_USAGE_TRANSFER_SRC_BIT;

@@ -60,6 +60,8 @@ typedef enum rg_usage {
     RG_VERTEX,             /* vertex buffer */
     RG_INDEX,              /* index buffer */
     RG_INDIRECT,           /* indirect draw or dispatch arguments */
+    RG_INDIRECT_STORAGE,   /* a work list: indirect arguments in a storage buffer
+                              the pass also reads and writes */
     RG_TRANSFER_SRC,
     RG_TRANSFER_DST,
     RG_HOST_READ,          /* final state only: the CPU reads it after the frame */
@@ -168,6 +170,12 @@ void rg_execute(rg_graph *g, VkCommandBuffer cmd, uint32_t slot);
  * final barriers after the last): a profiler submits each pass on its own
  * and times it by the wall clock (no timestamps). */
 void rg_execute_pass(rg_graph *g, VkCommandBuffer cmd, uint32_t o);
+/* Records the ordered passes [first, end) into a command buffer a host
+ * records too (the SDK): from the first pass on, a full memory dependency on
+ * what the host recorded before (the graph cannot know which of its
+ * imported images the host wrote, nor at which stage), then each pass as
+ * rg_execute_pass does. */
+void rg_execute_range(rg_graph *g, VkCommandBuffer cmd, uint32_t first, uint32_t end);
 /* After that slot's command buffer completed: GPU ms of each ordered pass
  * (NaN when the device has no timestamps). Returns the number of passes. */
 uint32_t rg_timings(rg_graph *g, uint32_t slot, double *ms, uint32_t cap);

@@ -226,6 +226,21 @@ void rg_execute_pass(rg_graph *g, VkCommandBuffer cmd, uint32_t o)
         record_barriers(g, cmd, g->order_count);
 }
 
+void rg_execute_range(rg_graph *g, VkCommandBuffer cmd, uint32_t first, uint32_t end)
+{
+    if (first == 0) {
+        VkMemoryBarrier2 host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                                 .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                 .srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT,
+                                 .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                                 .dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT};
+        vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
+                                                       .memoryBarrierCount = 1, .pMemoryBarriers = &host});
+    }
+    for (uint32_t o = first; o < end; o++)
+        rg_execute_pass(g, cmd, o);
+}
+
 uint32_t rg_timings(rg_graph *g, uint32_t slot, double *ms, uint32_t cap)
 {
     uint32_t n = g->order_count < cap ? g->order_count : cap;

@@ -35,27 +35,22 @@ static void place_picture(present_gpu *p)
     p->blit_max = (VkOffset2D){p->blit_min.x + w, p->blit_min.y + h};
 }
 
+/* The bars: black where the picture does not land (the whole image when it
+ * does not fill the window; the blit then writes its middle). */
+static void clear_execute(const rg_context *ctx, void *user)
+{
+    present_gpu *p = user;
+    VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(rg_ctx_cmd(ctx), rg_ctx_image(ctx, p->target), rg_ctx_layout(ctx, p->target),
+                         &(VkClearColorValue){{0, 0, 0, 1}}, 1, &all);
+}
+
 static void blit_execute(const rg_context *ctx, void *user)
 {
     present_gpu *p = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     VkImage dst = rg_ctx_image(ctx, p->target);
     VkImageLayout dst_layout = rg_ctx_layout(ctx, p->target);
-    VkImageSubresourceRange all = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    /* The bars: black where the picture does not land (the whole image
-     * when it does not fill the window; the blit then writes its middle). */
-    if (p->blit_min.x > 0 || p->blit_min.y > 0) {
-        vkCmdClearColorImage(cmd, dst, dst_layout, &(VkClearColorValue){{0, 0, 0, 1}}, 1, &all);
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, NULL, 0, NULL, 1,
-                             &(VkImageMemoryBarrier){
-                                 .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
-                                 .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                                 .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                                 .oldLayout = dst_layout, .newLayout = dst_layout,
-                                 .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                 .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                 .image = dst, .subresourceRange = all});
-    }
     VkExtent2D src = source_size(p);
     rg_res from = p->res->stereo.id ? p->res->stereo : p->res->color;
     VkImageBlit blit = {
@@ -74,10 +69,15 @@ rg_res present_gpu_add(present_gpu *p, rg_graph *g, frame_resources *res)
     place_picture(p);
     p->target = rg_import_image(g, &(rg_image_desc){"swapchain", p->format, p->extent.width, p->extent.height, 1},
                                 &(rg_import_desc){.initial = RG_PRESENT, .final = RG_PRESENT});
+    /* The window has no history: the clear and the blit cover every pixel. */
+    if (p->blit_min.x > 0 || p->blit_min.y > 0) {
+        rg_pass clear = rg_pass_add(g, &(rg_pass_desc){.name = "present.clear", .type = RG_PASS_TRANSFER,
+                                                       .execute = clear_execute, .user = p});
+        rg_use(g, clear, p->target, RG_TRANSFER_DST);
+    }
     rg_pass blit = rg_pass_add(g, &(rg_pass_desc){.name = "present.blit", .type = RG_PASS_TRANSFER,
                                                   .execute = blit_execute, .user = p});
     rg_use(g, blit, res->stereo.id ? res->stereo : res->color, RG_TRANSFER_SRC);
-    /* The window has no history: the clear and the blit cover every pixel. */
     rg_use(g, blit, p->target, RG_TRANSFER_DST);
     return p->target;
 }

@@ -651,27 +651,12 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
  * the layouts every later dispatch finds them in. */
 static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
 {
-    VkImageMemoryBarrier2 b[6];
-    uint32_t n = 0;
     for (int i = 0; i < 6; i++) {
         const gpu_image *img = i < 3 ? &c->out[i] : i == 5 ? &c->linear : &c->blank[i - 3];
-        if (!img->image)
-            continue;
-        b[n++] = (VkImageMemoryBarrier2){
-            .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
-            .srcStageMask = VK_PIPELINE_STAGE_2_NONE,
-            .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-            .dstAccessMask = VK_ACCESS_2_SHADER_READ_BIT,
-            .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .newLayout = i < 3 || i == 5 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL,
-            .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-            .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-            .image = img->image,
-            .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1},
-        };
+        if (img->image)
+            gpu_cmd_enter_layout(cmd, img->image, VK_IMAGE_ASPECT_COLOR_BIT,
+                                 i < 3 || i == 5 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL);
     }
-    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
-                                                   .imageMemoryBarrierCount = n, .pImageMemoryBarriers = b});
 }
 
 static vg_status check_image(const char *gbuffer, const char *name, const vgx_image *img, bool device_depth)
@@ -825,8 +810,7 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
         return VG_ERR_ARG;
     }
     if (first > 0) {
-        for (uint32_t o = first; o < end; o++)
-            rg_execute_pass(c->graph, d->command_buffer, o);
+        rg_execute_range(c->graph, d->command_buffer, first, end);
         c->next_pass = end == passes ? 0 : end;
         c->planned = c->next_pass != 0;
         return VG_OK;
@@ -853,16 +837,9 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
         first_transitions(c, cmd);
         c->initialised = true;
     }
-    /* The host's earlier writes to its images, whichever stage made them. */
-    VkMemoryBarrier2 host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
-                             .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                             .srcAccessMask = VK_ACCESS_2_MEMORY_WRITE_BIT,
-                             .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                             .dstAccessMask = VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT};
-    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
-                                                   .memoryBarrierCount = 1, .pMemoryBarriers = &host});
-    for (uint32_t o = 0; o < end; o++)
-        rg_execute_pass(c->graph, cmd, o);
+    /* The host's earlier writes to its images, whichever stage made them:
+     * the graph's first barrier. */
+    rg_execute_range(c->graph, cmd, 0, end);
     c->next_pass = end == passes ? 0 : end;
     c->planned = c->next_pass != 0;
     return VG_OK;

@@ -20,6 +20,10 @@ usage: arch_test.py BUILD_DIR CASE
              spell a value again (include/vergence/*.glsl, for hosts that
              include no engine header), both sides are read and must agree:
              arcmin per radian, the curve's bins, the cascade's stage ids
+  barriers   the frame graph records every barrier: no vkCmdPipelineBarrier*
+             in the sources outside engine/graph and engine/gpu (a pass of
+             dependent dispatches is several steps of the graph), and the
+             pre-synchronization2 vkCmdPipelineBarrier nowhere
   formats    one Python module reads the tests' and tools' PFM, .flo and PNG
              files and writes their PFM and .flo (issue 41): tools/vgformats.py
              defines the readers and writers, and no other Python file under
@@ -322,6 +326,30 @@ def case_constants():
     print(f"the Weber fraction {k:g} (1 / {inv:g}) is defined in {home} alone")
 
 
+BARRIER_HOMES = ("engine/graph/", "engine/gpu/")
+
+
+def case_barriers():
+    call = re.compile(r"\bvkCmdPipelineBarrier(2(?:KHR)?)?\s*\(")
+    found, homes, checked = [], 0, 0
+    for path, text in source_texts():
+        checked += 1
+        for m in call.finditer(text):
+            line = text[:m.start()].count("\n") + 1
+            if not m.group(1):
+                found.append(f"{path}:{line}: vkCmdPipelineBarrier (synchronization2: vkCmdPipelineBarrier2)")
+            elif path.startswith("examples/"):
+                continue  # a host's own barriers around the SDK's dispatch
+            elif not path.startswith(BARRIER_HOMES):
+                found.append(f"{path}:{line}: a barrier outside the frame graph (declare the pass's uses, or "
+                             f"split it into steps)")
+            else:
+                homes += 1
+    if found:
+        fail("barriers recorded outside engine/graph and engine/gpu:\n  " + "\n  ".join(found))
+    print(f"{checked} source files: {homes} barrier calls, all in {' and '.join(BARRIER_HOMES)}")
+
+
 FORMATS_HOME = "tools/vgformats.py"
 # Written so that this file does not match them itself.
 FORMAT_CODE = [
@@ -362,5 +390,5 @@ if __name__ == "__main__":
     build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
     {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
      "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence")),
-     "constants": case_constants, "formats": case_formats}[case]()
+     "constants": case_constants, "barriers": case_barriers, "formats": case_formats}[case]()
     print("ok")

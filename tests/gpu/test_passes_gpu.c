@@ -415,7 +415,14 @@ static void curve_execute(const rg_context *ctx, void *user, int which)
     }
     vkCmdDispatch(cmd, t->tiles_x, t->tiles_y, 1);
     if (which == 0) { /* the range: per tile, then over the tiles (the shader's other specialisation) */
-        gpu_compute_barrier(cmd);
+        /* The test's own graph pass runs both stages (the engine's are two steps). */
+        VkMemoryBarrier2 mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                               .srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                               .srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                               .dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                               .dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
+        vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
+                                                       .memoryBarrierCount = 1, .pMemoryBarriers = &mb});
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, t->pipe[1]);
         vkCmdDispatch(cmd, 1, 1, 1);
     }

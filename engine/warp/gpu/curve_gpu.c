@@ -95,15 +95,18 @@ static void bind(const curve_gpu *c, const rg_context *ctx, uint32_t kernel)
  * tile_count (the bins pass overwrites it next), then one workgroup over
  * the tiles. One workgroup over every pixel took 2.4 ms at 1920x1080 on an
  * H200 and ran on one core of lavapipe. */
+static void range_tiles_execute(const rg_context *ctx, void *user)
+{
+    curve_gpu *c = user;
+    bind(c, ctx, K_RANGE_TILES);
+    vkCmdDispatch(rg_ctx_cmd(ctx), c->tiles_x, c->tiles_y, 1);
+}
+
 static void range_execute(const rg_context *ctx, void *user)
 {
     curve_gpu *c = user;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    bind(c, ctx, K_RANGE_TILES);
-    vkCmdDispatch(cmd, c->tiles_x, c->tiles_y, 1);
-    gpu_compute_barrier(cmd);
     bind(c, ctx, K_RANGE);
-    vkCmdDispatch(cmd, 1, 1, 1);
+    vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
 }
 
 static void bins_execute(const rg_context *ctx, void *user)
@@ -127,12 +130,19 @@ void curve_gpu_add(curve_gpu *c, rg_graph *g, rg_res depth, rg_res target, rg_re
     c->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
     c->tiles_sum = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_sum", tiles});
     c->tiles_offset = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_offset", tiles});
+    /* Both range steps bind the images (one descriptor layout); the first
+     * reads them, the second the tiles' ranges. */
+    rg_pass tiles_range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range.tiles", .type = RG_PASS_COMPUTE,
+                                                         .execute = range_tiles_execute, .user = c});
+    rg_use(g, tiles_range, depth, RG_STORAGE_READ);
+    rg_use(g, tiles_range, target, RG_STORAGE_READ);
+    rg_use(g, tiles_range, c->tiles_count, RG_STORAGE_WRITE);
     rg_pass range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range", .type = RG_PASS_COMPUTE,
                                                    .execute = range_execute, .user = c});
     rg_use(g, range, depth, RG_STORAGE_READ);
     rg_use(g, range, target, RG_STORAGE_READ);
+    rg_use(g, range, c->tiles_count, RG_STORAGE_READ);
     rg_use(g, range, curve, RG_STORAGE_WRITE);
-    rg_use(g, range, c->tiles_count, RG_STORAGE_WRITE); /* then read back in the pass */
     rg_pass bins = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.bins", .type = RG_PASS_COMPUTE,
                                                   .execute = bins_execute, .user = c});
     rg_use(g, bins, depth, RG_STORAGE_READ);

@@ -69,6 +69,10 @@ struct warp_gpu {
         warp_gpu *w;
         rg_res color, aux, list;
         uint32_t eye;
+        struct fill_step {
+            const struct fill_pass *fill;
+            uint32_t kernel;
+        } steps[4];
     } fills[2];
     rg_res fill_header_res;
     /* this frame's graph resources */
@@ -139,39 +143,53 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel, u
     gpu_compute_kit_bind(fc->gpu, rg_ctx_cmd(ctx), &w->classify, kernel, wr, 3 + NB, &push);
 }
 
-/* Cull the triangles, warp each vertex a visible one uses and level each
- * edge (both once, however many triangles share them), then gather each
- * triangle's kind and count the chunks' (the barrier reduction only there:
- * lavapipe runs a kernel with a barrier as coroutines, and the edge levels
- * are the pass's main cost). */
-static void classify_execute(const rg_context *ctx, void *user)
+/* warp.classify, four steps (the graph orders them): cull the triangles,
+ * warp each vertex a visible one uses and level each edge (both once,
+ * however many triangles share them), sample the edges and search the
+ * vertices the work lists hold, then gather each triangle's kind and count
+ * the chunks' (the barrier reduction only there: lavapipe runs a kernel with
+ * a barrier as coroutines, and the edge levels are the pass's main cost). */
+static void cull_execute(const rg_context *ctx, void *user)
 {
     warp_gpu *w = user;
-    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     if (++w->stamp == 0) /* 0 is what vertex_seen starts as */
         w->stamp = 1;
     bind_classify(w, ctx, K_CULL, 0);
-    vkCmdDispatch(cmd, w->chunk_count ? w->chunk_count : 1, 1, 1); /* one group resets the work lists */
-    gpu_compute_barrier(cmd);
+    vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count ? w->chunk_count : 1, 1, 1); /* one group resets the work lists */
+}
+
+static void vertices_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     bind_classify(w, ctx, K_VERTICES, 0);
     vkCmdDispatch(cmd, (w->fc->scene->vertex_count + 63) / 64, 1, 1);
     if (w->edge_count) {
         bind_classify(w, ctx, K_EDGES, 0);
         vkCmdDispatch(cmd, (w->edge_count + 63) / 64, 1, 1);
     }
-    gpu_compute_barrier_indirect(cmd);
-    /* The edges to sample, bucket by bucket, then the vertices the 3x3
-     * neighbourhood left to the Halton search (warp_edges.comp,
-     * warp_vertices.glsl). */
+}
+
+/* The edges to sample, bucket by bucket, then the vertices the 3x3
+ * neighbourhood left to the Halton search (warp_edges.comp,
+ * warp_vertices.glsl), as the work lists' indirect dispatches. */
+static void levels_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
+    VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     for (uint32_t k = 0; k < VG_EDGE_BUCKETS && w->edge_count; k++) {
         bind_classify(w, ctx, K_EDGE_LEVELS, k);
         vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(k));
     }
     bind_classify(w, ctx, K_VERTEX_SEARCH, 0);
     vkCmdDispatchIndirect(cmd, w->classify_work.buffer, VG_WORKLIST_ARGS(VG_HALTON_LIST));
-    gpu_compute_barrier(cmd);
+}
+
+static void gather_execute(const rg_context *ctx, void *user)
+{
+    warp_gpu *w = user;
     bind_classify(w, ctx, K_CLASSIFY, 0);
-    vkCmdDispatch(cmd, w->chunk_count, 1, 1);
+    vkCmdDispatch(rg_ctx_cmd(ctx), w->chunk_count, 1, 1);
 }
 
 static void compact_execute(const rg_context *ctx, void *user)
@@ -317,11 +335,12 @@ static void eye_execute(const rg_context *ctx, void *user)
     vkCmdDraw(cmd, 3, 1, 0, 0);
 }
 
-/* warp.fill (shaders/warp_fill.glsl): candidates over every pixel, then
- * the test and the mean over the candidates only, in the eye's own images. */
-static void fill_execute(const rg_context *ctx, void *user)
+/* warp.fill (shaders/warp_fill.glsl), four steps in the eye's own images:
+ * reset the eye's counts, candidates over every pixel, then the test and the
+ * mean over the candidates only (indirect, as many as the find step listed). */
+static void fill_bind(const rg_context *ctx, const struct fill_step *step)
 {
-    struct fill_pass *f = user;
+    const struct fill_pass *f = step->fill;
     warp_gpu *w = f->w;
     const rg_res images[3] = {f->color, f->aux, w->res->ids};
     VkDescriptorImageInfo info[3];
@@ -334,19 +353,22 @@ static void fill_execute(const rg_context *ctx, void *user)
     b[3] = GPU_STORAGE_BUFFER(w->fill_header.buffer);
     b[4] = GPU_STORAGE_BUFFER(rg_ctx_buffer(ctx, f->list));
     uint32_t slot = f->eye;
-    VkDeviceSize args = VG_WORKLIST_ARGS(slot);
+    gpu_compute_kit_bind_list(w->fc->gpu, rg_ctx_cmd(ctx), &w->fill, step->kernel, b, 5, &slot);
+}
+
+static void fill_execute(const rg_context *ctx, void *user)
+{
+    const struct fill_step *step = user;
+    const struct fill_pass *f = step->fill;
+    const warp_gpu *w = f->w;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_RESET, b, 5, &slot);
-    vkCmdDispatch(cmd, 1, 1, 1);
-    gpu_compute_barrier(cmd);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_FIND, b, 5, &slot);
-    vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
-    gpu_compute_barrier_indirect(cmd);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_TEST, b, 5, &slot);
-    vkCmdDispatchIndirect(cmd, w->fill_header.buffer, args);
-    gpu_compute_barrier(cmd);
-    gpu_compute_kit_bind_list(w->fc->gpu, cmd, &w->fill, K_FILL_APPLY, b, 5, &slot);
-    vkCmdDispatchIndirect(cmd, w->fill_header.buffer, args);
+    fill_bind(ctx, step);
+    if (step->kernel == K_FILL_RESET)
+        vkCmdDispatch(cmd, 1, 1, 1);
+    else if (step->kernel == K_FILL_FIND)
+        vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
+    else
+        vkCmdDispatchIndirect(cmd, w->fill_header.buffer, VG_WORKLIST_ARGS(f->eye));
 }
 
 static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e, const char *name,
@@ -430,22 +452,35 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         w->classify_work_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.classify_work", w->classify_work.size},
                                             &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
                                                               .final = RG_STORAGE_READ_WRITE});
-        /* Both passes push the same descriptors; each declares what it touches. */
-        rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = "warp.classify", .type = RG_PASS_COMPUTE,
-                                                     .execute = classify_execute, .user = w});
-        rg_use(g, cls, res->ubo, RG_STORAGE_READ);
-        rg_use(g, cls, res->depth, RG_SAMPLED);
-        rg_use(g, cls, target, RG_SAMPLED);
-        rg_use(g, cls, res->curve, RG_STORAGE_READ);
-        rg_use(g, cls, res->vertices, RG_STORAGE_READ);
-        rg_use(g, cls, res->indices, RG_STORAGE_READ);
-        /* Written first within the pass (its own barriers order its three dispatches). */
-        rg_use(g, cls, w->kinds, RG_STORAGE_WRITE);
-        rg_use(g, cls, w->counts, RG_STORAGE_WRITE);
-        rg_use(g, cls, w->edge_levels, RG_STORAGE_WRITE);
-        rg_use(g, cls, w->vertex_warp, RG_STORAGE_WRITE);
-        rg_use(g, cls, w->vertex_seen_res, RG_STORAGE_READ_WRITE);
-        rg_use(g, cls, w->classify_work_res, RG_STORAGE_READ_WRITE);
+        /* The steps push the same descriptors; each declares what the kit's
+         * kernels touch, the buffers they write written whole by the first
+         * step, and the work lists as indirect arguments where dispatched
+         * from. */
+        static const struct {
+            const char *name;
+            rg_execute_fn execute;
+            bool indirect;
+        } steps[] = {{"warp.classify.cull", cull_execute, false},
+                     {"warp.classify.vertices", vertices_execute, false},
+                     {"warp.classify.levels", levels_execute, true},
+                     {"warp.classify.gather", gather_execute, false}};
+        for (size_t i = 0; i < sizeof steps / sizeof steps[0]; i++) {
+            rg_pass cls = rg_pass_add(g, &(rg_pass_desc){.name = steps[i].name, .type = RG_PASS_COMPUTE,
+                                                         .execute = steps[i].execute, .user = w});
+            rg_usage out = i == 0 ? RG_STORAGE_WRITE : RG_STORAGE_READ_WRITE;
+            rg_use(g, cls, res->ubo, RG_STORAGE_READ);
+            rg_use(g, cls, res->depth, RG_SAMPLED);
+            rg_use(g, cls, target, RG_SAMPLED);
+            rg_use(g, cls, res->curve, RG_STORAGE_READ);
+            rg_use(g, cls, res->vertices, RG_STORAGE_READ);
+            rg_use(g, cls, res->indices, RG_STORAGE_READ);
+            rg_use(g, cls, w->kinds, out);
+            rg_use(g, cls, w->counts, out);
+            rg_use(g, cls, w->edge_levels, out);
+            rg_use(g, cls, w->vertex_warp, out);
+            rg_use(g, cls, w->vertex_seen_res, RG_STORAGE_READ_WRITE);
+            rg_use(g, cls, w->classify_work_res, steps[i].indirect ? RG_INDIRECT_STORAGE : RG_STORAGE_READ_WRITE);
+        }
         rg_pass cpt = rg_pass_add(g, &(rg_pass_desc){.name = "warp.compact", .type = RG_PASS_COMPUTE,
                                                      .execute = compact_execute, .user = w});
         rg_use(g, cpt, res->depth, RG_SAMPLED);
@@ -489,13 +524,20 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         f->list = rg_buffer(g, &(rg_buffer_desc){i ? "warp.fill.right.list" : "warp.fill.left.list",
                                                   (uint64_t)width * height * sizeof(uint32_t)});
         add_eye(w, g, res, &w->eyes[i], names[kind][i], color, aux);
-        rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = i ? "warp.fill.right" : "warp.fill.left",
-                                                   .type = RG_PASS_COMPUTE, .execute = fill_execute, .user = f});
-        rg_use(g, p, color, RG_STORAGE_READ_WRITE);
-        rg_use(g, p, aux, RG_STORAGE_READ_WRITE);
-        rg_use(g, p, res->ids, RG_STORAGE_READ);
-        rg_use(g, p, w->fill_header_res, RG_STORAGE_READ_WRITE);
-        rg_use(g, p, f->list, RG_STORAGE_WRITE);
+        static const char *const step_names[2][4] = {
+            {"warp.fill.left.reset", "warp.fill.left.find", "warp.fill.left.test", "warp.fill.left.apply"},
+            {"warp.fill.right.reset", "warp.fill.right.find", "warp.fill.right.test", "warp.fill.right.apply"}};
+        for (uint32_t k = K_FILL_RESET; k <= K_FILL_APPLY; k++) {
+            f->steps[k] = (struct fill_step){f, k};
+            rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = step_names[i][k], .type = RG_PASS_COMPUTE,
+                                                       .execute = fill_execute, .user = &f->steps[k]});
+            rg_use(g, p, color, RG_STORAGE_READ_WRITE);
+            rg_use(g, p, aux, RG_STORAGE_READ_WRITE);
+            rg_use(g, p, res->ids, RG_STORAGE_READ);
+            bool indirect = k == K_FILL_TEST || k == K_FILL_APPLY;
+            rg_use(g, p, w->fill_header_res, indirect ? RG_INDIRECT_STORAGE : RG_STORAGE_READ_WRITE);
+            rg_use(g, p, f->list, k == K_FILL_RESET ? RG_STORAGE_WRITE : RG_STORAGE_READ_WRITE);
+        }
     }
     if (d->reference && kind != EYE_CAMERAS) {
         res->ref_left = rg_image(g, &(rg_image_desc){"reference.left", WARP_COLOR_FORMAT, width, height, 1});
