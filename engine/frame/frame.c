@@ -11,7 +11,7 @@
 #include "core/clock.h"
 #include "core/log.h"
 #include "disparity/gpu/disparity_gpu.h"
-#include "disparity/gpu/keyframe_gpu.h"
+#include "keyframe_gpu.h"
 #include "disparity/mid_window.h"
 #include "render/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
@@ -44,8 +44,12 @@ typedef struct vgx_pass {
     uint32_t index;
 } vgx_pass;
 
+const char *const frame_look_ahead_names[] = {"foresight", "causal", NULL};
+const char *const frame_saliency_names[] = {"auto", "authored", "computed", NULL};
+
 struct frame {
-    frame_ctx fc;
+    frame_desc desc;             /* as asked, defaults resolved (frame_get_desc) */
+    frame_ctx fc;                /* fc.desc: the part the pass modules render */
     gbuffer_gpu *gbuffer;
     vgx_context *vgx;            /* the disparity passes, through the public API (include/vergence) */
     vgx_pass vgx_passes[FRAME_MAX_VGX_PASSES];
@@ -126,7 +130,7 @@ static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint
 
 /* Two real cameras showing g need no disparity map: only their measures
  * and the readback of the maps do. Every other stereo frame draws one. */
-static bool frame_needs_maps(const frame_desc *d)
+static bool frame_needs_maps(const render_desc *d)
 {
     return d->stereo != FRAME_STEREO_OFF &&
            (d->stereo != FRAME_STEREO_CAMERAS || d->mode != FRAME_MODE_ORIGINAL || d->measure || d->readback);
@@ -458,6 +462,21 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     return d;
 }
 
+/* The part of a resolved frame_desc the pass modules render. */
+static render_desc render_settings(const frame_desc *d)
+{
+    render_desc r = {
+        .width = d->width, .height = d->height, .fps = d->fps, .keyframe_stride = d->keyframe_stride,
+        .camera = d->camera, .readback = d->readback, .maps_only = d->maps_only, .shadow_size = d->shadow_size,
+        .display = d->display, .rig = d->rig, .stereo = d->stereo, .mode = d->mode, .compose = d->compose,
+        .swap_eyes = d->swap_eyes, .max_tess_level = d->max_tess_level, .reference = d->reference,
+        .measure = d->measure, .overlay = d->overlay, .present_format = d->present_format,
+        .present_width = d->present_width, .present_height = d->present_height, .curve = d->curve,
+    };
+    memcpy(r.probe_ids, d->probe_ids, sizeof r.probe_ids);
+    return r;
+}
+
 bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap)
 {
     uint32_t st = disparity_gpu_grid_stride(width, height, 0);
@@ -477,7 +496,7 @@ bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap)
 static vg_status disparity_create(frame *f)
 {
     frame_ctx *fc = &f->fc;
-    const frame_desc *fd = &fc->desc; /* defaults resolved */
+    const frame_desc *fd = &f->desc;
     gpu *g = fc->gpu;
     bool optimize = fd->mode == FRAME_MODE_OPTIMIZED || fd->measure || (fd->readback && !fd->maps_only);
     const stereo_display_desc *dd = &fd->display;
@@ -523,19 +542,20 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     frame_ctx *fc = &f->fc;
     fc->gpu = g;
     fc->scene = s;
-    fc->desc = resolve_defaults(desc);
+    f->desc = resolve_defaults(desc);
+    if (f->desc.max_tess_level > g->props.limits.maxTessellationGenerationLevel)
+        f->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
+    if (f->desc.shadow_size * VG_SHADOW_CASCADES > g->props.limits.maxImageDimension2D)
+        f->desc.shadow_size = g->props.limits.maxImageDimension2D / VG_SHADOW_CASCADES;
+    fc->desc = render_settings(&f->desc);
     fc->slot = -1;
     stereo_display_init(&fc->display, &fc->desc.display);
-    if (fc->desc.max_tess_level > g->props.limits.maxTessellationGenerationLevel)
-        fc->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
-    if (fc->desc.shadow_size * VG_SHADOW_CASCADES > g->props.limits.maxImageDimension2D)
-        fc->desc.shadow_size = g->props.limits.maxImageDimension2D / VG_SHADOW_CASCADES;
 
     vg_status st = scene_gpu_create(g, s, &fc->sg);
-    if (fc->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
-        fc->sg.causal_step = (float)(1.0 / fc->desc.fps); /* the last frame and one time step before it */
-    fc->sg.computed_saliency = fc->desc.saliency == FRAME_SALIENCY_COMPUTED ||
-                               (fc->desc.saliency == FRAME_SALIENCY_AUTO && !scene_has_saliency(s));
+    if (f->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
+        fc->sg.causal_step = (float)(1.0 / f->desc.fps); /* the last frame and one time step before it */
+    fc->sg.computed_saliency = f->desc.saliency == FRAME_SALIENCY_COMPUTED ||
+                               (f->desc.saliency == FRAME_SALIENCY_AUTO && !scene_has_saliency(s));
     if (st == VG_OK)
         st = create_layouts(fc);
     if (st == VG_OK)
@@ -697,9 +717,10 @@ static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
  * image width; the off-axis eye cameras are the centre camera moved by half
  * the interaxial along its right axis with the frustum shifted so depth c
  * lands on the screen (asymmetric frusta, no toe-in). */
-static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
+static void stereo_setup(frame *f, vg_frame_ubo *u)
 {
-    const frame_desc *d = &fc->desc;
+    frame_ctx *fc = &f->fc;
+    const frame_desc *d = &f->desc;
     stereo_camera_desc rig = d->rig;
     rig.hfov_deg = 2.0 * atan(tan(0.5 * fc->cam.yfov) * fc->cam.aspect) * 180.0 / M_PI;
     rig.image_width = (int)d->width;
@@ -722,8 +743,9 @@ static void stereo_setup(frame_ctx *fc, vg_frame_ubo *u)
 }
 
 /* The frame's constants. */
-static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
+static void fill_ubo(frame *f, vg_frame_ubo *u)
 {
+    frame_ctx *fc = &f->fc;
     memset(u, 0, sizeof *u);
     memcpy(u->view_proj.m, fc->cam.view_proj, 64);
     memcpy(u->view_proj_prev.m, fc->cam_prev.view_proj, 64);
@@ -737,7 +759,7 @@ static void fill_ubo(frame_ctx *fc, vg_frame_ubo *u)
     memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
                                      1.0f / (float)fc->desc.height}, 16);
     light_setup(fc, u);
-    stereo_setup(fc, u);
+    stereo_setup(f, u);
     /* Computed saliency: the contrast's reference colour and the depth
      * scale, the camera's distance to the scene's centre. */
     const float *lo = fc->sg.now.bounds_min, *hi = fc->sg.now.bounds_max;
@@ -785,7 +807,7 @@ static vg_status frame_begin(frame *f, long index)
     scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
     scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
     vg_frame_ubo *u = fc->ubo[slot].mapped;
-    fill_ubo(fc, u);
+    fill_ubo(f, u);
     f->outputs.shadow_texel_m[0] = u->shadow.v[1];
     f->outputs.shadow_texel_m[1] = u->shadow.v[2];
     f->outputs.shadow_split_m = u->shadow.v[0];
@@ -996,7 +1018,7 @@ int frame_take_probes(frame *f, frame_probe *out, int cap)
 const frame_outputs *frame_get_outputs(const frame *f) { return &f->outputs; }
 const frame_times *frame_get_times(const frame *f) { return &f->fc.times; }
 const vg_camera *frame_get_camera(const frame *f) { return &f->fc.cam; }
-const frame_desc *frame_get_desc(const frame *f) { return &f->fc.desc; }
+const frame_desc *frame_get_desc(const frame *f) { return &f->desc; }
 rg_graph *frame_get_graph(frame *f) { return f->graph; }
 
 void frame_restart(frame *f)

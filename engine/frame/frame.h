@@ -14,7 +14,7 @@
 #include <stdio.h>
 
 #include "graph/graph.h"
-#include "render/frame_types.h"
+#include "frame_desc.h"
 #include "scene/scene.h"
 
 typedef struct frame frame;

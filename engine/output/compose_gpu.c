@@ -27,7 +27,7 @@ _Static_assert(FRAME_COMPOSE_SBS - 1 == VG_COMPOSE_SBS && FRAME_COMPOSE_RIGHT - 
                "compose mode numbering differs between C and GLSL");
 
 /* The copy regions of a layout, or 0 when it needs the shader. */
-static int copy_regions(const frame_desc *d, VkImageCopy copy[2], bool right[2])
+static int copy_regions(const render_desc *d, VkImageCopy copy[2], bool right[2])
 {
     frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
     bool one = d->compose == FRAME_COMPOSE_LEFT || d->compose == FRAME_COMPOSE_RIGHT;
@@ -72,7 +72,7 @@ static void compose_execute(const rg_context *ctx, void *user)
         {.imageView = rg_ctx_view(ctx, r->stereo), .imageLayout = rg_ctx_layout(ctx, r->stereo)},
     };
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    const frame_desc *d = &c->fc->desc;
+    const render_desc *d = &c->fc->desc;
     frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
     vg_compose_push push = {.swap = d->swap_eyes, .width = d->width, .height = d->height};
     for (int e = 0; e < 2; e++) {
@@ -87,7 +87,7 @@ static void compose_execute(const rg_context *ctx, void *user)
 void compose_gpu_add(compose_gpu *c, rg_graph *g, frame_resources *res)
 {
     c->res = res;
-    const frame_desc *d = &c->fc->desc;
+    const render_desc *d = &c->fc->desc;
     frame_compose_size(d->compose, d->width, d->height, &c->out_w, &c->out_h);
     res->stereo = rg_image(g, &(rg_image_desc){"stereo", VK_FORMAT_R8G8B8A8_UNORM, c->out_w, c->out_h, 1});
     c->copies = copy_regions(d, c->copy, c->copy_right);
@@ -115,7 +115,7 @@ vg_status compose_gpu_create(frame_ctx *fc, compose_gpu **out)
     gpu *g = fc->gpu;
     static const VkDescriptorType types[3] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-    const frame_desc *d = &fc->desc;
+    const render_desc *d = &fc->desc;
     frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
     uint32_t layout[2] = {(uint32_t)(d->compose == FRAME_COMPOSE_DEFAULT ? FRAME_COMPOSE_SBS : d->compose) - 1,
                           !l.overlaid};

@@ -15,7 +15,7 @@ struct present_gpu {
 /* Size of what the frame composes (the stereo image, or the centre colour). */
 static VkExtent2D source_size(const present_gpu *p)
 {
-    const frame_desc *d = &p->fc->desc;
+    const render_desc *d = &p->fc->desc;
     VkExtent2D e = {d->width, d->height};
     if (d->stereo != FRAME_STEREO_OFF)
         frame_compose_size(d->compose, d->width, d->height, &e.width, &e.height);

@@ -15,7 +15,7 @@
 typedef struct frame_ctx {
     gpu *gpu;
     const scene *scene;
-    frame_desc desc;             /* defaults resolved */
+    render_desc desc;            /* what the passes render, defaults resolved */
     scene_gpu sg;
     gpu_buffer ubo[VG_FRAMES_IN_FLIGHT];    /* vg_frame_ubo per slot */
     VkDescriptorSetLayout push_layout;      /* set 0: frame UBO (0), shadow map (1), pass images (2..) */

@@ -7,8 +7,6 @@ const char *const frame_compose_names[] = {"sbs", "sbs", "sbs-half", "tb", "rows
                                           "cross-eyed", NULL};
 const char *const frame_stereo_names[] = {"off", "warp", "cameras", "imagewarp", NULL};
 const char *const frame_mode_names[] = {"optimized", "original", "manipulated", "optimized", NULL};
-const char *const frame_look_ahead_names[] = {"foresight", "causal", NULL};
-const char *const frame_saliency_names[] = {"auto", "authored", "computed", NULL};
 
 long frame_keyframe_of(long index, int stride)
 {

@@ -260,7 +260,7 @@ vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out)
     p->fc = fc;
     /* The lit centre colour is only looked at in captures, mono frames and
      * the image-warping baseline; a warped stereo frame shades its eyes. */
-    const frame_desc *d = &fc->desc;
+    const render_desc *d = &fc->desc;
     bool lit = d->readback || d->stereo == FRAME_STEREO_OFF || d->stereo == FRAME_STEREO_IMAGEWARP;
     VkShaderModule svert = 0;
     vg_status st = GPU_SHADER(g, spv_shadow_vert, &svert);

@@ -10,7 +10,7 @@
 #include "core/json_read.h"
 #include "core/log.h"
 #include "offline/offline.h"
-#include "render/frame_types.h"
+#include "frame/frame_desc.h"
 #include "options/display_cli.h"
 
 static const char *const g_solvers[] = {"gauss-newton", "descent", NULL};

@@ -14,7 +14,7 @@
  *      static surround keeps f = h there (no motion, nothing to restore).
  * Deterministic: no threads, no GPU. */
 #pragma once
-#include "render/frame_types.h"
+#include "frame/frame_desc.h"
 #include "scene/scene.h"
 #include "stereo/stereo_display.h"
 #include "disparity/disp_operator.h"

@@ -2,7 +2,7 @@
 #include "game.h"
 
 #include "frame/frame.h"
-#include "render/frame_types.h"
+#include "frame/frame_desc.h"
 
 #include <math.h>
 #include <string.h>

@@ -16,7 +16,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "render/frame_types.h"
+#include "frame/frame_desc.h"
 #include "scene/scene.h"
 
 #define GAME_BALL_RADIUS 0.25   /* metres: the arena's `ball` node (docs/content.md) */

@@ -10,7 +10,7 @@
 #include <stddef.h>
 
 #include "disparity/disp_operator.h"
-#include "render/frame_types.h"
+#include "frame/frame_desc.h"
 #include "scene/scene.h"
 
 #define PREF_SCENES 3

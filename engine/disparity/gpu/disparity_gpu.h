@@ -18,6 +18,7 @@
  * frames") holds keyframes from history and predicted ones; docs/method.md
  * "GPU passes" has the timeline. */
 #pragma once
+#include "disparity/disp_operator.h"
 #include "disparity/mid_solver.h"
 #include "render/frame_ctx.h"
 

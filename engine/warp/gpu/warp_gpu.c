@@ -414,7 +414,7 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
 
 void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
 {
-    const frame_desc *d = &w->fc->desc;
+    const render_desc *d = &w->fc->desc;
     uint32_t width = d->width, height = d->height;
     w->res = res;
     w->target = target;

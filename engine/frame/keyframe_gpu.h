@@ -11,7 +11,7 @@
 #pragma once
 #include <stdint.h>
 
-#include "disparity_gpu.h"
+#include "disparity/gpu/disparity_gpu.h"
 #include "render/frame_ctx.h"
 
 typedef struct keyframe_gpu keyframe_gpu;
