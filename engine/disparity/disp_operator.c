@@ -40,21 +40,13 @@ const char *disp_operator_kind_name(disp_operator_kind kind)
     return kind >= DISP_OPERATOR_DEFAULT && kind <= DISP_OPERATOR_LANG_SMOOTHED ? disp_operator_names[kind] : "?";
 }
 
-vg_status disp_operator_create(const disp_operator_desc *desc, disp_operator **out)
+disp_operator_desc disp_operator_desc_defaults(const disp_operator_desc *desc)
 {
-    *out = NULL;
-    if (!(desc->screen_vergence > 0)) {
-        vg_error("operator: screen vergence %g arcmin must be positive", desc->screen_vergence);
-        return VG_ERR_ARG;
-    }
-    disp_operator *op = calloc(1, sizeof *op);
-    if (!op)
-        return VG_ERR_NOMEM;
     disp_operator_desc d = *desc;
     bool study = d.preset == DISP_PRESET_STUDY;
     if (d.kind == DISP_OPERATOR_DEFAULT)
         d.kind = DISP_OPERATOR_LANG;
-    /* Defaults shared with the GPU passes (mid_shared.h). */
+    /* The constants the GPU pass's shader shares (mid_shared.h). */
     if (!(d.range > 0))
         d.range = study ? DISP_OP_RANGE_STUDY : DISP_OP_RANGE_COMFORT;
     if (!(d.floor > 0))
@@ -69,6 +61,20 @@ vg_status disp_operator_create(const disp_operator_desc *desc, disp_operator **o
         d.smooth_seconds = DISP_OP_SMOOTH_SECONDS;
     if (!(d.frame_seconds > 0))
         d.frame_seconds = 1.0 / 60.0;
+    return d;
+}
+
+vg_status disp_operator_create(const disp_operator_desc *desc, disp_operator **out)
+{
+    *out = NULL;
+    if (!(desc->screen_vergence > 0)) {
+        vg_error("operator: screen vergence %g arcmin must be positive", desc->screen_vergence);
+        return VG_ERR_ARG;
+    }
+    disp_operator *op = calloc(1, sizeof *op);
+    if (!op)
+        return VG_ERR_NOMEM;
+    disp_operator_desc d = disp_operator_desc_defaults(desc);
     op->d = d;
     op->lo = d.screen_vergence - d.range;
     op->hi = d.screen_vergence + d.range;

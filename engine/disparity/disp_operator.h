@@ -45,6 +45,10 @@ typedef struct disp_operator_desc {
 
 typedef struct disp_operator disp_operator;
 
+/* desc with every zero field at its default (kind lang, the preset's range
+ * and floor, 128 bins, ...): the one resolution the CPU operator and the GPU
+ * pass (operator_gpu) both make. */
+disp_operator_desc disp_operator_desc_defaults(const disp_operator_desc *desc);
 vg_status disp_operator_create(const disp_operator_desc *desc, disp_operator **out);
 void disp_operator_destroy(disp_operator *op);
 /* Forgets the temporal state (lang-smoothed starts again at the next frame). */

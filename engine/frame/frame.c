@@ -418,10 +418,18 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.width = 960;
         d.height = 540;
     }
-    if (d.fps <= 0)
-        d.fps = 60;
-    if (d.keyframe_stride <= 0)
-        d.keyframe_stride = 10;
+    /* The disparity pipeline's defaults (DESIGN.md steps 4-7) are its own
+     * (disparity_gpu_desc_defaults, as the SDK resolves them). */
+    disparity_gpu_desc dd = disparity_gpu_desc_defaults(&(disparity_gpu_desc){
+        .fps = d.fps, .keyframe_stride = d.keyframe_stride, .coarse_stride = d.coarse_stride,
+        .window_seconds = d.window_seconds, .window_future = d.window_future, .op = d.op, .solver = d.solver});
+    d.fps = dd.fps;
+    d.keyframe_stride = dd.keyframe_stride;
+    d.coarse_stride = dd.coarse_stride;
+    d.window_seconds = dd.window_seconds;
+    d.window_future = dd.window_future;
+    d.op = dd.op;
+    d.solver = dd.solver;
     /* A cascade's texels follow the frame's rows, so a shadow looks the same
      * at every size (light_setup's split depth then depends on the scene
      * alone) and costs in proportion to the pixels, as the other passes. */
@@ -448,17 +456,6 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.rig.interaxial_m = FRAME_DEFAULT_INTERAXIAL;
     if (d.rig.convergence_m <= 0)
         d.rig.convergence_m = FRAME_DEFAULT_CONVERGENCE;
-    /* The disparity pipeline (DESIGN.md steps 4-7). */
-    if (d.op == DISP_OPERATOR_DEFAULT)
-        d.op = DISP_OPERATOR_LANG;
-    if (d.solver == MID_SOLVER_DEFAULT)
-        d.solver = MID_SOLVER_GAUSS_NEWTON;
-    if (!(d.window_seconds > 0))
-        d.window_seconds = MID_WINDOW_SECONDS;
-    if (!(d.window_future > 0) || d.window_future >= 1)
-        d.window_future = MID_WINDOW_FUTURE;
-    if (d.coarse_stride <= 0)
-        d.coarse_stride = MID_COARSE_STRIDE;
     return d;
 }
 

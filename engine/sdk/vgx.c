@@ -250,28 +250,28 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
         .diagonal_in = d->display.diagonal_in, .aspect_w = d->display.aspect_w, .aspect_h = d->display.aspect_h,
         .res_x = d->display.res_x, .res_y = d->display.res_y, .distance_m = d->display.distance_m,
         .ipd_m = d->display.ipd_m});
-    /* The engine's frame resolves the same defaults (frame.c); it tunes
-     * what the public desc does not name (vgx_engine.h). */
+    /* Zero is each setting's default (disparity_gpu_desc_defaults, which
+     * the engine's frame resolves through too); the frame tunes what the
+     * public desc does not name (vgx_engine.h). */
     disparity_gpu_desc dd = {
-        .gpu = c->gpu, .width = d->width, .height = d->height, .fps = d->fps > 0 ? d->fps : 60.0,
-        .keyframe_stride = d->keyframe_stride > 0 ? d->keyframe_stride : MID_KEYFRAME_STRIDE,
-        .coarse_stride = MID_COARSE_STRIDE,
-        .window_seconds = d->window_seconds > 0 ? d->window_seconds : MID_WINDOW_SECONDS,
-        .window_future = MID_WINDOW_FUTURE,
-        .op = d->op == VGX_OPERATOR_DEFAULT ? DISP_OPERATOR_LANG : (disp_operator_kind)d->op,
-        .op_preset = (disp_operator_preset)d->preset, .target_range = d->target_range_arcmin,
-        .screen_vergence = c->display.screen_vergence, .no_saliency = !(d->flags & VGX_CONTEXT_SALIENCY),
-        .solver = MID_SOLVER_GAUSS_NEWTON, .causal = d->look_ahead == VGX_LOOK_AHEAD_CAUSAL,
+        .gpu = c->gpu, .width = d->width, .height = d->height, .fps = d->fps,
+        .keyframe_stride = d->keyframe_stride, .window_seconds = d->window_seconds,
+        .op = (disp_operator_kind)d->op, .op_preset = (disp_operator_preset)d->preset,
+        .target_range = d->target_range_arcmin, .screen_vergence = c->display.screen_vergence,
+        .no_saliency = !(d->flags & VGX_CONTEXT_SALIENCY), .causal = d->look_ahead == VGX_LOOK_AHEAD_CAUSAL,
         .keyframes = keyframes, .f = optimize};
     if (tuning) {
-        dd.coarse_stride = tuning->coarse_stride > 0 ? tuning->coarse_stride : dd.coarse_stride;
-        dd.window_future = tuning->window_future > 0 ? tuning->window_future : dd.window_future;
-        dd.solver = tuning->solver ? tuning->solver : dd.solver;
+        dd.coarse_stride = tuning->coarse_stride;
+        dd.window_future = tuning->window_future;
+        dd.solver = tuning->solver;
         dd.solver_iterations = tuning->solver_iterations;
         dd.temporal_depth_only = tuning->temporal_depth_only;
         dd.readback = tuning->readback;
         dd.budgeted = tuning->budgeted;
     }
+    dd = disparity_gpu_desc_defaults(&dd);
+    c->desc.fps = dd.fps; /* the frame times (begin_frame, vgx_get_keyframe) */
+    c->desc.keyframe_stride = dd.keyframe_stride;
     st = disparity_gpu_create(&dd, &c->d);
     if (st != VG_OK)
         return st;
@@ -438,8 +438,8 @@ static vg_status begin_frame(vgx_context *c, int64_t index, int slot)
         vg_error("vgx_begin_frame: frame_index %lld is out of range (0 to 2^40)", (long long)index);
         return VG_ERR_ARG;
     }
-    int stride = c->desc.keyframe_stride > 0 ? c->desc.keyframe_stride : MID_KEYFRAME_STRIDE;
-    double fps = c->desc.fps > 0 ? c->desc.fps : 60.0;
+    int stride = c->desc.keyframe_stride;
+    double fps = c->desc.fps;
     if (c->next_pass) {
         vg_error("vgx_begin_frame: the last dispatch stopped after pass %u of %u", c->next_pass,
                  rg_order_count(c->graph));
@@ -483,8 +483,8 @@ vgx_result vgx_get_keyframe(const vgx_context *c, uint32_t i, vgx_keyframe *out)
 {
     if (!c || !out || !c->planned || i >= c->plan.keyframe_count)
         return VGX_ERROR_INVALID_ARGUMENT;
-    int stride = c->desc.keyframe_stride > 0 ? c->desc.keyframe_stride : MID_KEYFRAME_STRIDE;
-    double fps = c->desc.fps > 0 ? c->desc.fps : 60.0, step = stride / fps;
+    int stride = c->desc.keyframe_stride;
+    double fps = c->desc.fps, step = stride / fps;
     long k = c->key_first + (long)i;
     /* The times the frame at that keyframe would be rendered at, and its
      * neighbouring keyframes (keyframe_gpu, the engine's renderer of the atlas). */

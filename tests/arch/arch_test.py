@@ -20,7 +20,8 @@ usage: arch_test.py BUILD_DIR CASE
              defined in the sources); where the public GLSL of the SDK must
              spell a value again (include/vergence/*.glsl, for hosts that
              include no engine header), both sides are read and must agree:
-             arcmin per radian, the curve's bins, the cascade's stage ids
+             arcmin per radian, the curve's bins, the cascade's stage ids,
+             and the curve buffer's members (vg_curve, VgxCurveBlock)
   barriers   the frame graph records every barrier: no vkCmdPipelineBarrier*
              in the sources outside engine/graph and engine/gpu (a pass of
              dependent dispatches is several steps of the graph), and the
@@ -332,7 +333,35 @@ def case_constants():
         if abs(a - b) > tol * max(abs(a), 1.0):
             fail(f"{what}: {fa} {na} = {a}, {fb} {nb} = {b}")
         print(f"{what}: {na} = {nb} = {a:g}")
+    # The curve buffer's layout, declared on both sides: the same members in
+    # the same order (std430 and C agree on scalars and float arrays).
+    c_side, glsl_side = members("shaders/shared.h", r"VG_STRUCT\(vg_curve\)\s*\{(.*?)\};"), \
+        members("include/vergence/warp.glsl", r"buffer VgxCurveBlock\s*\{(.*?)\}")
+    if c_side != glsl_side:
+        fail(f"the curve's layout: shaders/shared.h vg_curve {c_side} against include/vergence/warp.glsl "
+             f"VgxCurveBlock {glsl_side}")
+    print(f"the curve's layout: vg_curve = VgxCurveBlock, {len(c_side)} members")
     print(f"the Weber fraction {k:g} (1 / {inv:g}) is defined in {home} alone")
+
+
+def members(path, block):
+    """(type, name, array length) of each member of a struct body matched by block."""
+    text = open(os.path.join(ROOT, path)).read()
+    m = re.search(block, text, re.S)
+    if not m:
+        fail(f"{path}: no {block}")
+    body = re.sub(r"/\*.*?\*/|//[^\n]*", "", m.group(1), flags=re.S)
+    out = []
+    for decl in filter(None, (d.strip() for d in body.split(";"))):
+        mm = re.fullmatch(r"(\w+)\s+(\w+)(?:\[(\w+)\])?", decl)
+        if not mm:
+            fail(f"{path}: cannot read the member '{decl}'")
+        kind = {"VG_UINT": "uint", "uint32_t": "uint"}.get(mm.group(1), mm.group(1))
+        n = mm.group(3)
+        if n and not n.isdigit():
+            n = str(int(number(defined(path, n))))
+        out.append((kind, mm.group(2), n))
+    return out
 
 
 BARRIER_HOMES = ("engine/graph/", "engine/gpu/")

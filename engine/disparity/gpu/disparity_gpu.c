@@ -450,15 +450,34 @@ void disparity_gpu_keyframes(const disparity_gpu *d, long *first, int *count)
 /* Lifetime                                                                  */
 /* ------------------------------------------------------------------------- */
 
+disparity_gpu_desc disparity_gpu_desc_defaults(const disparity_gpu_desc *desc)
+{
+    disparity_gpu_desc d = *desc;
+    if (!(d.fps > 0))
+        d.fps = 60;
+    if (d.keyframe_stride <= 0)
+        d.keyframe_stride = MID_KEYFRAME_STRIDE;
+    if (d.coarse_stride <= 0)
+        d.coarse_stride = MID_COARSE_STRIDE;
+    if (!(d.window_seconds > 0))
+        d.window_seconds = MID_WINDOW_SECONDS;
+    if (!(d.window_future > 0) || d.window_future >= 1)
+        d.window_future = MID_WINDOW_FUTURE;
+    d.op = disp_operator_desc_defaults(&(disp_operator_desc){.kind = d.op}).kind;
+    if (d.solver == MID_SOLVER_DEFAULT)
+        d.solver = MID_SOLVER_GAUSS_NEWTON;
+    return d;
+}
+
 vg_status disparity_gpu_create(const disparity_gpu_desc *desc, disparity_gpu **out)
 {
     *out = NULL;
-    const disparity_gpu_desc *fd = desc;
     disparity_gpu *d = calloc(1, sizeof *d);
     if (!d)
         return VG_ERR_NOMEM;
-    d->desc = *desc;
-    gpu *g = d->gpu = desc->gpu;
+    d->desc = disparity_gpu_desc_defaults(desc);
+    const disparity_gpu_desc *fd = &d->desc;
+    gpu *g = d->gpu = fd->gpu;
     uint32_t s = d->stride = disparity_gpu_grid_stride(fd->width, fd->height, fd->coarse_stride);
     d->nx = (fd->width + s - 1) / s;
     d->ny = (fd->height + s - 1) / s;

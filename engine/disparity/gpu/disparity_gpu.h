@@ -24,8 +24,9 @@
 
 typedef struct disparity_gpu disparity_gpu;
 
-/* What the pipeline is made for; zero fields are not defaults here: the
- * frame (and the SDK) resolve them first. */
+/* What the pipeline is made for; a zero field is its default
+ * (disparity_gpu_desc_defaults, which the frame and the SDK resolve through
+ * too). */
 typedef struct disparity_gpu_desc {
     gpu *gpu;
     uint32_t width, height;      /* the frame */
@@ -60,6 +61,10 @@ typedef struct disparity_gpu_atlas {
     rg_res color, depth, ids, motion;
 } disparity_gpu_atlas;
 
+/* desc with every zero field at its default: 60 Hz, a keyframe every
+ * MID_KEYFRAME_STRIDE frames, the MID_* window and grid, the operator's
+ * default kind (disp_operator_desc_defaults), Gauss-Newton. */
+disparity_gpu_desc disparity_gpu_desc_defaults(const disparity_gpu_desc *desc);
 vg_status disparity_gpu_create(const disparity_gpu_desc *desc, disparity_gpu **out);
 void disparity_gpu_destroy(disparity_gpu *d);
 /* Reads res->ubo (rig, display), depth, color (saliency), motion, ids and

@@ -47,29 +47,26 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
     o->d = *desc;
     disp_operator_range(ref, &o->lo, &o->hi);
     disp_operator_destroy(ref);
-    const disp_operator_desc *d = &desc->op;
-    bool study = d->preset == DISP_PRESET_STUDY;
-    double range = d->range > 0 ? d->range : study ? DISP_OP_RANGE_STUDY : DISP_OP_RANGE_COMFORT;
-    double frame_s = d->frame_seconds > 0 ? d->frame_seconds : 1.0 / 60.0;
+    const disp_operator_desc op = disp_operator_desc_defaults(&desc->op), *d = &op;
+    double range = d->range, frame_s = d->frame_seconds, tau = d->smooth_seconds;
     double key_s = desc->keyframe_seconds > 0 ? desc->keyframe_seconds : MID_KEYFRAME_STRIDE / 60.0;
-    double tau = d->smooth_seconds > 0 ? d->smooth_seconds : DISP_OP_SMOOTH_SECONDS;
-    int bins = d->bins > 0 ? d->bins : DISP_OP_BINS;
+    int bins = d->bins;
     if (bins > DISP_OP_MAX_BINS) {
         vg_error("GPU operator: %d bins (at most %d)", bins, DISP_OP_MAX_BINS);
         free(o);
         return VG_ERR_ARG;
     }
     o->push = (disp_op_push){
-        .kind = d->kind == DISP_OPERATOR_DEFAULT ? DISP_OP_LANG : (uint32_t)d->kind,
+        .kind = (uint32_t)d->kind,
         .bins = (uint32_t)bins,
         .stride = desc->stride ? desc->stride : 1,
         .fixed_domain = d->in_max > d->in_min,
         .screen_vergence = (float)d->screen_vergence,
         .range_lo = (float)(d->screen_vergence - range),
         .range_hi = (float)(d->screen_vergence + range),
-        .floor_slope = (float)(d->floor > 0 ? d->floor : study ? DISP_OP_FLOOR_STUDY : DISP_OP_FLOOR_COMFORT),
-        .blur_bins = (float)(d->blur_bins > 0 ? d->blur_bins : DISP_OP_BLUR_BINS),
-        .saliency_floor = (float)(d->saliency_floor > 0 ? d->saliency_floor : DISP_OP_SALIENCY_FLOOR),
+        .floor_slope = (float)d->floor,
+        .blur_bins = (float)d->blur_bins,
+        .saliency_floor = (float)d->saliency_floor,
         .smooth_alpha = (float)exp(-frame_s / tau),
         .key_alpha = (float)exp(-key_s / tau),
         .dom_lo = (float)d->in_min,
