@@ -15,6 +15,7 @@
 #include "disparity/mid_window.h"
 #include "render/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
+#include "render/shadow_gpu.h"
 #include "sdk/vgx_engine.h"
 #include "shared.h"
 #include "output/compose_gpu.h"
@@ -38,11 +39,11 @@ _Static_assert(VG_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "the graph keeps timestamps 
 _Static_assert(FRAME_PROBES_KEPT > VG_FRAMES_IN_FLIGHT, "frame_wait_idle completes every frame in flight at once");
 
 /* One of the SDK dispatch's passes, as a pass of the frame's graph. */
-#define FRAME_MAX_VGX_PASSES 24
-typedef struct vgx_pass {
+#define FRAME_MAX_SDK_PASSES 24
+typedef struct sdk_pass {
     struct frame *f;
     uint32_t index;
-} vgx_pass;
+} sdk_pass;
 
 const char *const frame_look_ahead_names[] = {"foresight", "causal", NULL};
 const char *const frame_saliency_names[] = {"auto", "authored", "computed", NULL};
@@ -50,9 +51,10 @@ const char *const frame_saliency_names[] = {"auto", "authored", "computed", NULL
 struct frame {
     frame_desc desc;             /* as asked, defaults resolved (frame_get_desc) */
     frame_ctx fc;                /* fc.desc: the part the pass modules render */
+    shadow_gpu *shadow;
     gbuffer_gpu *gbuffer;
     vgx_context *vgx;            /* the disparity passes, through the public API (include/vergence) */
-    vgx_pass vgx_passes[FRAME_MAX_VGX_PASSES];
+    sdk_pass sdk_passes[FRAME_MAX_SDK_PASSES];
     vgx_image maps[3];           /* g, h, f: the context's */
     disparity_gpu_atlas atlas;
     disparity_gpu *disparity;    /* behind it: the frame's metrics read the solve's keyframes */
@@ -147,9 +149,9 @@ static vgx_image vgx_image_of(const rg_context *ctx, rg_res r)
     return (vgx_image){rg_ctx_image(ctx, r), rg_ctx_view(ctx, r), rg_ctx_layout(ctx, r)};
 }
 
-static void vgx_execute(const rg_context *ctx, void *user)
+static void sdk_pass_execute(const rg_context *ctx, void *user)
 {
-    const vgx_pass *p = user;
+    const sdk_pass *p = user;
     frame *f = p->f;
     const frame_ctx *fc = &f->fc;
     const frame_resources *res = &f->res;
@@ -169,11 +171,11 @@ static void vgx_execute(const rg_context *ctx, void *user)
         vg_error("the frame's disparity pass %s was not recorded", vgx_pass_name(f->vgx, p->index));
 }
 
-static vg_status vgx_add(frame *f, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas)
+static vg_status sdk_passes_add(frame *f, rg_graph *g, frame_resources *res, const disparity_gpu_atlas *atlas)
 {
     uint32_t n = vgx_pass_count(f->vgx);
-    if (n > FRAME_MAX_VGX_PASSES) {
-        vg_error("frame: the SDK's dispatch has %u passes; the frame holds %d", n, FRAME_MAX_VGX_PASSES);
+    if (n > FRAME_MAX_SDK_PASSES) {
+        vg_error("frame: the SDK's dispatch has %u passes; the frame holds %d", n, FRAME_MAX_SDK_PASSES);
         return VG_ERR_GRAPH;
     }
     f->atlas = *atlas;
@@ -191,9 +193,9 @@ static vg_status vgx_add(frame *f, rg_graph *g, frame_resources *res, const disp
     rg_res reads[8] = {res->depth, res->color, res->motion, res->ids, atlas->depth, atlas->color, atlas->motion,
                        atlas->ids};
     for (uint32_t i = 0; i < n; i++) {
-        f->vgx_passes[i] = (vgx_pass){f, i};
+        f->sdk_passes[i] = (sdk_pass){f, i};
         rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = vgx_pass_name(f->vgx, i), .type = RG_PASS_COMPUTE,
-                                                   .execute = vgx_execute, .user = &f->vgx_passes[i],
+                                                   .execute = sdk_pass_execute, .user = &f->sdk_passes[i],
                                                    .side_effects = true});
         for (int k = 0; k < 8; k++)
             rg_use(g, p, reads[k], RG_STORAGE_READ);
@@ -218,6 +220,7 @@ static vg_status build_graph(frame *f)
     res->statics = rg_import_buffer(g, &(rg_buffer_desc){"scene.statics", fc->sg.statics.size}, &ready_vertex);
     res->indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", fc->sg.indices.size}, &ready_index);
 
+    shadow_gpu_add(f->shadow, g, res);
     gbuffer_gpu_add(f->gbuffer, g, res);
     bool stereo = fc->desc.stereo != FRAME_STEREO_OFF;
     uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
@@ -227,7 +230,7 @@ static vg_status build_graph(frame *f)
         if (f->vgx) {
             disparity_gpu_atlas atlas;
             keyframe_gpu_add(f->keyframes, g, res, &atlas);
-            vg_status st = vgx_add(f, g, res, &atlas);
+            vg_status st = sdk_passes_add(f, g, res, &atlas);
             if (st != VG_OK)
                 return st;
             target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
@@ -306,7 +309,7 @@ static vg_status build_graph(frame *f)
     if (st == VG_OK)
         st = rg_realize(g, fc->gpu);
     if (st == VG_OK)
-        gbuffer_gpu_bind(f->gbuffer, g);
+        shadow_gpu_bind(f->shadow, g);
     return st;
 }
 
@@ -431,7 +434,7 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     d.op = dd.op;
     d.solver = dd.solver;
     /* A cascade's texels follow the frame's rows, so a shadow looks the same
-     * at every size (light_setup's split depth then depends on the scene
+     * at every size (shadow_gpu_setup's split depth then depends on the scene
      * alone) and costs in proportion to the pixels, as the other passes. */
     if (!d.shadow_size)
         d.shadow_size = d.height * FRAME_SHADOW_TEXELS_PER_ROW < 256 ? 256 : d.height * FRAME_SHADOW_TEXELS_PER_ROW;
@@ -558,6 +561,8 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     if (st == VG_OK)
         st = create_submission(f);
     if (st == VG_OK)
+        st = shadow_gpu_create(fc, &f->shadow);
+    if (st == VG_OK)
         st = gbuffer_gpu_create(fc, &f->gbuffer);
     if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
         if (frame_needs_maps(&fc->desc))
@@ -601,6 +606,7 @@ void frame_destroy(frame *f)
     vgx_context_destroy(f->vgx);
     keyframe_gpu_destroy(f->keyframes);
     gbuffer_gpu_destroy(f->gbuffer);
+    shadow_gpu_destroy(f->shadow);
     for (int i = 0; i < VG_FRAMES_IN_FLIGHT; i++) {
         gpu_buffer_destroy(g, &fc->ubo[i]);
         if (f->fence[i])
@@ -624,91 +630,6 @@ void frame_destroy(frame *f)
 /* ------------------------------------------------------------------------- */
 /* Rendering                                                                 */
 /* ------------------------------------------------------------------------- */
-
-/* The shadow map's texels kept free around a cascade's content, so the 4x4
- * block of the filter (shade.glsl) never reads the neighbouring cascade. */
-#define SHADOW_MARGIN_TEXELS 4.0f
-/* The near cascade takes over where a texel of the whole scene's would cover
- * more than this many screen pixels (its staircase shows along shadow edges). */
-#define SHADOW_SPLIT_PX 2.0f
-
-/* An orthographic box of half-width r around (x, y) of the light's view. */
-static void shadow_cascade(mat4 light_view, float x, float y, float r, float z_lo, float z_hi, vg_gmat4 *out)
-{
-    mat4 proj, vp;
-    glm_ortho(x - r, x + r, y - r, y + r, z_lo, z_hi, proj);
-    glm_mat4_mul(proj, light_view, vp);
-    memcpy(out->m, vp, sizeof vp);
-}
-
-/* Sun: low in the sky to the left and behind the viewer, so shadows fall
- * into the scene and give depth cues (a fixed light keeps captures stable).
- *
- * Two cascades share one atlas (VG_SHADOW_CASCADES). Cascade 0 covers the
- * scene's bounding sphere now. Cascade 1 covers the bounding sphere of the
- * view frustum from the near plane to the split depth: the depth at which a
- * texel of the scene at rest (its bounds at t = 0, so the split stays put
- * while a ball stretches the bounds) would cover SHADOW_SPLIT_PX pixels.
- * Its size depends on the camera's field of view only, and its centre moves
- * in whole texels of the light's view (whose axes are fixed: the sun's), so
- * its shadow edges do not crawl as the camera moves. Without a perspective
- * camera, or when it would be less than twice as fine as cascade 0, there is
- * one. */
-static void light_setup(frame_ctx *fc, vg_frame_ubo *u)
-{
-    vec3 sun = {-0.42f, 0.74f, 0.52f};
-    glm_vec3_normalize(sun);
-    const scene_state *st = &fc->sg.now;
-    const vg_camera *cam = &fc->cam;
-    float size = (float)fc->desc.shadow_size, keep = size / (size - 2.0f * SHADOW_MARGIN_TEXELS);
-    vec3 lo, hi, centre, up = {0, 1, 0}, origin = {0, 0, 0};
-    glm_vec3_copy((float *)st->bounds_min, lo);
-    glm_vec3_copy((float *)st->bounds_max, hi);
-    glm_vec3_center(lo, hi, centre);
-    float radius = 0.5f * glm_vec3_distance(lo, hi) + 0.01f;
-    if (fabsf(sun[1]) > 0.99f)
-        glm_vec3_copy((vec3){0, 0, 1}, up);
-    /* The light's view: a rotation (and a shift along its axis) only. */
-    mat4 view;
-    glm_lookat(sun, origin, up, view);
-    vec3 c;
-    glm_mat4_mulv3(view, centre, 1.0f, c);
-    /* Every caster lies in the scene's sphere: one depth range for both. */
-    float z_lo = -c[2] - 2.0f * radius, z_hi = -c[2] + 2.0f * radius;
-    float r0 = radius * keep;
-    shadow_cascade(view, c[0], c[1], r0, z_lo, z_hi, &u->light_view_proj[0]);
-    float texel[2] = {2.0f * r0 / size, 0.0f}, split = 0.0f;
-
-    if (!cam->orthographic && cam->yfov > 0.0f) {
-        const scene *sc = fc->scene;
-        float rest = 0.5f * glm_vec3_distance((float *)sc->bounds_min, (float *)sc->bounds_max) + 0.01f;
-        float px_at_1m = 2.0f * tanf(0.5f * cam->yfov) / (float)fc->desc.height;
-        float d = 2.0f * rest * keep / size / (SHADOW_SPLIT_PX * px_at_1m);
-        /* The smallest sphere around the frustum's slice [near, d]: k^2 is
-         * the squared tangent of the corner rays' angle to the axis. */
-        float n = cam->znear, k2 = tanf(0.5f * cam->yfov) * tanf(0.5f * cam->yfov) * (1.0f + cam->aspect * cam->aspect);
-        float along = fminf(0.5f * (d + n) * (1.0f + k2), d);
-        float r1 = sqrtf((d - along) * (d - along) + d * d * k2) * keep;
-        if (d > n && r1 < 0.5f * r0) {
-            vec3 mid, m;
-            glm_vec3_scale((float *)cam->forward, along, mid);
-            glm_vec3_add((float *)cam->position, mid, mid);
-            glm_mat4_mulv3(view, mid, 1.0f, m);
-            float t = 2.0f * r1 / size;
-            shadow_cascade(view, t * floorf(m[0] / t + 0.5f), t * floorf(m[1] / t + 0.5f), r1, z_lo, z_hi,
-                           &u->light_view_proj[1]);
-            texel[1] = t;
-            split = d;
-        }
-    }
-    fc->shadow_cascades = split > 0.0f ? 2 : 1;
-    memcpy(u->sun_dir.v, (float[4]){sun[0], sun[1], sun[2], 0.0f}, 16);
-    memcpy(u->shadow.v, (float[4]){split, texel[0], texel[1], 0.0f}, 16);
-    memcpy(u->sun_color.v, (float[4]){3.1f, 2.9f, 2.6f, 0.55f}, 16);
-    memcpy(u->sky_zenith.v, (float[4]){0.23f, 0.42f, 0.78f, 0.0035f}, 16);
-    memcpy(u->sky_horizon.v, (float[4]){0.78f, 0.86f, 0.95f, 0.85f}, 16);
-    memcpy(u->ground_color.v, (float[4]){0.30f, 0.27f, 0.22f, 0.0f}, 16);
-}
 
 /* The original rig follows the render camera: its field of view and the
  * image width; the off-axis eye cameras are the centre camera moved by half
@@ -755,7 +676,7 @@ static void fill_ubo(frame *f, vg_frame_ubo *u)
     memcpy(u->camera_pos.v, (float[4]){fc->cam.position[0], fc->cam.position[1], fc->cam.position[2], fc->cam.zfar}, 16);
     memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
                                      1.0f / (float)fc->desc.height}, 16);
-    light_setup(fc, u);
+    shadow_gpu_setup(fc, u);
     stereo_setup(f, u);
     /* Computed saliency: the contrast's reference colour and the depth
      * scale, the camera's distance to the scene's centre. */

@@ -28,7 +28,7 @@ typedef struct frame_ctx {
     int slot;
     frame_times times;
     vg_camera cam, cam_prev, cam_next;
-    int shadow_cascades;     /* cascades the shadow pass draws (1 or VG_SHADOW_CASCADES: light_setup) */
+    int shadow_cascades;     /* cascades the shadow pass draws (1 or VG_SHADOW_CASCADES: shadow_gpu_setup) */
 } frame_ctx;
 
 /* Resources of the frame graph, by name, for pass modules to connect. */

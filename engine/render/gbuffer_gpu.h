@@ -1,6 +1,6 @@
-/* vergence — the scene passes of the centre eye: sun shadow map and G-buffer
- * (DESIGN.md step 2). Adds `shadow.static`, `shadow.copy`, `shadow` and `gbuffer`; fills res->shadow,
- * color, depth, ids, motion, zbuffer. */
+/* vergence — the scene pass of the centre eye: the G-buffer (DESIGN.md
+ * step 2), shaded with the sun's shadow map (res->shadow, shadow_gpu.h).
+ * Adds `gbuffer`; fills res->color, depth, ids, motion, zbuffer. */
 #pragma once
 #include "frame_ctx.h"
 
@@ -9,8 +9,6 @@ typedef struct gbuffer_gpu gbuffer_gpu;
 vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out);
 void gbuffer_gpu_destroy(gbuffer_gpu *p);
 void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res);
-/* Binds the shadow cache (imported) to the compiled graph g. */
-void gbuffer_gpu_bind(gbuffer_gpu *p, rg_graph *g);
 
 /* The G-buffer's attachments: colour (sRGB, saliency in alpha), linear
  * depth, instance ids, motion to the neighbouring keyframes, z-buffer. */
