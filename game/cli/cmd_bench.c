@@ -1,9 +1,12 @@
 /* vergence bench — the engine's figures in one table (issue 8): per-pass GPU
  * ms of the optimised stereo frame at two sizes, the ratio of that frame to
  * plain two-camera stereo measured in the same run, warp ms per eye against
- * the tessellation setting, the solver's achieved bandwidth against a STREAM
- * triad, and peak memory. Medians over frames; nothing here is a test (the
- * figures go to docs/PERFORMANCE.md).
+ * the tessellation setting, the CPU solver's speed against a STREAM triad
+ * (bench_solver.c's tables), and peak memory. Medians over frames; nothing
+ * here is a test (the figures go to docs/PERFORMANCE.md).
+ *
+ * `vergence bench MODE` runs one part's own benchmark instead (issue 41):
+ * gbuffer, solver, disparity, warp (bench_modes.h), each with its options.
  *
  * Passes are timed by the frame's pass clock (frame_time_passes), so they
  * add up to the frame's wall time; the table says how closely. Every frame
@@ -19,17 +22,15 @@
 #include <sys/resource.h>
 
 #include "bench_game.h"
+#include "bench_modes.h"
 #include "bench_report.h"
 #include "commands.h"
-#include "core/bandwidth.h"
 #include "core/clock.h"
 #include "core/io.h"
 #include "core/log.h"
 #include "core/manifest.h"
 #include "core/parallel.h"
 #include "core/stats.h"
-#include "disparity/mid_solver.h"
-#include "disparity/mid_synth.h"
 #include "options/display_cli.h"
 #include "options/gpu_cli.h"
 #include "frame/frame.h"
@@ -67,7 +68,9 @@ static const vg_opt k_opts[] = {
      0, 0},
     {"--each-throw", VG_OPT_FLAG, &o.each_throw, NULL,
      "with --game: a line for every throw measured (its figures, g and f - h at its keyframes)", NULL, 0, 0},
-    {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL, "skip the CPU solver and memory bandwidth figures", NULL, 0, 0},
+    {"--no-solver", VG_OPT_FLAG, &o.no_solver, NULL,
+     "skip the CPU solver's speed table and memory bandwidth ('vergence bench solver' runs them alone)", NULL, 0,
+     0},
     {"--markdown", VG_OPT_STRING, &o.markdown, "FILE", "also write the tables as Markdown (docs/PERFORMANCE.md)",
      NULL, 0, 0},
     DISPLAY_CLI_OPTIONS(o.display),
@@ -256,18 +259,6 @@ static vg_status run_interleaved(gpu *g, const scene *sc, const frame_desc *desc
 /* The command                                                               */
 /* ------------------------------------------------------------------------- */
 
-static bool parse_sizes(const char *text, uint32_t sizes[2][2])
-{
-    unsigned w0, h0, w1, h1;
-    char tail;
-    if (sscanf(text, "%ux%u,%ux%u%c", &w0, &h0, &w1, &h1, &tail) != 4)
-        return false;
-    if (w0 < 16 || h0 < 16 || w1 < 16 || h1 < 16 || w0 > 8192 || h0 > 8192 || w1 > 8192 || h1 > 8192)
-        return false;
-    sizes[0][0] = w0, sizes[0][1] = h0, sizes[1][0] = w1, sizes[1][1] = h1;
-    return true;
-}
-
 /* "1,2,4,8" -> px[]; "none" -> 0 settings. Returns the count or -1. */
 static int parse_tess(const char *text, double *px, int cap)
 {
@@ -432,59 +423,23 @@ static vg_status bench_tessellation(gpu *g, const scene *sc, uint32_t w, uint32_
     return VG_OK;
 }
 
-static vg_status bench_solver(bench_report *r)
-{
-    int threads = vg_cpu_count();
-    vg_pool *pool = NULL;
-    vg_status st = vg_pool_create(&(vg_pool_desc){.threads = threads}, &pool);
-    if (st != VG_OK)
-        return st;
-    vg_info("bench: memory bandwidth and the CPU solver (%d threads)", threads);
-    double triad = vg_stream_triad_gbs(pool, 5);
-    mid_window *w = mid_synth_window();
-    float *f = malloc((size_t)MID_SYNTH_NX * MID_SYNTH_NY * MID_SYNTH_NT * sizeof(float));
-    if (!w || !f) {
-        free(f);
-        mid_window_destroy(w);
-        vg_pool_destroy(pool);
-        return VG_ERR_NOMEM;
-    }
-    double ms[5];
-    mid_solve_stats stats = {0};
-    for (int i = 0; i < 5 && st == VG_OK; i++) {
-        st = mid_solve(w, &(mid_solve_desc){.pool = pool}, f, &stats);
-        ms[i] = stats.ms;
-    }
-    free(f);
-    mid_window_destroy(w);
-    vg_pool_destroy(pool);
-    if (st != VG_OK)
-        return st;
-    double m = vg_median(ms, 5, 1), gbs = stats.bytes / (m * 1e6);
-    char cells[4][32], label[96];
-    bench_heading(r, "Solver bandwidth");
-    snprintf(cells[0], sizeof cells[0], "ms");
-    snprintf(cells[1], sizeof cells[1], "GB/s");
-    snprintf(cells[2], sizeof cells[2], "of triad");
-    bench_row(r, true, "measure", 3, cells);
-    snprintf(label, sizeof label, "memory bandwidth, STREAM triad (%d threads)", threads);
-    cells[0][0] = 0;
-    snprintf(cells[1], sizeof cells[1], "%.2f", triad);
-    snprintf(cells[2], sizeof cells[2], "100%%");
-    bench_row(r, false, label, 3, cells);
-    snprintf(label, sizeof label, "CPU solver, Gauss-Newton 4x8 (%dx%dx%d window)", MID_SYNTH_NX, MID_SYNTH_NY,
-             MID_SYNTH_NT);
-    snprintf(cells[0], sizeof cells[0], "%.1f", m);
-    snprintf(cells[1], sizeof cells[1], "%.2f", gbs);
-    snprintf(cells[2], sizeof cells[2], "%.0f%%", 100 * gbs / triad);
-    bench_row(r, false, label, 3, cells);
-    bench_note(r, "GB/s: the compulsory traffic of the solver's passes (every array element read or written once "
-            "per pass) over its wall time; the GPU solve (mid.solve above) runs the same passes.");
-    return VG_OK;
-}
+/* The modes: `vergence bench MODE [options]`, MODE the word after "bench ". */
+static const vg_cmd *const k_modes[] = {&vg_cmd_bench_gbuffer, &vg_cmd_bench_solver, &vg_cmd_bench_disparity,
+                                        &vg_cmd_bench_warp};
+enum { MODES = sizeof k_modes / sizeof k_modes[0] };
+
+static const char *mode_word(const vg_cmd *mode) { return mode->name + strlen("bench "); }
 
 static int run(int argc, char **argv)
 {
+    if (argc > 1 && argv[1][0] != '-') {
+        for (int i = 0; i < MODES; i++)
+            if (!strcmp(argv[1], mode_word(k_modes[i])))
+                return k_modes[i]->run(argc - 1, argv + 1);
+        vg_error("bench: '%s' is not a mode (gbuffer, solver, disparity or warp; see 'vergence bench --help')",
+                 argv[1]);
+        return 2;
+    }
     memset(&o, 0, sizeof o);
     o.scene = NULL;
     o.sizes = "960x540,1920x1080";
@@ -503,17 +458,8 @@ static int run(int argc, char **argv)
     if (dst != VG_OK)
         return vg_status_exit_code(dst);
     uint32_t sizes[2][2];
-    if (!parse_sizes(o.sizes, sizes)) {
-        vg_error("vergence bench: --sizes: '%s' is not two sizes WxH,WxH (16..8192)", o.sizes);
+    if (!bench_parse_sizes("bench", o.sizes, sizes))
         return 2;
-    }
-    for (int k = 0; k < 2; k++) {
-        char why[256];
-        if (!frame_size_ok(sizes[k][0], sizes[k][1], why, sizeof why)) {
-            vg_error("--sizes %s: %s", o.sizes, why);
-            return 2;
-        }
-    }
     double px[8];
     if (o.tess && parse_tess(o.tess, px, 8) < 0) {
         vg_error("vergence bench: --tess: '%s' is not 'none' or a list of up to 8 pixel sizes (0.25..64)", o.tess);
@@ -582,7 +528,7 @@ static int run(int argc, char **argv)
         if (st == VG_OK)
             st = bench_tessellation(g, sc, sizes[0][0], sizes[0][1], &r);
         if (st == VG_OK && !o.no_solver)
-            st = bench_solver(&r);
+            st = bench_solver_tables(&r, 5, false);
     }
     if (st == VG_OK) {
         struct rusage ru;
@@ -613,12 +559,20 @@ static int run(int argc, char **argv)
 
 const vg_cmd vg_cmd_bench = {
     .name = "bench",
-    .summary = "benchmark the frame: per-pass ms, stereo cost ratio, tessellation, solver bandwidth, memory",
-    .usage = "vergence bench [options]",
-    .details = "Renders the optimised stereo frame and plain two-camera stereo in turn at two sizes and prints\n"
-               "one table: per-pass GPU ms, their ratio, warp ms against the tessellation setting, the CPU\n"
-               "solver's bandwidth against a STREAM triad, and peak memory. Takes several minutes on a CPU\n"
-               "(1-px tessellation alone takes minutes a frame); figures belong in docs/PERFORMANCE.md.",
+    .summary = "benchmark the frame: per-pass ms, stereo cost ratio, tessellation, solver, memory; or one part",
+    .usage = "vergence bench [gbuffer|solver|disparity|warp] [options]",
+    .details = "Without a mode: renders the optimised stereo frame and plain two-camera stereo in turn at\n"
+               "two sizes and prints one table: per-pass GPU ms, their ratio, warp ms against the tessellation\n"
+               "setting, the CPU solver's ms and GB/s against a STREAM triad (the speed tables of 'vergence\n"
+               "bench solver'), and peak memory. Takes several minutes on a CPU (1-px tessellation alone\n"
+               "takes minutes a frame); figures belong in docs/PERFORMANCE.md. The options below are this\n"
+               "table's.\n"
+               "\n"
+               "modes (each with its own options: 'vergence bench MODE --help'):\n"
+               "  gbuffer    shadow and G-buffer ms per pass at two sizes\n"
+               "  solver     the CPU MID solver: ms and GB/s with 1 and all threads, the quality each reaches\n"
+               "  disparity  the GPU disparity passes at two sizes: the solve flat, the upsampling per pixel\n"
+               "  warp       warp ms per eye for tess-px 1, 2, 4, 8 and error-driven, against two cameras",
     .opts = k_opts,
     .opt_count = sizeof k_opts / sizeof k_opts[0],
     .run = run,

@@ -126,7 +126,7 @@ def case_layers():
 
 def objects(build):
     """The object file of every source of the libraries and of vergence (not
-    tests, benches or tools), where the build puts it."""
+    tests or tools), where the build puts it."""
     lay = layers()
     folders = [f for f, _ in lay]
     target = dict(lay)
@@ -279,7 +279,7 @@ SOURCE_EXT = (".c", ".h", ".cpp", ".glsl", ".comp", ".vert", ".frag", ".tesc", "
 
 
 def source_texts():
-    for top in ("engine", "game", "shaders", "include", "sdk", "examples", "bench"):
+    for top in ("engine", "game", "shaders", "include", "sdk", "examples"):
         for root, _, names in os.walk(os.path.join(ROOT, top)):
             for n in names:
                 if n.endswith(SOURCE_EXT):

@@ -102,6 +102,50 @@ def case_help():
 
 
 # ---------------------------------------------------------------------------
+# vergence bench MODE (issue 41)
+# ---------------------------------------------------------------------------
+
+NUM = r"-?[\d.]+"
+# Each mode at its smallest settings, a row of its table, and a bad value.
+BENCH_MODES = {
+    "gbuffer": (["--scene", "content/cubes.gltf", "--sizes", "96x54,128x72", "--frames", "1", "--warmup", "0"],
+                rf"^128x72( +{NUM})+ +{NUM}%$", ["--frames", "0"], "--frames"),
+    "solver": (["--runs", "1", "--no-quality"],
+               rf"^  gauss-newton default \(4 x 8 CG\) +\d+ +\d+ +{NUM} +{NUM} +\d+%$", ["--runs", "x"], "--runs"),
+    "disparity": (["--scene", "content/cubes.gltf", "--sizes", "96x54,128x72", "--frames", "1", "--runs", "1"],
+                  rf"^mid\.solve +{NUM} \( *{NUM}\) +{NUM} \( *{NUM}\)$", ["--sizes", "96x54"], "--sizes"),
+    "warp": (["--scene", "content/cubes.gltf", "--size", "96x54", "--frames", "1", "--skip-1px"],
+             rf"^two cameras +{NUM} +{NUM} +{NUM}%$", ["--size", "12xq"], "--size"),
+}
+
+
+def case_bench_modes():
+    """Each mode of `vergence bench` tiny: its table and exit 0 (validation on from CTest); its --help
+    gives every option that takes a value a default; a bad value is one error line, exit 2."""
+    t0 = time.time()
+    top = run(["bench", "--help"]).stdout
+    for mode, (args, row, bad, name) in BENCH_MODES.items():
+        if not re.search(r"^  %s +\S" % mode, top, re.M):
+            sys.exit(f"FAIL: 'vergence bench --help' does not list the mode {mode}")
+        h = run(["bench", mode, "--help"]).stdout
+        if "usage: vergence bench " + mode not in h:
+            sys.exit(f"FAIL: 'vergence bench {mode} --help' has no usage line")
+        # The display flags are every renderer's calibration (case_display); --display FILE has none.
+        undocumented = [l.split()[0] for l in h.splitlines() if re.match(r"^  --\S+ [A-Z]", l)
+                        and "default" not in l and l.split()[0] != "--display"]
+        if undocumented:
+            sys.exit(f"FAIL: 'vergence bench {mode} --help' gives no default for {undocumented}")
+        t = time.time()
+        p = run(["bench", mode] + args)
+        print(f"vergence bench {mode} {' '.join(args)}: exit 0, {time.time() - t:.1f} s")
+        if not re.search(row, p.stdout, re.M):
+            sys.exit(f"FAIL: vergence bench {mode} printed no row matching {row!r}:\n{p.stdout}")
+        expect_error(["bench", mode] + bad, name)
+    expect_error(["bench", "no-such-mode"], "no-such-mode")
+    print(f"bench modes ok, {time.time() - t0:.1f} s")
+
+
+# ---------------------------------------------------------------------------
 # Captures
 # ---------------------------------------------------------------------------
 
@@ -501,7 +545,7 @@ def case_display():
     """Every command that renders or converts disparity takes the same display
     flags and --display FILE and records the display it used."""
     for cmd in (["info"], ["capture"], ["demo"], ["optimize"], ["play"], ["study", "hit"], ["study", "preference"],
-                ["bench"]):
+                ["bench"], ["bench", "gbuffer"], ["bench", "disparity"], ["bench", "warp"]):
         text = run(cmd + ["--help"]).stdout
         missing = [f for f in DISPLAY_FLAGS if not re.search(r"^  " + re.escape(f) + r" ", text, re.M)]
         if missing:

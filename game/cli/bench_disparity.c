@@ -1,11 +1,12 @@
-/* vergence — the GPU disparity pipeline's cost per frame at 960x540 and
- * 1920x1080 (issue 4): the frame graph's per-pass ms (the pass clock), medians of N
- * frames after a keyframe interval of amortised solves (the two sizes
- * rendered frame by frame in turn), and
- * wall-clock ms of the resolution-dependent passes run on their own.
+/* vergence bench disparity — the GPU disparity pipeline's cost per frame at
+ * two sizes (default 960x540 and 1920x1080; issue 4): the frame graph's
+ * per-pass ms (the pass clock), medians of N frames after a keyframe
+ * interval of amortised solves (the two sizes rendered frame by frame in
+ * turn), and wall-clock ms of the resolution-dependent passes run on their
+ * own.
  *
- * The solver's grid is the same at both sizes (192 x 108: the stride widens
- * with the frame, paper 4.5), so mid.solve should cost the same; the
+ * At the default sizes the solver's grid is the same (192 x 108: the stride
+ * widens with the frame, paper 4.5), so mid.solve should cost the same; the
  * upsampling is per output pixel, so it should grow with the pixel count.
  *
  * On lavapipe a compute pass's GPU timestamps are only meaningful when the
@@ -14,14 +15,15 @@
  * up in the next pass that waits. So the per-output-pixel passes are also
  * timed on their own, with a wait after each (wall clock).
  *
- *   bench_disparity [--scene FILE] [--frames N]
+ *   vergence bench disparity [--scene FILE] [--sizes WxH,WxH] [--frames N] [--runs R]
  *
- * Not a test: figures go to docs/method.md "GPU passes". */
+ * Not a test: figures go to docs/PERFORMANCE.md, "GPU disparity passes". */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_modes.h"
 #include "core/clock.h"
 #include "core/log.h"
 #include "core/stats.h"
@@ -30,7 +32,28 @@
 #include "disparity/gpu/operator_gpu.h"
 #include "disparity/gpu/upsample_gpu.h"
 #include "frame/frame.h"
+#include "options/display_cli.h"
+#include "options/gpu_cli.h"
 #include "stereo/stereo_display.h"
+
+static struct {
+    const char *scene, *sizes;
+    int frames, runs;
+    gpu_cli gpu;
+    display_cli display;
+} o;
+
+static const vg_opt k_opts[] = {
+    {"--scene", VG_OPT_STRING, &o.scene, "FILE", "glTF scene (default content/balloon.gltf)", NULL, 0, 0},
+    {"--sizes", VG_OPT_STRING, &o.sizes, "WxH,WxH", "the two frame sizes (default 960x540,1920x1080)", NULL, 0, 0},
+    {"--frames", VG_OPT_INT, &o.frames, "N",
+     "measured frames a run after a keyframe interval of warm-up; also the repetitions of each pass on its own "
+     "(default 30)", NULL, 1, 10000},
+    {"--runs", VG_OPT_INT, &o.runs, "R", "runs, each both sizes frame by frame in turn; medians of runs (default 3)",
+     NULL, 1, 100},
+    DISPLAY_CLI_OPTIONS(o.display),
+    GPU_CLI_OPTIONS(o.gpu),
+};
 
 static double mean(const double *v, int n)
 {
@@ -74,7 +97,7 @@ static vg_status run_frames(gpu *g, const scene *s, const uint32_t sizes[2][2], 
     for (int k = 0; k < 2 && st == VG_OK; k++)
         st = frame_create(g, s, &(frame_desc){.width = sizes[k][0], .height = sizes[k][1],
                                               .stereo = FRAME_STEREO_CAMERAS, .mode = FRAME_MODE_OPTIMIZED,
-                                              .diffuse = true}, &f[k]);
+                                              .diffuse = true, .display = display_cli_desc(&o.display)}, &f[k]);
     for (int k = 0; k < 2 && st == VG_OK; k++)
         frame_time_passes(f[k], true);
     /* Warm-up: the first frame solves its whole window, then one interval
@@ -272,6 +295,8 @@ static rg_graph *alone_graph(alone *a, int chain, int passes)
 static double graph_ms(gpu *g, rg_graph *graph, int reps)
 {
     double *t = malloc((size_t)reps * sizeof *t);
+    if (!t)
+        return NAN;
     for (int i = 0; i < reps + 2; i++) {
         VkCommandBuffer cmd;
         double t0 = vg_now_ms();
@@ -295,7 +320,8 @@ typedef struct alone_result {
 static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int reps, alone_result *out)
 {
     stereo_display disp;
-    stereo_display_init(&disp, &(stereo_display_desc){0});
+    stereo_display_desc display = display_cli_desc(&o.display);
+    stereo_display_init(&disp, &display);
     alone a = {.gpu = g, .w = w, .h = h, .stride = stride, .nx = (w + stride - 1) / stride, .ny = (h + stride - 1) / stride};
     size_t ns = (size_t)a.nx * a.ny;
     vg_status st = upsample_gpu_create(g, &a.ups);
@@ -310,8 +336,13 @@ static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int 
         st = gpu_buffer_create(g, &(gpu_buffer_desc){.name = "published", .size = sizeof(mid_published) + 2 * ns * sizeof(float),
                                                      .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
                                &a.published);
-    if (st != VG_OK)
+    if (st != VG_OK) {
+        upsample_gpu_destroy(a.ups);
+        operator_gpu_destroy(a.op);
+        gpu_buffer_destroy(g, &a.store);
+        gpu_buffer_destroy(g, &a.published);
         return st;
+    }
     float *sf = a.store.mapped, *pf = (float *)((mid_published *)a.published.mapped + 1);
     for (size_t i = 0; i < 2 * MID_STORE_FLOATS * ns; i++)
         sf[i] = 10.0f;
@@ -342,39 +373,32 @@ static vg_status run_alone(gpu *g, uint32_t w, uint32_t h, uint32_t stride, int 
 /* Report                                                                    */
 /* ------------------------------------------------------------------------- */
 
-int main(int argc, char **argv)
+/* Both sizes' frames over all runs, then the per-pixel passes on their own. */
+static vg_status report(gpu *g, const scene *s, const char *scene_path, const uint32_t sizes[2][2], int frames,
+                        int runs)
 {
-    const char *scene_path = "content/balloon.gltf";
-    int frames = 30, runs = 3;
-    for (int i = 1; i < argc; i += 2) {
-        if (i + 1 < argc && !strcmp(argv[i], "--scene"))
-            scene_path = argv[i + 1];
-        else if (i + 1 < argc && !strcmp(argv[i], "--frames") && atoi(argv[i + 1]) > 0)
-            frames = atoi(argv[i + 1]);
-        else if (i + 1 < argc && !strcmp(argv[i], "--runs") && atoi(argv[i + 1]) > 0)
-            runs = atoi(argv[i + 1]);
-        else {
-            fprintf(stderr, "usage: bench_disparity [--scene FILE] [--frames N] [--runs R]\n");
-            return 2;
-        }
-    }
-    gpu *g;
-    scene *s;
-    if (gpu_create(&(gpu_desc){0}, &g) != VG_OK || scene_load(scene_path, &s) != VG_OK)
-        return 1;
-    static const uint32_t sizes[2][2] = {{960, 540}, {1920, 1080}};
     frame_result fr[2] = {0};
     alone_result ar[2];
-    vg_info("bench_disparity: 960x540 and 1920x1080 in turn, %d runs of %d frames of %s", runs, frames, scene_path);
+    char size_name[2][32];
+    uint32_t grid[2][2];
+    for (int k = 0; k < 2; k++) {
+        uint32_t stride = disparity_gpu_grid_stride(sizes[k][0], sizes[k][1], 0);
+        snprintf(size_name[k], sizeof size_name[k], "%ux%u", sizes[k][0], sizes[k][1]);
+        grid[k][0] = (sizes[k][0] + stride - 1) / stride, grid[k][1] = (sizes[k][1] + stride - 1) / stride;
+    }
+    vg_info("bench: %s and %s in turn, %d runs of %d frames of %s", size_name[0], size_name[1], runs, frames,
+            scene_path);
     /* All runs' frames, run by run: ms[k][p][r * frames + i]. */
     size_t n = (size_t)runs * frames;
     double *ms = calloc(2 * n * MAX_PASSES, sizeof *ms), *wall = calloc(2 * n, sizeof *wall);
     double *solve_ratio = calloc((size_t)runs, sizeof *solve_ratio);
-    for (int r = 0; r < runs; r++) {
+    vg_status st = ms && wall && solve_ratio ? VG_OK : VG_ERR_NOMEM;
+    for (int r = 0; r < runs && st == VG_OK; r++) {
         int kstride;
         size_t first = (size_t)r * frames;
-        if (run_frames(g, s, sizes, frames, ms, wall, n, first, fr, &kstride) != VG_OK)
-            return 1;
+        st = run_frames(g, s, sizes, frames, ms, wall, n, first, fr, &kstride);
+        if (st != VG_OK)
+            break;
         /* The solve of whole keyframe intervals (the run starts at a keyframe):
          * what it costs at each size, side by side in this run. */
         double sum[2] = {0};
@@ -387,11 +411,20 @@ int main(int argc, char **argv)
         solve_ratio[r] = sum[0] > 0 ? sum[1] / sum[0] : NAN;
         vg_info("run %d/%d: mid.solve %.1f vs %.1f ms over the run (x%.3f)", r + 1, runs, sum[0], sum[1], solve_ratio[r]);
     }
+    for (int k = 0; k < 2 && st == VG_OK; k++)
+        st = run_alone(g, sizes[k][0], sizes[k][1], disparity_gpu_grid_stride(sizes[k][0], sizes[k][1], 0), frames,
+                       &ar[k]);
+    if (st != VG_OK) {
+        free(ms);
+        free(wall);
+        free(solve_ratio);
+        return st;
+    }
     summarise(ms, wall, runs, frames, fr);
-    printf("%s on %s (%s): GPU ms per pass of the frame graph,\n"
+    printf("vergence bench disparity: %s on %s (%s): GPU ms per pass of the frame graph,\n"
            "median of %d frames (median of %d runs) and mean of all\n", scene_path,
            g->props.deviceName, gpu_device_type_text(g->props.deviceType), frames, runs);
-    printf("%-24s %18s %18s\n", "pass", "960x540", "1920x1080");
+    printf("%-24s %18s %18s\n", "pass", size_name[0], size_name[1]);
     for (int p = 0; p < fr[0].passes; p++)
         printf("%-24s %9.2f (%6.2f) %9.2f (%6.2f)\n", fr[0].names[p], fr[0].median_ms[p], fr[0].mean_ms[p],
                pass_ms(&fr[1], fr[0].names[p], false), pass_ms(&fr[1], fr[0].names[p], true));
@@ -403,9 +436,6 @@ int main(int argc, char **argv)
     printf("%-24s %9.1f          %9.1f\n", "all passes (mean ms)", mean_sum[0], mean_sum[1]);
     printf("%-24s %8.1f%%          %8.1f%%\n", "passes / frame wall", 100 * mean_sum[0] / mean(wall, (int)n),
            100 * mean_sum[1] / mean(wall + n, (int)n));
-    for (int k = 0; k < 2; k++)
-        if (run_alone(g, sizes[k][0], sizes[k][1], disparity_gpu_grid_stride(sizes[k][0], sizes[k][1], 0), frames, &ar[k]) != VG_OK)
-            return 1;
     printf("\nper-pixel passes on their own, wall ms (median of %d):\n", frames);
     const char *what[4] = {"mid.upsample.time", "mid.upsample.space", "disparity.operator.fit", "disparity.operator"};
     double v0[4] = {ar[0].time_ms, ar[0].space_ms, ar[0].fit_ms, ar[0].map_ms};
@@ -414,19 +444,76 @@ int main(int argc, char **argv)
         printf("%-24s %9.2f          %9.2f   x%.2f\n", what[i], v0[i], v1[i], v1[i] / v0[i]);
     double s0 = pass_ms(&fr[0], "mid.solve", true), s1 = pass_ms(&fr[1], "mid.solve", true);
     double m0 = pass_ms(&fr[0], "mid.solve", false), m1 = pass_ms(&fr[1], "mid.solve", false);
-    printf("\nmid.solve per frame (same 192x108 grid): median %.2f vs %.2f ms (%+.1f %%), mean %.2f vs %.2f ms (%+.1f %%)\n",
-           m0, m1, 100.0 * (m1 - m0) / m0, s0, s1, 100.0 * (s1 - s0) / s0);
-    printf("mid.solve over whole keyframe intervals, 1920x1080 / 960x540 side by side in each run:");
+    printf("\nmid.solve per frame (grid %ux%u vs %ux%u): median %.2f vs %.2f ms (%+.1f %%), mean %.2f vs %.2f ms "
+           "(%+.1f %%)\n", grid[0][0], grid[0][1], grid[1][0], grid[1][1], m0, m1, 100.0 * (m1 - m0) / m0, s0, s1,
+           100.0 * (s1 - s0) / s0);
+    printf("mid.solve over whole keyframe intervals, %s / %s side by side in each run:", size_name[1], size_name[0]);
     for (int r = 0; r < runs; r++)
         printf(" x%.3f", solve_ratio[r]);
     double ratio = vg_median(solve_ratio, (size_t)runs, 1);
     printf("; median x%.3f (%+.1f %%)\n", ratio, 100.0 * (ratio - 1.0));
     double up0 = ar[0].time_ms + ar[0].space_ms, up1 = ar[1].time_ms + ar[1].space_ms;
-    printf("upsampling (time + space): %.2f vs %.2f ms: x%.2f for x4 pixels\n", up0, up1, up1 / up0);
+    printf("upsampling (time + space): %.2f vs %.2f ms: x%.2f for x%.2f pixels\n", up0, up1, up1 / up0,
+           (double)sizes[1][0] * sizes[1][1] / ((double)sizes[0][0] * sizes[0][1]));
     free(ms);
     free(wall);
     free(solve_ratio);
-    scene_destroy(s);
-    gpu_destroy(g);
-    return 0;
+    return VG_OK;
 }
+
+/* ------------------------------------------------------------------------- */
+/* The mode                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static int run(int argc, char **argv)
+{
+    memset(&o, 0, sizeof o);
+    o.scene = "content/balloon.gltf";
+    o.sizes = "960x540,1920x1080";
+    o.frames = 30;
+    o.runs = 3;
+    o.gpu.device = -1;
+    bool help = false;
+    if (vg_cli_parse(&vg_cmd_bench_disparity, argc, argv, &help) != VG_OK)
+        return 2;
+    if (help)
+        return 0;
+    uint32_t sizes[2][2];
+    if (!bench_parse_sizes(vg_cmd_bench_disparity.name, o.sizes, sizes))
+        return 2;
+    vg_status st = display_cli_load(&o.display);
+    if (st != VG_OK)
+        return vg_status_exit_code(st);
+    const char *scene_path = o.scene;
+    int frames = o.frames, runs = o.runs;
+    scene *s;
+    st = scene_load(scene_path, &s);
+    if (st != VG_OK)
+        return vg_status_exit_code(st);
+    gpu *g;
+    st = gpu_cli_open(&o.gpu, false, &g);
+    if (st != VG_OK) {
+        scene_destroy(s);
+        return vg_status_exit_code(st);
+    }
+    st = report(g, s, scene_path, sizes, frames, runs);
+    if (st != VG_OK)
+        vg_error("bench disparity: %s", vg_status_text(st));
+    scene_destroy(s);
+    return gpu_cli_close(g, st);
+}
+
+const vg_cmd vg_cmd_bench_disparity = {
+    .name = "bench disparity",
+    .summary = "the GPU disparity passes at two sizes: the solve flat in output resolution, the upsampling per pixel",
+    .usage = "vergence bench disparity [--scene FILE] [--sizes WxH,WxH] [--frames N] [--runs R]",
+    .details = "Renders a two-camera stereo pair (the disparity passes do not depend on how it is made) at\n"
+               "both sizes frame by frame in turn and prints the frame graph's ms per pass, medians of N\n"
+               "frames after a keyframe interval of warm-up (median of R runs) and means of all; then the\n"
+               "per-pixel passes timed on their own (wall ms, a wait after each: lavapipe's timestamps time\n"
+               "only the passes that wait for their own work), and the solve's and the upsampling's growth\n"
+               "from the first size to the second.",
+    .opts = k_opts,
+    .opt_count = sizeof k_opts / sizeof k_opts[0],
+    .run = run,
+};
