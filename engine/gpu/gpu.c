@@ -258,28 +258,47 @@ static int find_queue_family(VkPhysicalDevice p)
 }
 
 /* Names the first required feature the device lacks, or NULL when it has all. */
-const char *gpu_missing_feature(VkPhysicalDevice p, bool need_swapchain)
+uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need_tessellation, const char **names,
+                              uint32_t cap)
 {
+    uint32_t n = 0;
+#define LACKS(name)                                                                                                    \
+    do {                                                                                                               \
+        if (n < cap)                                                                                                   \
+            names[n] = (name);                                                                                         \
+        n++;                                                                                                           \
+    } while (0)
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(p, &props);
-    if (props.apiVersion < VK_API_VERSION_1_3)
-        return "Vulkan 1.3";
+    if (props.apiVersion < VK_API_VERSION_1_3) {
+        LACKS("Vulkan 1.3"); /* its feature structures cannot be asked for */
+        return n;
+    }
     VkPhysicalDeviceVulkan13Features f13 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     VkPhysicalDeviceVulkan12Features f12 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
                                             .pNext = &f13};
     VkPhysicalDeviceFeatures2 f = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &f12};
     vkGetPhysicalDeviceFeatures2(p, &f);
-    if (!f13.dynamicRendering) return "dynamicRendering";
-    if (!f13.synchronization2) return "synchronization2";
-    if (!f13.maintenance4) return "maintenance4";
-    if (!f12.hostQueryReset) return "hostQueryReset";
-    if (!f12.scalarBlockLayout) return "scalarBlockLayout";
-    if (!f.features.shaderStorageImageWriteWithoutFormat) return "shaderStorageImageWriteWithoutFormat";
-    if (!f.features.drawIndirectFirstInstance) return "drawIndirectFirstInstance";
-    if (!device_has_extension(p, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) return VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
-    if (need_swapchain && !device_has_extension(p, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) return VK_KHR_SWAPCHAIN_EXTENSION_NAME;
-    if (find_queue_family(p) < 0) return "a graphics+compute queue";
-    return NULL;
+    if (!f13.dynamicRendering) LACKS("dynamicRendering");
+    if (!f13.synchronization2) LACKS("synchronization2");
+    if (!f13.maintenance4) LACKS("maintenance4");
+    if (!f12.hostQueryReset) LACKS("hostQueryReset");
+    if (!f12.scalarBlockLayout) LACKS("scalarBlockLayout");
+    if (!f.features.shaderStorageImageWriteWithoutFormat) LACKS("shaderStorageImageWriteWithoutFormat");
+    if (!f.features.drawIndirectFirstInstance) LACKS("drawIndirectFirstInstance");
+    if (need_tessellation && (!f.features.tessellationShader || vg_fault_disabled("tessellation")))
+        LACKS("tessellationShader");
+    if (!device_has_extension(p, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) LACKS(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    if (need_swapchain && !device_has_extension(p, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) LACKS(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    if (find_queue_family(p) < 0) LACKS("a graphics+compute queue");
+#undef LACKS
+    return n;
+}
+
+const char *gpu_missing_feature(VkPhysicalDevice p, bool need_swapchain)
+{
+    const char *first = NULL;
+    return gpu_missing_features(p, need_swapchain, false, &first, 1) ? first : NULL;
 }
 
 static vg_status pick_device(gpu *g, const gpu_desc *desc)

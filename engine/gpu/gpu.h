@@ -79,7 +79,14 @@ typedef struct gpu_import_desc {
     const VkAllocationCallbacks *alloc;
 } gpu_import_desc;
 vg_status gpu_import(const gpu_import_desc *desc, gpu **out);
-/* The first of the device's required features it lacks, or NULL when it has them all. */
+/* Every requirement physical device p lacks: Vulkan 1.3, the features and
+ * extensions create_device enables, a graphics+compute queue; with
+ * need_swapchain the swapchain extension, with need_tessellation
+ * tessellationShader (which VERGENCE_DISABLE=tessellation takes away). At
+ * most cap names (static strings) into names; returns how many it lacks. */
+uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need_tessellation, const char **names,
+                              uint32_t cap);
+/* The first of them, or NULL when it has them all. */
 const char *gpu_missing_feature(VkPhysicalDevice p, bool need_swapchain);
 
 /* vkQueueSubmit on the context's queue; every submission goes through here

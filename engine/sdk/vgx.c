@@ -173,6 +173,16 @@ vgx_result vgx_check_physical_device(VkPhysicalDevice physical_device, const cha
     return m ? VGX_ERROR_DEVICE : VGX_SUCCESS;
 }
 
+vgx_result vgx_get_missing_requirements(VkPhysicalDevice physical_device, uint32_t context_flags,
+                                        const char **missing, uint32_t capacity, uint32_t *missing_count)
+{
+    if (!physical_device || !missing_count || (capacity && !missing))
+        return VGX_ERROR_INVALID_ARGUMENT;
+    *missing_count = gpu_missing_features(physical_device, false, (context_flags & VGX_CONTEXT_WARP) != 0, missing,
+                                          capacity);
+    return *missing_count ? VGX_ERROR_DEVICE : VGX_SUCCESS;
+}
+
 /* ------------------------------------------------------------------------- */
 /* Context                                                                   */
 /* ------------------------------------------------------------------------- */

@@ -456,14 +456,21 @@ void create_vk(Vk &vk, bool validate)
     vkEnumeratePhysicalDevices(vk.instance, &n, nullptr);
     std::vector<VkPhysicalDevice> devs(n);
     vkEnumeratePhysicalDevices(vk.instance, &n, devs.data());
-    const char *missing = "a Vulkan device";
-    for (VkPhysicalDevice p : devs)
-        if (vgx_check_physical_device(p, &missing) == VGX_SUCCESS) {
+    // Everything a device lacks, at once (this host's eyes tessellate: a warp context's requirements).
+    std::string missing = "a Vulkan device";
+    for (VkPhysicalDevice p : devs) {
+        const char *names[16];
+        uint32_t count = 0;
+        if (vgx_get_missing_requirements(p, VGX_CONTEXT_WARP, names, 16, &count) == VGX_SUCCESS) {
             vk.phys = p;
             break;
         }
+        missing.clear();
+        for (uint32_t i = 0; i < count && i < 16; i++)
+            missing += (i ? ", " : "") + std::string(names[i]);
+    }
     if (!vk.phys) {
-        std::fprintf(stderr, "vergence_host: error: no device has what vergence needs (missing %s)\n", missing);
+        std::fprintf(stderr, "vergence_host: error: no device has what vergence needs (missing %s)\n", missing.c_str());
         std::exit(2);
     }
     vkGetPhysicalDeviceMemoryProperties(vk.phys, &vk.mem);

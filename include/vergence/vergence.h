@@ -108,6 +108,16 @@ VGX_API const char *const *vgx_device_extensions(uint32_t *count);
 /* VGX_SUCCESS when the physical device supports everything above; else
  * VGX_ERROR_DEVICE with the first missing name in *missing (may be NULL). */
 VGX_API vgx_result vgx_check_physical_device(VkPhysicalDevice physical_device, const char **missing);
+/* Every requirement the physical device lacks, at once, for a context made
+ * with `context_flags` (VGX_CONTEXT_*: VGX_CONTEXT_WARP adds the
+ * tessellationShader feature that the stages of vergence/warp.glsl need):
+ * Vulkan 1.3, each feature and extension above, a queue family with graphics
+ * and compute. Writes at most `capacity` names (static storage) to `missing`
+ * (NULL with capacity 0: only count) and how many lack to *missing_count.
+ * VGX_SUCCESS when nothing lacks, else VGX_ERROR_DEVICE; VGX_ERROR_INVALID_ARGUMENT
+ * without a physical device or missing_count. */
+VGX_API vgx_result vgx_get_missing_requirements(VkPhysicalDevice physical_device, uint32_t context_flags,
+                                                const char **missing, uint32_t capacity, uint32_t *missing_count);
 
 /* ------------------------------------------------------------------------- */
 /* Context                                                                   */

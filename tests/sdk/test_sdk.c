@@ -154,6 +154,35 @@ static int version(void)
     return 0;
 }
 
+/* The requirements query lists every missing item at once: nothing on
+ * lavapipe, tessellationShader for a warp context once
+ * VERGENCE_DISABLE=tessellation takes it away, and a count past the
+ * capacity it was given. */
+static int requirements(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    const char *names[8] = {0};
+    uint32_t n = 99;
+    CHECK(vgx_get_missing_requirements(g->phys, VGX_CONTEXT_WARP, names, 8, &n) == VGX_SUCCESS && n == 0,
+          "lavapipe lacks %u: %s", n, n ? names[0] : "");
+    CHECK(vgx_get_missing_requirements(VK_NULL_HANDLE, 0, names, 8, &n) == VGX_ERROR_INVALID_ARGUMENT, "no device");
+    CHECK(vgx_get_missing_requirements(g->phys, 0, NULL, 8, &n) == VGX_ERROR_INVALID_ARGUMENT, "no array");
+    setenv("VERGENCE_DISABLE", "tessellation", 1);
+    CHECK(vgx_get_missing_requirements(g->phys, 0, names, 8, &n) == VGX_SUCCESS && n == 0,
+          "without a warp nothing needs tessellation: %u", n);
+    CHECK(vgx_get_missing_requirements(g->phys, VGX_CONTEXT_WARP, names, 8, &n) == VGX_ERROR_DEVICE && n == 1 &&
+              strcmp(names[0], "tessellationShader") == 0,
+          "%u missing, first %s", n, n ? names[0] : "-");
+    CHECK(vgx_get_missing_requirements(g->phys, VGX_CONTEXT_WARP, NULL, 0, &n) == VGX_ERROR_DEVICE && n == 1,
+          "counted without names: %u", n);
+    unsetenv("VERGENCE_DISABLE");
+    printf("requirements: lavapipe has everything; VERGENCE_DISABLE=tessellation: a warp context lacks %s\n",
+           names[0]);
+    gpu_destroy(g);
+    return 0;
+}
+
 /* Every bad field: one error line through the host's callback naming it,
  * the documented result, no context. */
 static int errors(void)
@@ -485,7 +514,7 @@ int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
         {"version", version}, {"errors", errors}, {"maps", maps}, {"device_depth", device_depth},
-        {"allocator", allocator}, {"threads", threads},
+        {"allocator", allocator}, {"threads", threads}, {"requirements", requirements},
     };
     return vg_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
