@@ -26,6 +26,9 @@ usage: arch_test.py BUILD_DIR CASE
              in the sources outside engine/graph and engine/gpu (a pass of
              dependent dispatches is several steps of the graph), and the
              pre-synchronization2 vkCmdPipelineBarrier nowhere
+  sdk        libvergence.so needs the Vulkan loader and libc / libm only
+             (readelf -d) and links no scene module, glTF loader, keyframe
+             renderer, stb or C++ symbol (nm)
   formats    one Python module reads the tests' and tools' PFM, .flo and PNG
              files and writes their PFM and .flo (issue 41): tools/vgformats.py
              defines the readers and writers, and no other Python file under
@@ -388,6 +391,30 @@ def case_barriers():
     print(f"{checked} source files: {homes} barrier calls, all in {' and '.join(BARRIER_HOMES)}")
 
 
+SDK_NEEDED = ("libvulkan.so", "libm.so", "libc.so", "ld-linux")
+SDK_FOREIGN = re.compile(r"\b(scene_\w+|keyframe_gpu_\w+|\w*gltf\w*|stbi\w*|_Z\w+)\b", re.I)
+
+
+def case_sdk(build):
+    """libvergence.so is a C library over the Vulkan loader and libc / libm:
+    no libstdc++ or other library in its dynamic section, and no scene module,
+    glTF loader, keyframe renderer, image codec or C++ symbol linked in."""
+    lib = os.path.join(build, "sdk", "libvergence.so")
+    if not os.path.exists(lib):
+        fail(f"{lib} is missing: build {build} first")
+    dyn = subprocess.run(["readelf", "-d", lib], capture_output=True, text=True, check=True).stdout
+    needed = re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]", dyn)
+    extra = [n for n in needed if not n.startswith(SDK_NEEDED)]
+    if extra:
+        fail(f"libvergence.so needs {extra} beyond the Vulkan loader and libc / libm (readelf -d)")
+    syms = subprocess.run(["nm", lib], capture_output=True, text=True, check=True).stdout
+    foreign = sorted({m.group(1) for m in SDK_FOREIGN.finditer(syms)})
+    if foreign:
+        fail(f"libvergence.so links {len(foreign)} symbols of modules a host does not need: {foreign[:8]}")
+    print(f"libvergence.so needs {', '.join(needed)}; no scene, glTF, keyframe, stb or C++ symbol in its "
+          f"{len(syms.splitlines())} symbols")
+
+
 FORMATS_HOME = "tools/vgformats.py"
 # Written so that this file does not match them itself.
 FORMAT_CODE = [
@@ -428,5 +455,5 @@ if __name__ == "__main__":
     build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
     {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
      "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence")),
-     "constants": case_constants, "barriers": case_barriers, "formats": case_formats}[case]()
+     "constants": case_constants, "barriers": case_barriers, "sdk": lambda: case_sdk(build), "formats": case_formats}[case]()
     print("ok")
