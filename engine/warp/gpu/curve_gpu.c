@@ -25,6 +25,10 @@ struct curve_gpu {
     uint32_t tiles_x, tiles_y;
     float background;
     rg_res depth, target, curve, tiles_count, tiles_sum, tiles_offset;
+    struct curve_step {
+        curve_gpu *curve;
+        uint32_t kernel;
+    } steps[4];                  /* by kernel */
 };
 
 vg_status curve_gpu_create(gpu *g, uint32_t width, uint32_t height, curve_gpu **out)
@@ -91,41 +95,25 @@ static void bind(const curve_gpu *c, const rg_context *ctx, uint32_t kernel)
     gpu_compute_kit_bind(c->gpu, rg_ctx_cmd(ctx), &c->kit, kernel, images ? wr : wr + 2, images ? 6 : 4, &pc);
 }
 
-/* The inverse-depth range in two steps: each 64x64 tile's into
- * tile_count (the bins pass overwrites it next), then one workgroup over
- * the tiles. One workgroup over every pixel took 2.4 ms at 1920x1080 on an
- * H200 and ran on one core of lavapipe. */
-static void range_tiles_execute(const rg_context *ctx, void *user)
+/* Each step one kernel of the kit: the per-tile kernels over the tiles, the
+ * others one workgroup. The inverse-depth range takes two steps: each
+ * 64x64 tile's into tile_count (the bins step overwrites it next), then one
+ * workgroup over the tiles; one workgroup over every pixel took 2.4 ms at
+ * 1920x1080 on an H200 and ran on one core of lavapipe. */
+static void step_execute(const rg_context *ctx, void *user)
 {
-    curve_gpu *c = user;
-    bind(c, ctx, K_RANGE_TILES);
-    vkCmdDispatch(rg_ctx_cmd(ctx), c->tiles_x, c->tiles_y, 1);
-}
-
-static void range_execute(const rg_context *ctx, void *user)
-{
-    curve_gpu *c = user;
-    bind(c, ctx, K_RANGE);
-    vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
-}
-
-static void bins_execute(const rg_context *ctx, void *user)
-{
-    curve_gpu *c = user;
-    bind(c, ctx, K_BINS);
-    vkCmdDispatch(rg_ctx_cmd(ctx), c->tiles_x, c->tiles_y, 1);
-}
-
-static void resolve_execute(const rg_context *ctx, void *user)
-{
-    curve_gpu *c = user;
-    bind(c, ctx, K_RESOLVE);
-    vkCmdDispatch(rg_ctx_cmd(ctx), 1, 1, 1);
+    const struct curve_step *step = user;
+    curve_gpu *c = step->curve;
+    bind(c, ctx, step->kernel);
+    bool tiled = step->kernel == K_RANGE_TILES || step->kernel == K_BINS;
+    vkCmdDispatch(rg_ctx_cmd(ctx), tiled ? c->tiles_x : 1, tiled ? c->tiles_y : 1, 1);
 }
 
 void curve_gpu_add(curve_gpu *c, rg_graph *g, rg_res depth, rg_res target, rg_res curve)
 {
     c->depth = depth, c->target = target, c->curve = curve;
+    for (uint32_t k = 0; k < 4; k++)
+        c->steps[k] = (struct curve_step){c, k};
     uint64_t tiles = (uint64_t)c->tiles_x * c->tiles_y * VG_CURVE_BINS * sizeof(uint32_t);
     c->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
     c->tiles_sum = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_sum", tiles});
@@ -133,18 +121,18 @@ void curve_gpu_add(curve_gpu *c, rg_graph *g, rg_res depth, rg_res target, rg_re
     /* Both range steps bind the images (one descriptor layout); the first
      * reads them, the second the tiles' ranges. */
     rg_pass tiles_range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range.tiles", .type = RG_PASS_COMPUTE,
-                                                         .execute = range_tiles_execute, .user = c});
+                                                         .execute = step_execute, .user = &c->steps[K_RANGE_TILES]});
     rg_use(g, tiles_range, depth, RG_STORAGE_READ);
     rg_use(g, tiles_range, target, RG_STORAGE_READ);
     rg_use(g, tiles_range, c->tiles_count, RG_STORAGE_WRITE);
     rg_pass range = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.range", .type = RG_PASS_COMPUTE,
-                                                   .execute = range_execute, .user = c});
+                                                   .execute = step_execute, .user = &c->steps[K_RANGE]});
     rg_use(g, range, depth, RG_STORAGE_READ);
     rg_use(g, range, target, RG_STORAGE_READ);
     rg_use(g, range, c->tiles_count, RG_STORAGE_READ);
     rg_use(g, range, curve, RG_STORAGE_WRITE);
     rg_pass bins = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.bins", .type = RG_PASS_COMPUTE,
-                                                  .execute = bins_execute, .user = c});
+                                                  .execute = step_execute, .user = &c->steps[K_BINS]});
     rg_use(g, bins, depth, RG_STORAGE_READ);
     rg_use(g, bins, target, RG_STORAGE_READ);
     rg_use(g, bins, curve, RG_STORAGE_READ);
@@ -152,7 +140,7 @@ void curve_gpu_add(curve_gpu *c, rg_graph *g, rg_res depth, rg_res target, rg_re
     rg_use(g, bins, c->tiles_sum, RG_STORAGE_WRITE);
     rg_use(g, bins, c->tiles_offset, RG_STORAGE_WRITE);
     rg_pass resolve = rg_pass_add(g, &(rg_pass_desc){.name = "warp.curve.resolve", .type = RG_PASS_COMPUTE,
-                                                     .execute = resolve_execute, .user = c});
+                                                     .execute = step_execute, .user = &c->steps[K_RESOLVE]});
     rg_use(g, resolve, c->tiles_count, RG_STORAGE_READ);
     rg_use(g, resolve, c->tiles_sum, RG_STORAGE_READ);
     rg_use(g, resolve, c->tiles_offset, RG_STORAGE_READ);
