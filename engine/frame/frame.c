@@ -511,7 +511,8 @@ static vg_status disparity_create(frame *f)
         .look_ahead = fd->look_ahead == FRAME_LOOK_AHEAD_CAUSAL ? VGX_LOOK_AHEAD_CAUSAL : VGX_LOOK_AHEAD_PREDICTED,
         /* Keyframes in every mode: lang-smoothed's h depends on its keyframe
          * and the frame only (issue 13). */
-        .flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_KEYFRAMES | (optimize ? VGX_CONTEXT_OPTIMIZE : 0u),
+        .flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_KEYFRAMES | (optimize ? VGX_CONTEXT_OPTIMIZE : 0u) |
+                 (g->debug_utils ? VGX_CONTEXT_DEBUG_UTILS : 0u),
     };
     vgx_result r = vgx_engine_context_create(&d, &(disparity_gpu_desc){
         .coarse_stride = fd->coarse_stride, .window_future = fd->window_future, .solver = fd->solver,

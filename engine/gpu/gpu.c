@@ -72,6 +72,32 @@ void gpu_set_name(const gpu *g, VkObjectType type, uint64_t handle, const char *
         .pObjectName = name,
     };
     g->set_object_name(g->device, &info);
+    ((gpu *)g)->names_given++; /* a count, not the context's state */
+}
+
+void gpu_cmd_label_begin(const gpu *g, VkCommandBuffer cmd, const char *name)
+{
+    if (g->cmd_begin_label)
+        g->cmd_begin_label(cmd, &(VkDebugUtilsLabelEXT){.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT,
+                                                        .pLabelName = name});
+}
+
+void gpu_cmd_label_end(const gpu *g, VkCommandBuffer cmd)
+{
+    if (g->cmd_end_label)
+        g->cmd_end_label(cmd);
+}
+
+/* The debug-utils entry points of an instance that enabled the extension. */
+static void load_debug_utils(gpu *g)
+{
+    g->set_object_name =
+        (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(g->instance, "vkSetDebugUtilsObjectNameEXT");
+    g->cmd_begin_label =
+        (PFN_vkCmdBeginDebugUtilsLabelEXT)vkGetInstanceProcAddr(g->instance, "vkCmdBeginDebugUtilsLabelEXT");
+    g->cmd_end_label = (PFN_vkCmdEndDebugUtilsLabelEXT)vkGetInstanceProcAddr(g->instance, "vkCmdEndDebugUtilsLabelEXT");
+    if (!g->cmd_begin_label || !g->cmd_end_label)
+        g->cmd_begin_label = NULL, g->cmd_end_label = NULL;
 }
 
 /* ------------------------------------------------------------------------- */
@@ -441,8 +467,7 @@ static vg_status create_device(gpu *g, const gpu_desc *desc)
     g->cmd_push_descriptor_set =
         (PFN_vkCmdPushDescriptorSetKHR)vkGetDeviceProcAddr(g->device, "vkCmdPushDescriptorSetKHR");
     if (g->debug_utils)
-        g->set_object_name = (PFN_vkSetDebugUtilsObjectNameEXT)vkGetInstanceProcAddr(
-            g->instance, "vkSetDebugUtilsObjectNameEXT");
+        load_debug_utils(g);
     GPU_NAME(g, VK_OBJECT_TYPE_DEVICE, g->device, "vergence device");
     GPU_NAME(g, VK_OBJECT_TYPE_QUEUE, g->queue, "main queue");
 
@@ -501,7 +526,12 @@ vg_status gpu_import(const gpu_import_desc *desc, gpu **out)
     vkGetDeviceQueue(g->device, g->queue_family, desc->queue_index, &g->queue);
     g->cmd_push_descriptor_set =
         (PFN_vkCmdPushDescriptorSetKHR)vkGetDeviceProcAddr(g->device, "vkCmdPushDescriptorSetKHR");
-    /* No object names: whether the host's instance enabled debug utils is its own business. */
+    /* Names and labels only when the host says its instance enabled debug
+     * utils (VGX_CONTEXT_DEBUG_UTILS): its entry points are not to be called
+     * otherwise. */
+    g->debug_utils = desc->debug_utils;
+    if (g->debug_utils)
+        load_debug_utils(g);
     VkCommandPoolCreateInfo pool = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
         .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
@@ -519,6 +549,7 @@ vg_status gpu_import(const gpu_import_desc *desc, gpu **out)
         free(g);
         return VG_ERR_VULKAN;
     }
+    GPU_NAME(g, VK_OBJECT_TYPE_COMMAND_POOL, g->pool, "vgx command pool");
     *out = g;
     return VG_OK;
 }

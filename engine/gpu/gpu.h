@@ -54,7 +54,10 @@ typedef struct gpu {
     bool debug_utils;           /* object names available */
     uint32_t device_index;
     PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set;
-    PFN_vkSetDebugUtilsObjectNameEXT set_object_name;
+    PFN_vkSetDebugUtilsObjectNameEXT set_object_name;   /* these three with debug_utils, else NULL */
+    PFN_vkCmdBeginDebugUtilsLabelEXT cmd_begin_label;
+    PFN_vkCmdEndDebugUtilsLabelEXT cmd_end_label;
+    uint32_t names_given;       /* objects named so far (the SDK's tests count them) */
     VkDeviceSize memory_bytes;  /* device memory allocated through gpu_*_create now */
     VkDeviceSize memory_peak;   /* ... and at most so far */
     long submits;               /* queue submissions so far */
@@ -77,6 +80,7 @@ typedef struct gpu_import_desc {
     VkDevice device;
     uint32_t queue_family, queue_index;
     const VkAllocationCallbacks *alloc;
+    bool debug_utils;           /* the host's instance enabled VK_EXT_debug_utils: name and label */
 } gpu_import_desc;
 vg_status gpu_import(const gpu_import_desc *desc, gpu **out);
 /* Every requirement physical device p lacks: Vulkan 1.3, the features and
@@ -101,6 +105,10 @@ int gpu_validation_messages(void);
 void gpu_set_name(const gpu *g, VkObjectType type, uint64_t handle, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 #define GPU_NAME(g, type, handle, ...) gpu_set_name((g), (type), (uint64_t)(handle), __VA_ARGS__)
+/* A command-buffer label around what is recorded until gpu_cmd_label_end
+ * (RenderDoc, Nsight; no-op without VK_EXT_debug_utils). */
+void gpu_cmd_label_begin(const gpu *g, VkCommandBuffer cmd, const char *name);
+void gpu_cmd_label_end(const gpu *g, VkCommandBuffer cmd);
 
 const char *gpu_result_text(VkResult r);
 const char *gpu_device_type_text(VkPhysicalDeviceType t);

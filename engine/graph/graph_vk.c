@@ -197,12 +197,14 @@ static void execute_one(rg_graph *g, VkCommandBuffer cmd, VkQueryPool queries, u
         vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, queries, 2 * o);
     rg_context ctx = {.graph = g, .pass = p, .cmd = cmd};
     bool rendering = pass->type == RG_PASS_GRAPHICS;
+    gpu_cmd_label_begin(g->gpu, cmd, pass->name);
     if (rendering)
         ctx.extent = begin_rendering(g, cmd, p);
     if (pass->execute)
         pass->execute(&ctx, pass->user);
     if (rendering)
         vkCmdEndRendering(cmd);
+    gpu_cmd_label_end(g->gpu, cmd);
     if (queries)
         vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT, queries, 2 * o + 1);
 }

@@ -231,7 +231,8 @@ static vg_status check_desc(const vgx_context_desc *d)
                  w->tess_error_px, w->max_tess_level, w->depth_epsilon, w->halton_radius_px);
         return VG_ERR_ARG;
     }
-    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES;
+    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES |
+                     VGX_CONTEXT_DEBUG_UTILS;
     if (d->flags & ~known) {
         vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
         return VG_ERR_ARG;
@@ -253,7 +254,9 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
     bool optimize = d->flags & VGX_CONTEXT_OPTIMIZE, keyframes = has_keyframes(c);
     vg_status st = gpu_import(&(gpu_import_desc){.instance = d->instance, .physical_device = d->physical_device,
                                                  .device = d->device, .queue_family = d->queue_family,
-                                                 .alloc = d->allocator}, &c->gpu);
+                                                 .alloc = d->allocator,
+                                                 .debug_utils = (d->flags & VGX_CONTEXT_DEBUG_UTILS) != 0},
+                     &c->gpu);
     if (st != VG_OK)
         return st;
     stereo_display_init(&c->display, &(stereo_display_desc){
@@ -314,6 +317,7 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
             gpu_report_failure(__FILE__, __LINE__, "vkCreateSampler", r);
             st = VG_ERR_VULKAN;
         }
+        GPU_NAME(c->gpu, VK_OBJECT_TYPE_SAMPLER, c->nearest, "vgx nearest sampler");
     }
     if (st == VG_OK)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = "vgx linear depth", .format = VK_FORMAT_R32_SFLOAT,

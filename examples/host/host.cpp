@@ -1141,6 +1141,8 @@ int main(int argc, char **argv)
     cd.fps = fps;
     cd.look_ahead = causal ? VGX_LOOK_AHEAD_CAUSAL : VGX_LOOK_AHEAD_PREDICTED;
     cd.flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP;
+    if (validate) // the instance has VK_EXT_debug_utils then: the SDK's objects and passes get names
+        cd.flags |= VGX_CONTEXT_DEBUG_UTILS;
     cd.message = on_vgx_message;
     vgx_context *ctx = nullptr;
     vgx_result vr = vgx_context_create(&cd, &ctx);

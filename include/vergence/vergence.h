@@ -153,6 +153,9 @@ typedef enum vgx_preset {
                                      its stereo pair by moving its own vertices */
 #define VGX_CONTEXT_KEYFRAMES 0x8u /* keyframes without f (implied by VGX_CONTEXT_OPTIMIZE): lang-smoothed's h then
                                      depends on its keyframe and the frame only, not on which frames were rendered */
+#define VGX_CONTEXT_DEBUG_UTILS 0x10u /* the host enabled VK_EXT_debug_utils on its instance: every Vulkan object
+                                     the context makes carries a name ("vgx g", "mid.solve", ...) and each pass
+                                     of vgx_dispatch a command-buffer label (RenderDoc, Nsight) */
 
 /* The warp's settings (include/vergence/warp.glsl; zero = the engine's). */
 typedef struct vgx_warp_settings {

@@ -29,6 +29,8 @@ usage: arch_test.py BUILD_DIR CASE
   sdk        libvergence.so needs the Vulkan loader and libc / libm only
              (readelf -d) and links no scene module, glTF loader, keyframe
              renderer, stb or C++ symbol (nm)
+  names      every vkCreate* / vkAllocate* call in engine/ names the object
+             it made (GPU_NAME within a dozen lines; the instance excepted)
   formats    one Python module reads the tests' and tools' PFM, .flo and PNG
              files and writes their PFM and .flo (issue 41): tools/vgformats.py
              defines the readers and writers, and no other Python file under
@@ -391,6 +393,34 @@ def case_barriers():
     print(f"{checked} source files: {homes} barrier calls, all in {' and '.join(BARRIER_HOMES)}")
 
 
+VK_CREATE = re.compile(r"\bvk(?:Create|Allocate)(\w+)\((?:[^;]*?)&\s*([\w\->.\[\]]+?)\)", re.S)
+UNNAMED = {"Instance": "lavapipe crashes in vkDestroyInstance once an instance is named (docs/architecture.md)",
+           "DebugUtilsMessengerEXT": "the messenger reports the names"}
+
+
+def case_names():
+    """Every Vulkan object the engine and the SDK make is named: each
+    vkCreate* / vkAllocate* call in engine/ is followed, within a dozen lines,
+    by a GPU_NAME of the object it made (RenderDoc and Nsight show names; a
+    host gets them with VGX_CONTEXT_DEBUG_UTILS)."""
+    bad, named = [], 0
+    for path, text in source_texts():
+        if not path.startswith("engine/") or not path.endswith(".c"):
+            continue
+        for m in VK_CREATE.finditer(text):
+            kind, obj = m.group(1), m.group(2)
+            if kind in UNNAMED:
+                continue
+            after = "\n".join(text[m.end():].split("\n")[:12])
+            if not re.search(r"GPU_NAME\([^,]+,\s*\w+,\s*\*?%s(?!\w)" % re.escape(obj), after):
+                bad.append(f"{path}:{text[:m.start()].count(chr(10)) + 1}: vk*{kind} makes {obj}, named nowhere after it")
+            else:
+                named += 1
+    if bad:
+        fail("objects without a debug name (GPU_NAME):\n  " + "\n  ".join(bad))
+    print(f"{named} vkCreate / vkAllocate calls in engine/, each followed by the name of what it made")
+
+
 SDK_NEEDED = ("libvulkan.so", "libm.so", "libc.so", "ld-linux")
 SDK_FOREIGN = re.compile(r"\b(scene_\w+|keyframe_gpu_\w+|\w*gltf\w*|stbi\w*|_Z\w+)\b", re.I)
 
@@ -455,5 +485,5 @@ if __name__ == "__main__":
     build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
     {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
      "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence")),
-     "constants": case_constants, "barriers": case_barriers, "sdk": lambda: case_sdk(build), "formats": case_formats}[case]()
+     "constants": case_constants, "barriers": case_barriers, "sdk": lambda: case_sdk(build), "names": case_names, "formats": case_formats}[case]()
     print("ok")

@@ -44,6 +44,9 @@ static vgx_context_desc context_desc(const gpu *g, uint32_t w, uint32_t h, messa
     d.height = h;
     d.message = on_message;
     d.message_user = m;
+    /* Under validation the instance has debug utils: every context names its
+     * objects and labels its passes, and the layer checks each call. */
+    d.flags = g->debug_utils ? VGX_CONTEXT_DEBUG_UTILS : 0u;
     return d;
 }
 
@@ -357,6 +360,7 @@ static int device_depth(void)
     enum { W = 64, H = 48 };
     messages m = {0};
     vgx_context_desc d = context_desc(g, W, H, &m);
+    CHECK(!g->validation || (d.flags & VGX_CONTEXT_DEBUG_UTILS), "validation without debug utils");
     vgx_context *c = NULL;
     CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
     stereo_display disp;
