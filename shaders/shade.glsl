@@ -7,7 +7,7 @@
 // fraction f, so the block's 16 compares give the same sum (up to the
 // sampler's rounding of f) for 16 texel reads instead of 36 and no filter.
 //
-// Two cascades (frame.c light_setup): points nearer the centre camera than
+// Two cascades (render/shadow_gpu.c, shadow_gpu_setup): points nearer the centre camera than
 // u.shadow.x (view depth) read the near one, the rest the whole scene's.
 // The choice is arithmetic: lavapipe compiles a shader again for every new
 // value of a uniform that alone decides a branch (common.glsl).

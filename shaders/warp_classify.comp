@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 4 of 4: each scene triangle is culled, flat (no edge
+// warp.classify.gather (the last of its four graph steps): each scene triangle is culled, flat (no edge
 // needs subdivision: a plain vertex shader draws it) or tessellated; the
 // same decision as the tessellation control shader (vgx_edge_level, include/vergence/warp.glsl),
 // which takes the levels decided here (warp.compact puts them in draw

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 1 of 4: which triangles the eyes may see (frustum
+// warp.classify.cull (the first of its four graph steps): which triangles the eyes may see (frustum
 // culling, as vgx_patch_outside). kinds = 1 visible, 0 culled, and this
 // frame's stamp on the visible triangles' vertices; warp_vertices then warps
 // only those, warp_edges levels only the edges a visible triangle uses. No shared

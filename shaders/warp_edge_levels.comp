@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 3b: the edges of one bucket of warp_edges (one number
+// warp.classify.levels: the edges of one bucket of warp_edges (one number
 // of samples), levelled by sampling the cascade along them (vgx_edge_level).
 #define VG_FRAME_STORAGE
 #include "common.glsl"

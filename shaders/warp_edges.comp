@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 3 of 4: the level of every edge a visible triangle
+// warp.classify.vertices (with warp_vertices): the level of every edge a visible triangle
 // uses, once per edge (two triangles share most edges). Here only what
 // needs no sampling (vgx_edge_prepare: short, behind the camera, a fixed
 // pixel length); each edge to sample goes to the bucket of its number of

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.fill, step 3 of 3 (warp_fill.glsl): each crack takes the mean of the
+// warp.fill.EYE.apply (warp_fill.glsl): each crack takes the mean of the
 // pair that closes it (geometry, which no step writes).
 #include "warp_fill.glsl"
 

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.fill, step 1 of 3 (warp_fill.glsl): the candidates, five loads a pixel.
+// warp.fill.EYE.find, after .reset (warp_fill.glsl): the candidates, five loads a pixel.
 #include "warp_fill.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;

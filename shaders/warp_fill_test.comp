@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.fill, step 2 of 3 (warp_fill.glsl): the whole test on each candidate.
+// warp.fill.EYE.test (warp_fill.glsl): the whole test on each candidate.
 #include "warp_fill.glsl"
 
 layout(local_size_x = VG_WORKLIST_GROUP) in;

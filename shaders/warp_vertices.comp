@@ -1,5 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// warp.classify, step 2a: every visible vertex's warp without the Halton
+// warp.classify.vertices (with warp_edges): every visible vertex's warp without the Halton
 // search; the unresolved ones go to a list (warp_vertices.glsl).
 #include "warp_vertices.glsl"

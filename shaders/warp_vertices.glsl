@@ -1,4 +1,5 @@
-// vergence — warp.classify, step 2 of 4, shared by its two kernels
+// vergence — the vertices' warp of warp.classify, shared by its two kernels
+// (warp_vertices in warp.classify.vertices, warp_vertex_search in .levels)
 // (warp_vertices.comp, warp_vertex_search.comp): the warp of every vertex a
 // visible triangle uses (warp_cull stamped them), once for both eyes:
 // vgx_warp_disparity, which the flat triangles' vertex shader then only adds

@@ -72,7 +72,6 @@ void gpu_set_name(const gpu *g, VkObjectType type, uint64_t handle, const char *
         .pObjectName = name,
     };
     g->set_object_name(g->device, &info);
-    ((gpu *)g)->names_given++; /* a count, not the context's state */
 }
 
 void gpu_cmd_label_begin(const gpu *g, VkCommandBuffer cmd, const char *name)
@@ -297,23 +296,27 @@ uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(p, &props);
     if (props.apiVersion < VK_API_VERSION_1_3) {
-        LACKS("Vulkan 1.3"); /* its feature structures cannot be asked for */
-        return n;
+        LACKS("Vulkan 1.3"); /* its feature structures cannot be asked for; the rest can */
+    } else {
+        VkPhysicalDeviceVulkan13Features f13 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+        VkPhysicalDeviceVulkan12Features f12 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+                                                .pNext = &f13};
+        VkPhysicalDeviceFeatures2 f = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &f12};
+        vkGetPhysicalDeviceFeatures2(p, &f);
+        if (!f13.dynamicRendering) LACKS("dynamicRendering");
+        if (!f13.synchronization2) LACKS("synchronization2");
+        if (!f13.maintenance4) LACKS("maintenance4");
+        if (!f12.hostQueryReset) LACKS("hostQueryReset");
+        if (!f12.scalarBlockLayout) LACKS("scalarBlockLayout");
+        if (!f.features.shaderStorageImageWriteWithoutFormat) LACKS("shaderStorageImageWriteWithoutFormat");
+        if (!f.features.drawIndirectFirstInstance) LACKS("drawIndirectFirstInstance");
     }
-    VkPhysicalDeviceVulkan13Features f13 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    VkPhysicalDeviceVulkan12Features f12 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
-                                            .pNext = &f13};
-    VkPhysicalDeviceFeatures2 f = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &f12};
-    vkGetPhysicalDeviceFeatures2(p, &f);
-    if (!f13.dynamicRendering) LACKS("dynamicRendering");
-    if (!f13.synchronization2) LACKS("synchronization2");
-    if (!f13.maintenance4) LACKS("maintenance4");
-    if (!f12.hostQueryReset) LACKS("hostQueryReset");
-    if (!f12.scalarBlockLayout) LACKS("scalarBlockLayout");
-    if (!f.features.shaderStorageImageWriteWithoutFormat) LACKS("shaderStorageImageWriteWithoutFormat");
-    if (!f.features.drawIndirectFirstInstance) LACKS("drawIndirectFirstInstance");
-    if (need_tessellation && (!f.features.tessellationShader || vg_fault_disabled("tessellation")))
-        LACKS("tessellationShader");
+    if (need_tessellation) {
+        VkPhysicalDeviceFeatures f10;
+        vkGetPhysicalDeviceFeatures(p, &f10);
+        if (!f10.tessellationShader || vg_fault_disabled("tessellation"))
+            LACKS("tessellationShader");
+    }
     if (!device_has_extension(p, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) LACKS(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
     if (need_swapchain && !device_has_extension(p, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) LACKS(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     if (find_queue_family(p) < 0) LACKS("a graphics+compute queue");

@@ -57,7 +57,6 @@ typedef struct gpu {
     PFN_vkSetDebugUtilsObjectNameEXT set_object_name;   /* these three with debug_utils, else NULL */
     PFN_vkCmdBeginDebugUtilsLabelEXT cmd_begin_label;
     PFN_vkCmdEndDebugUtilsLabelEXT cmd_end_label;
-    uint32_t names_given;       /* objects named so far (the SDK's tests count them) */
     VkDeviceSize memory_bytes;  /* device memory allocated through gpu_*_create now */
     VkDeviceSize memory_peak;   /* ... and at most so far */
     long submits;               /* queue submissions so far */

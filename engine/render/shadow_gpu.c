@@ -283,6 +283,7 @@ static vg_status shadow_cache_create(shadow_gpu *p)
 
 vg_status shadow_gpu_create(frame_ctx *fc, shadow_gpu **out)
 {
+    *out = NULL;
     gpu *g = fc->gpu;
     shadow_gpu *p = calloc(1, sizeof *p);
     if (!p)

@@ -176,7 +176,9 @@ vgx_result vgx_check_physical_device(VkPhysicalDevice physical_device, const cha
 vgx_result vgx_get_missing_requirements(VkPhysicalDevice physical_device, uint32_t context_flags,
                                         const char **missing, uint32_t capacity, uint32_t *missing_count)
 {
-    if (!physical_device || !missing_count || (capacity && !missing))
+    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES |
+                     VGX_CONTEXT_DEBUG_UTILS;
+    if (!physical_device || !missing_count || (capacity && !missing) || (context_flags & ~known))
         return VGX_ERROR_INVALID_ARGUMENT;
     *missing_count = gpu_missing_features(physical_device, false, (context_flags & VGX_CONTEXT_WARP) != 0, missing,
                                           capacity);

@@ -24,13 +24,15 @@ usage: arch_test.py BUILD_DIR CASE
              and the curve buffer's members (vg_curve, VgxCurveBlock)
   barriers   the frame graph records every barrier: no vkCmdPipelineBarrier*
              in the sources outside engine/graph and engine/gpu (a pass of
-             dependent dispatches is several steps of the graph), and the
-             pre-synchronization2 vkCmdPipelineBarrier nowhere
+             dependent dispatches is several steps of the graph; the example
+             host records its own), and the pre-synchronization2
+             vkCmdPipelineBarrier nowhere, tests included
   sdk        libvergence.so needs the Vulkan loader and libc / libm only
              (readelf -d) and links no scene module, glTF loader, keyframe
              renderer, stb or C++ symbol (nm)
   names      every vkCreate* / vkAllocate* call in engine/ names the object
-             it made (GPU_NAME within a dozen lines; the instance excepted)
+             it made (its last argument; GPU_NAME within a dozen lines; the
+             instance excepted)
   formats    one Python module reads the tests' and tools' PFM, .flo and PNG
              files and writes their PFM and .flo (issue 41): tools/vgformats.py
              defines the readers and writers, and no other Python file under
@@ -375,6 +377,17 @@ BARRIER_HOMES = ("engine/graph/", "engine/gpu/")
 def case_barriers():
     call = re.compile(r"\bvkCmdPipelineBarrier(2(?:KHR)?)?\s*\(")
     found, homes, checked = [], 0, 0
+    tests = []
+    for root, _, names in os.walk(os.path.join(ROOT, "tests")):
+        for n in names:
+            if n.endswith((".c", ".h", ".cpp")):
+                path = os.path.join(root, n)
+                tests.append((os.path.relpath(path, ROOT), open(path, encoding="utf-8").read()))
+    for path, text in tests:  # the tests record their own barriers, in synchronization2 terms
+        for m in call.finditer(text):
+            if not m.group(1):
+                found.append(f"{path}:{text[:m.start()].count(chr(10)) + 1}: vkCmdPipelineBarrier (synchronization2: "
+                             "vkCmdPipelineBarrier2)")
     for path, text in source_texts():
         checked += 1
         for m in call.finditer(text):
@@ -393,29 +406,56 @@ def case_barriers():
     print(f"{checked} source files: {homes} barrier calls, all in {' and '.join(BARRIER_HOMES)}")
 
 
-VK_CREATE = re.compile(r"\bvk(?:Create|Allocate)(\w+)\((?:[^;]*?)&\s*([\w\->.\[\]]+?)\)", re.S)
+VK_CREATE = re.compile(r"\bvk(?:Create|Allocate)(\w+)\(")
 UNNAMED = {"Instance": "lavapipe crashes in vkDestroyInstance once an instance is named (docs/architecture.md)",
            "DebugUtilsMessengerEXT": "the messenger reports the names"}
+
+
+def last_argument(text, start):
+    """The last argument of the call whose '(' is at start, and where it ends."""
+    depth, arg_start = 0, start + 1
+    for i in range(start, len(text)):
+        c = text[i]
+        if c in "({[":
+            depth += 1
+        elif c in ")}]":
+            depth -= 1
+            if depth == 0:
+                return text[arg_start:i].strip(), i
+        elif c == "," and depth == 1:
+            arg_start = i + 1
+    return None, start
 
 
 def case_names():
     """Every Vulkan object the engine and the SDK make is named: each
     vkCreate* / vkAllocate* call in engine/ is followed, within a dozen lines,
-    by a GPU_NAME of the object it made (RenderDoc and Nsight show names; a
-    host gets them with VGX_CONTEXT_DEBUG_UTILS)."""
+    by a GPU_NAME of the object it made (its last argument, `&x` or a
+    pointer `out`; RenderDoc and Nsight show names, and a host gets them with
+    VGX_CONTEXT_DEBUG_UTILS). A call whose last argument it cannot read fails."""
     bad, named = [], 0
     for path, text in source_texts():
         if not path.startswith("engine/") or not path.endswith(".c"):
             continue
         for m in VK_CREATE.finditer(text):
-            kind, obj = m.group(1), m.group(2)
+            kind, line = m.group(1), text[:m.start()].count("\n") + 1
             if kind in UNNAMED:
                 continue
-            after = "\n".join(text[m.end():].split("\n")[:12])
-            if not re.search(r"GPU_NAME\([^,]+,\s*\w+,\s*\*?%s(?!\w)" % re.escape(obj), after):
-                bad.append(f"{path}:{text[:m.start()].count(chr(10)) + 1}: vk*{kind} makes {obj}, named nowhere after it")
-            else:
+            arg, end = last_argument(text, m.end() - 1)
+            obj = re.fullmatch(r"&\s*([\w\->.\[\]]+)|([\w\->.]+)", arg or "")
+            if not obj:
+                bad.append(f"{path}:{line}: vk*{kind}'s last argument '{arg}' is not an object this test can follow")
+                continue
+            name = obj.group(1) or obj.group(2)
+            # A pointer argument is named through *out, an array through out[i].
+            target = re.escape(name) + r"(?![\w\[])" if obj.group(1) else \
+                r"(?:\*%s(?!\w)|%s\[)" % (re.escape(name), re.escape(name))
+            deref = "" if obj.group(1) else "*"
+            after = "\n".join(text[end:].split("\n")[:12])
+            if re.search(r"GPU_NAME\([^,]+,\s*\w+,\s*\(?%s" % target, after):
                 named += 1
+            else:
+                bad.append(f"{path}:{line}: vk*{kind} makes {deref}{name}, named nowhere after it")
     if bad:
         fail("objects without a debug name (GPU_NAME):\n  " + "\n  ".join(bad))
     print(f"{named} vkCreate / vkAllocate calls in engine/, each followed by the name of what it made")
@@ -438,6 +478,8 @@ def case_sdk(build):
     if extra:
         fail(f"libvergence.so needs {extra} beyond the Vulkan loader and libc / libm (readelf -d)")
     syms = subprocess.run(["nm", lib], capture_output=True, text=True, check=True).stdout
+    if not re.search(r"\bT vgx_context_create\b", syms):
+        fail("libvergence.so shows no vgx_context_create to nm (stripped?): its symbols cannot be checked")
     foreign = sorted({m.group(1) for m in SDK_FOREIGN.finditer(syms)})
     if foreign:
         fail(f"libvergence.so links {len(foreign)} symbols of modules a host does not need: {foreign[:8]}")

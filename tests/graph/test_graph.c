@@ -149,6 +149,50 @@ static int test_barriers(void)
     return 0;
 }
 
+static int expect_invalid(rg_graph *g, const char *what);
+
+/* A work list: one step appends to it, the next dispatches from it
+ * indirectly and consumes it (indirect-storage), a third reads what that
+ * one wrote. Each gets a barrier that covers the indirect read too. */
+static int test_work_list(void)
+{
+    rg_graph *g = rg_create();
+    rg_res list = rg_import_buffer(g, &(rg_buffer_desc){.name = "work list", .size = 4096},
+                                   &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
+                                                     .final = RG_STORAGE_READ_WRITE});
+    rg_pass append = PASS(g, "append", RG_PASS_COMPUTE);
+    rg_use(g, append, list, RG_STORAGE_READ_WRITE);
+    rg_pass consume = PASS(g, "consume", RG_PASS_COMPUTE);
+    rg_use(g, consume, list, RG_INDIRECT_STORAGE);
+    rg_pass after = rg_pass_add(g, &(rg_pass_desc){.name = "after", .type = RG_PASS_COMPUTE, .side_effects = true});
+    rg_use(g, after, list, RG_STORAGE_READ);
+    CHECK(rg_compile(g) == VG_OK, "compile failed");
+    CHECK(rg_order_count(g) == 3, "%u passes kept", rg_order_count(g));
+    const rg_barrier *b = find_barrier(g, 1, list);
+    CHECK(b && !b->is_image && (b->src_stage & VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT) &&
+              (b->src_access & VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT) &&
+              (b->dst_stage & VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT) &&
+              (b->dst_stage & VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT) &&
+              (b->dst_access & VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT) &&
+              (b->dst_access & VK_ACCESS_2_SHADER_STORAGE_READ_BIT),
+          "append -> indirect dispatch: no barrier to the indirect read (dst stage %llx access %llx)",
+          b ? (unsigned long long)b->dst_stage : 0ull, b ? (unsigned long long)b->dst_access : 0ull);
+    b = find_barrier(g, 2, list);
+    CHECK(b && (b->src_access & VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT) &&
+              (b->dst_access & VK_ACCESS_2_SHADER_STORAGE_READ_BIT),
+          "the consumer writes the list too: the reader after it waits");
+    rg_destroy(g);
+    /* Declared on an image, it is refused. */
+    g = rg_create();
+    rg_res img = IMG(g, "img", VK_FORMAT_R32_UINT, 8, 8);
+    rg_pass w = PASS(g, "w", RG_PASS_COMPUTE);
+    rg_use(g, w, img, RG_STORAGE_WRITE);
+    rg_pass r = PASS(g, "r", RG_PASS_COMPUTE);
+    rg_use(g, r, img, RG_INDIRECT_STORAGE);
+    rg_export(g, img);
+    return expect_invalid(g, "indirect-storage on an image"); /* it destroys g */
+}
+
 /* Transient resources of the same shape with disjoint lifetimes share memory. */
 static int test_transient_reuse(void)
 {
@@ -304,6 +348,7 @@ int main(int argc, char **argv)
         {"cull", test_cull},
         {"order", test_order},
         {"barriers", test_barriers},
+        {"work_list", test_work_list},
         {"transient_reuse", test_transient_reuse},
         {"validate", test_validate},
         {"attachment_load", test_attachment_load},

@@ -452,10 +452,11 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
         w->classify_work_res = rg_import_buffer(g, &(rg_buffer_desc){"warp.classify_work", w->classify_work.size},
                                             &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE,
                                                               .final = RG_STORAGE_READ_WRITE});
-        /* The steps push the same descriptors; each declares what the kit's
-         * kernels touch, the buffers they write written whole by the first
-         * step, and the work lists as indirect arguments where dispatched
-         * from. */
+        /* The steps push the same descriptors; each declares every buffer
+         * the kit's kernels write, as written from the first step on (a
+         * superset: cull writes only the kinds, but each step's barrier then
+         * covers them all), and the work lists as indirect arguments where
+         * dispatched from. */
         static const struct {
             const char *name;
             rg_execute_fn execute;
