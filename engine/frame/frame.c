@@ -412,8 +412,9 @@ static vg_status create_submission(frame *f)
     return VG_OK;
 }
 
-/* Every default of a frame_desc, resolved once: the pass modules read them
- * from frame_ctx.desc and change nothing. */
+/* Every default of a frame_desc, resolved once (frame_get_desc gives them
+ * back); the pass modules get the part they render (render_settings) and
+ * change nothing. */
 static frame_desc resolve_defaults(const frame_desc *desc)
 {
     frame_desc d = *desc;
