@@ -7,6 +7,3 @@
 #define VGX_WARP_BINDING_TARGET VG_BINDING_TARGET
 #define VGX_WARP_BINDING_CURVE VG_BINDING_CURVE
 #include "vergence/warp.glsl"
-#if VGX_CURVE_BINS != VG_CURVE_BINS || VGX_STAGE_CURVE != VG_STAGE_CURVE || VGX_STAGE_DIRECT != VG_STAGE_DIRECT
-#error "include/vergence/warp.glsl and shaders/shared.h disagree"
-#endif

@@ -17,7 +17,7 @@
 
 layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;
 layout(set = 0, binding = 1, r32f) uniform readonly image2D target_image;
-layout(set = 0, binding = 2, scalar) buffer CurveBlock { vg_curve curve; };
+layout(set = 0, binding = 2, scalar) buffer CurveBlock { vgx_curve_data curve; };
 layout(set = 0, binding = 3, scalar) buffer TileBlock { uint tile_count[]; };
 layout(set = 0, binding = 4, scalar) buffer TileSumBlock { uint tile_sum[]; };
 layout(set = 0, binding = 5, scalar) buffer TileOffsetBlock { uint tile_offset[]; };

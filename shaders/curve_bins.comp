@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "curve.glsl"
 layout(local_size_x = 256) in;
-shared uint s_count[VG_CURVE_BINS], s_sum[VG_CURVE_BINS], s_offset[VG_CURVE_BINS];
+shared uint s_count[VGX_CURVE_BINS], s_sum[VGX_CURVE_BINS], s_offset[VGX_CURVE_BINS];
 
 void main()
 {
@@ -22,7 +22,7 @@ void main()
         float z = imageLoad(depth_image, p).r;
         if (!is_geometry(z))
             continue;
-        float pos = clamp((1.0 / z - lo) / span * float(VG_CURVE_BINS), 0.0, float(VG_CURVE_BINS) - 1e-3);
+        float pos = clamp((1.0 / z - lo) / span * float(VGX_CURVE_BINS), 0.0, float(VGX_CURVE_BINS) - 1e-3);
         int bin = int(pos);
         atomicAdd(s_count[bin], 1u);
         atomicAdd(s_offset[bin], uint((pos - float(bin)) * CURVE_OFFSET_FIXED));
@@ -30,7 +30,7 @@ void main()
     }
     barrier();
     uint tile = gl_WorkGroupID.y * pc.tiles_x + gl_WorkGroupID.x;
-    tile_count[tile * VG_CURVE_BINS + t] = s_count[t];
-    tile_sum[tile * VG_CURVE_BINS + t] = s_sum[t];
-    tile_offset[tile * VG_CURVE_BINS + t] = s_offset[t];
+    tile_count[tile * VGX_CURVE_BINS + t] = s_count[t];
+    tile_sum[tile * VGX_CURVE_BINS + t] = s_sum[t];
+    tile_offset[tile * VGX_CURVE_BINS + t] = s_offset[t];
 }

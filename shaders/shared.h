@@ -1,4 +1,6 @@
-/* vergence — constants and struct layouts shared by C and GLSL.
+/* vergence — constants and struct layouts shared by the engine's C and GLSL,
+ * in vergence/lang.h's subset of both (the warp's public share, stage ids
+ * and the curve, is vergence/warp_shared.h).
  *
  * Both sides use scalar block layout (VK_EXT_scalar_block_layout, core in
  * Vulkan 1.2), so a struct here has the same bytes in C and in a shader.
@@ -7,23 +9,7 @@
 #ifndef VG_SHARED_H
 #define VG_SHARED_H
 
-#ifdef GL_core_profile
-#define VG_STRUCT(name) struct name
-#define VG_VEC2 vec2
-#define VG_VEC4 vec4
-#define VG_MAT4 mat4
-#define VG_UINT uint
-#else
-#include <stdint.h>
-typedef struct vg_gvec2 { float v[2]; } vg_gvec2;
-typedef struct vg_gvec4 { float v[4]; } vg_gvec4;
-typedef struct vg_gmat4 { float m[16]; } vg_gmat4; /* column-major, as GLSL */
-#define VG_STRUCT(name) typedef struct name name; struct name
-#define VG_VEC2 vg_gvec2
-#define VG_VEC4 vg_gvec4
-#define VG_MAT4 vg_gmat4
-#define VG_UINT uint32_t
-#endif
+#include "vergence/warp_shared.h"
 
 /* A work list one kernel appends to and indirect dispatches of
  * VG_WORKLIST_GROUP-invocation workgroups then cover (warp.edges' buckets,
@@ -53,28 +39,28 @@ typedef struct vg_gmat4 { float m[16]; } vg_gmat4; /* column-major, as GLSL */
 #define VG_GBUFFER_MOTION 3  /* RGBA32F: pixels to previous keyframe (xy), to next keyframe (zw) */
 
 /* Per-frame constants of the scene passes. */
-VG_STRUCT(vg_frame_ubo) {
-    VG_MAT4 view_proj;        /* world -> clip at the frame's time */
-    VG_MAT4 view_proj_prev;   /* at the previous keyframe's time */
-    VG_MAT4 view_proj_next;   /* at the next keyframe's time */
-    VG_MAT4 view;             /* world -> view (linear depth = -z) */
-    VG_MAT4 inv_view_proj;    /* clip -> world, for the sky */
-    VG_MAT4 light_view_proj[2]; /* world -> shadow clip of each cascade: [0] the whole scene, [1] the near one */
-    VG_VEC4 camera_pos;       /* xyz eye; w = far plane (background depth) */
-    VG_VEC4 sun_dir;          /* xyz unit vector toward the sun; w unused */
-    VG_VEC4 shadow;           /* x: view depth (m) below which the near cascade shades (0: one cascade);
+VGX_STRUCT(vg_frame_ubo) {
+    VGX_MAT4 view_proj;        /* world -> clip at the frame's time */
+    VGX_MAT4 view_proj_prev;   /* at the previous keyframe's time */
+    VGX_MAT4 view_proj_next;   /* at the next keyframe's time */
+    VGX_MAT4 view;             /* world -> view (linear depth = -z) */
+    VGX_MAT4 inv_view_proj;    /* clip -> world, for the sky */
+    VGX_MAT4 light_view_proj[2]; /* world -> shadow clip of each cascade: [0] the whole scene, [1] the near one */
+    VGX_VEC4 camera_pos;       /* xyz eye; w = far plane (background depth) */
+    VGX_VEC4 sun_dir;          /* xyz unit vector toward the sun; w unused */
+    VGX_VEC4 shadow;           /* x: view depth (m) below which the near cascade shades (0: one cascade);
                                  y, z: texel of cascade 0 / 1 in world metres; w unused */
-    VG_VEC4 sun_color;        /* rgb radiance; w = ambient strength */
-    VG_VEC4 sky_zenith;       /* rgb; w = fog density (1/m) */
-    VG_VEC4 sky_horizon;      /* rgb; w = exposure */
-    VG_VEC4 ground_color;     /* rgb bounce light from below; w unused */
-    VG_VEC4 viewport;         /* width, height, 1/width, 1/height */
-    VG_MAT4 eye_view_proj[2]; /* off-axis cameras of the original rig: left, right */
-    VG_VEC4 rig;              /* gain K (image px), convergence c (m), interaxial b (m), unused */
-    VG_VEC4 display;          /* ipd e (m), distance D (m), metres per image pixel, screen vergence (arcmin) */
-    VG_VEC4 warp;             /* tess px (0 = off), tess error px (0 = off), depth epsilon (relative), Halton radius px */
-    VG_VEC4 warp2;            /* max tessellation level, specular (1) or diffuse only (0), measure (1), unused */
-    VG_VEC4 saliency;         /* computed saliency (gbuffer.glsl): rgb the scene's mean base colour
+    VGX_VEC4 sun_color;        /* rgb radiance; w = ambient strength */
+    VGX_VEC4 sky_zenith;       /* rgb; w = fog density (1/m) */
+    VGX_VEC4 sky_horizon;      /* rgb; w = exposure */
+    VGX_VEC4 ground_color;     /* rgb bounce light from below; w unused */
+    VGX_VEC4 viewport;         /* width, height, 1/width, 1/height */
+    VGX_MAT4 eye_view_proj[2]; /* off-axis cameras of the original rig: left, right */
+    VGX_VEC4 rig;              /* gain K (image px), convergence c (m), interaxial b (m), unused */
+    VGX_VEC4 display;          /* ipd e (m), distance D (m), metres per image pixel, screen vergence (arcmin) */
+    VGX_VEC4 warp;             /* tess px (0 = off), tess error px (0 = off), depth epsilon (relative), Halton radius px */
+    VGX_VEC4 warp2;            /* max tessellation level, specular (1) or diffuse only (0), measure (1), unused */
+    VGX_VEC4 saliency;         /* computed saliency (gbuffer.glsl): rgb the scene's mean base colour
                                  (linear), w its depth scale (m: the camera's distance to its centre) */
 };
 
@@ -83,7 +69,7 @@ VG_STRUCT(vg_frame_ubo) {
 #define VG_BINDING_SHADOW 1   /* sampler2DShadow */
 #define VG_BINDING_DEPTH 2    /* sampler2D: centre linear depth (nearest) */
 #define VG_BINDING_TARGET 3   /* sampler2D: target vergence, arcmin (nearest) */
-#define VG_BINDING_CURVE 4    /* storage buffer: vg_curve */
+#define VG_BINDING_CURVE 4    /* storage buffer: vgx_curve_data */
 /* VG_BINDING_TESS_LEVELS (16): storage buffer, the warp's edge levels */
 
 /* vg_draw_push.flags */
@@ -93,33 +79,13 @@ VG_STRUCT(vg_frame_ubo) {
  * cascade c in [c / N, (c + 1) / N) of its width. */
 #define VG_SHADOW_CASCADES 2
 
-/* Cascade stages of the warp (paper 4.6, Fig. 5). */
-#define VG_STAGE_NONE 0
-#define VG_STAGE_DIRECT 1
-#define VG_STAGE_NEIGHBORHOOD 2
-#define VG_STAGE_HALTON 3
-#define VG_STAGE_CURVE 4
-
-/* Global depth -> vergence curve (paper 4.6): bins uniform in inverse depth;
- * each holds the centroid of its pairs (mean inverse depth, mean vergence),
- * and the curve is linear in inverse depth between consecutive centroids. */
-#define VG_CURVE_BINS 256
-VG_STRUCT(vg_curve) {
-    float inv_depth_near;     /* 1 / smallest depth covered */
-    float inv_depth_far;      /* 1 / largest depth covered */
-    VG_UINT valid;            /* 0: no pairs were seen, the curve is unusable */
-    VG_UINT pad;
-    float inv_depth[VG_CURVE_BINS]; /* centroid, 1/m (bin centre for empty bins) */
-    float vergence[VG_CURVE_BINS];  /* arcmin at the centroid */
-};
-
 /* Per-draw push constants. */
-VG_STRUCT(vg_draw_push) {
-    VG_VEC4 base_color;       /* linear RGBA factor */
-    VG_UINT instance_id;      /* 1-based */
+VGX_STRUCT(vg_draw_push) {
+    VGX_VEC4 base_color;       /* linear RGBA factor */
+    uint instance_id;      /* 1-based */
     float saliency;           /* 0..1 */
     int texture_index;        /* index into the texture array, -1 for none */
-    VG_UINT flags;            /* VG_DRAW_* bits */
+    uint flags;            /* VG_DRAW_* bits */
 };
 
 /* warp.classify: one entry per scene instance. Its flat and tessellated
@@ -127,31 +93,31 @@ VG_STRUCT(vg_draw_push) {
  * two output index buffers; indirect draw args: the flat draw of instance i
  * at i, its tessellated chunks at instance_count + tess_args + c, and after
  * all commands one uint per instance: how many of its chunks hold triangles. */
-VG_STRUCT(vg_warp_instance) {
-    VG_UINT first_index, index_count, first_vertex, tess_args;
-    VG_UINT tess_chunks, pad0, pad1, pad2;
+VGX_STRUCT(vg_warp_instance) {
+    uint first_index, index_count, first_vertex, tess_args;
+    uint tess_chunks, pad0, pad1, pad2;
 };
 /* warp.classify works on chunks of up to 256 triangles of one instance. */
-VG_STRUCT(vg_warp_chunk) {
-    VG_UINT instance, first_triangle, triangle_count, first_chunk; /* first_chunk: the instance's chunk 0 */
+VGX_STRUCT(vg_warp_chunk) {
+    uint instance, first_triangle, triangle_count, first_chunk; /* first_chunk: the instance's chunk 0 */
 };
-VG_STRUCT(vg_classify_push) {
-    VG_UINT instance_count;
-    VG_UINT chunk_triangles;   /* patches per tessellated draw (lavapipe's vertex limit) */
-    VG_UINT chunk_count;
-    VG_UINT tess_slots;        /* draw commands of all tessellated chunks; per-instance counts follow them */
-    VG_UINT edge_count;        /* the scene's distinct triangle edges (warp.edges) */
-    VG_UINT vertex_count;      /* the scene's vertices (warp.vertices) */
-    VG_UINT stamp;             /* this frame's mark in vertex_seen: never 0, one more each frame */
-    VG_UINT bucket;            /* warp_edge_levels: the bucket of edges it levels (VG_EDGE_BUCKETS) */
+VGX_STRUCT(vg_classify_push) {
+    uint instance_count;
+    uint chunk_triangles;   /* patches per tessellated draw (lavapipe's vertex limit) */
+    uint chunk_count;
+    uint tess_slots;        /* draw commands of all tessellated chunks; per-instance counts follow them */
+    uint edge_count;        /* the scene's distinct triangle edges (warp.edges) */
+    uint vertex_count;      /* the scene's vertices (warp.vertices) */
+    uint stamp;             /* this frame's mark in vertex_seen: never 0, one more each frame */
+    uint bucket;            /* warp_edge_levels: the bucket of edges it levels (VG_EDGE_BUCKETS) */
 };
 /* warp.edges: an edge of the scene's triangles, once however many triangles
  * share it. Vertices global (instance first_vertex + index); the (at most
  * two) triangles that use it as global triangle numbers, VG_EDGE_NONE for a
  * border edge's second, VG_EDGE_ALWAYS when more than two share it (its
  * level is always computed). */
-VG_STRUCT(vg_warp_edge) {
-    VG_UINT v0, v1, t0, t1;
+VGX_STRUCT(vg_warp_edge) {
+    uint v0, v1, t0, t1;
 };
 #define VG_EDGE_NONE 0xffffffffu
 #define VG_EDGE_ALWAYS 0xfffffffeu
@@ -214,10 +180,10 @@ VG_STRUCT(vg_warp_edge) {
 #define VG_COMPOSE_CROSS_EYED 14
 /* The mode (VG_COMPOSE_*) and whether the layout is packed are the
  * shader's specialisation constants 0 and 1. */
-VG_STRUCT(vg_compose_push) {
-    VG_UINT swap;             /* 1: exchange the eyes (overlaid modes; packed ones swap rectangles) */
-    VG_UINT width, height;    /* of one eye */
-    VG_UINT rect[8];          /* packed: x, y, w, h of the left eye's, then the right eye's */
+VGX_STRUCT(vg_compose_push) {
+    uint swap;             /* 1: exchange the eyes (overlaid modes; packed ones swap rectangles) */
+    uint width, height;    /* of one eye */
+    uint rect[8];          /* packed: x, y, w, h of the left eye's, then the right eye's */
 };
 
 /* probe: the pixels of a few instances (the game's ball) and the mean of
@@ -225,14 +191,14 @@ VG_STRUCT(vg_compose_push) {
  * (engine/frame/probe_gpu.c adds them on the host). */
 #define VG_PROBE_GROUP 16u
 #define VG_PROBE_MAX_IDS 8
-VG_STRUCT(vg_probe_push) {
-    VG_UINT ids[VG_PROBE_MAX_IDS]; /* instance ids, 0 = unused */
-    VG_UINT width, height;
-    VG_UINT groups_x;
+VGX_STRUCT(vg_probe_push) {
+    uint ids[VG_PROBE_MAX_IDS]; /* instance ids, 0 = unused */
+    uint width, height;
+    uint groups_x;
 };
-VG_STRUCT(vg_probe_partial) {
+VGX_STRUCT(vg_probe_partial) {
     float sum;                /* of (shown - g), arcmin */
-    VG_UINT pixels;
+    uint pixels;
 };
 
 #endif

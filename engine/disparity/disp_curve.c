@@ -11,7 +11,7 @@
 
 static bool pair_ok(float z, float v) { return z > 0.0f && isfinite(z) && v > 0.0f && isfinite(v); }
 
-vg_status disp_curve_build(const float *depth, const float *vergence, size_t n, vg_curve *out)
+vg_status disp_curve_build(const float *depth, const float *vergence, size_t n, vgx_curve_data *out)
 {
     memset(out, 0, sizeof *out);
     double lo = INFINITY, hi = 0;
@@ -29,26 +29,26 @@ vg_status disp_curve_build(const float *depth, const float *vergence, size_t n, 
     out->inv_depth_near = hi > lo ? (float)hi : (float)(lo * 1.001 + 1e-6);
     double span = (double)out->inv_depth_near - out->inv_depth_far;
     /* Per bin: how many pairs, their vergences and where they sit in the bin. */
-    double count[VG_CURVE_BINS] = {0}, sum[VG_CURVE_BINS] = {0}, offset[VG_CURVE_BINS] = {0};
+    double count[VGX_CURVE_BINS] = {0}, sum[VGX_CURVE_BINS] = {0}, offset[VGX_CURVE_BINS] = {0};
     for (size_t i = 0; i < n; i++) {
         if (!pair_ok(depth[i], vergence[i]))
             continue;
-        double pos = (1.0 / depth[i] - out->inv_depth_far) / span * VG_CURVE_BINS;
-        pos = pos < 0 ? 0 : pos > VG_CURVE_BINS - 1e-3 ? VG_CURVE_BINS - 1e-3 : pos;
+        double pos = (1.0 / depth[i] - out->inv_depth_far) / span * VGX_CURVE_BINS;
+        pos = pos < 0 ? 0 : pos > VGX_CURVE_BINS - 1e-3 ? VGX_CURVE_BINS - 1e-3 : pos;
         int b = (int)pos;
         count[b] += 1;
         sum[b] += vergence[i];
         offset[b] += pos - b;
     }
     /* Nodes: the centroid of a populated bin, the centre of an empty one. */
-    float q[VG_CURVE_BINS], v[VG_CURVE_BINS];
-    for (int b = 0; b < VG_CURVE_BINS; b++) {
+    float q[VGX_CURVE_BINS], v[VGX_CURVE_BINS];
+    for (int b = 0; b < VGX_CURVE_BINS; b++) {
         double inside = count[b] > 0 ? offset[b] / count[b] : 0.5;
-        q[b] = (float)(out->inv_depth_far + (b + inside) / VG_CURVE_BINS * span);
+        q[b] = (float)(out->inv_depth_far + (b + inside) / VGX_CURVE_BINS * span);
         v[b] = count[b] > 0 ? (float)(sum[b] / count[b]) : 0.0f;
     }
     /* Empty bins: linear in inverse depth between the nearest populated nodes. */
-    for (int b = 0; b < VG_CURVE_BINS; b++) {
+    for (int b = 0; b < VGX_CURVE_BINS; b++) {
         out->inv_depth[b] = q[b];
         if (count[b] > 0) {
             out->vergence[b] = v[b];
@@ -57,9 +57,9 @@ vg_status disp_curve_build(const float *depth, const float *vergence, size_t n, 
         int l = b, r = b;
         while (l >= 0 && count[l] == 0)
             l--;
-        while (r < VG_CURVE_BINS && count[r] == 0)
+        while (r < VGX_CURVE_BINS && count[r] == 0)
             r++;
-        if (l >= 0 && r < VG_CURVE_BINS)
+        if (l >= 0 && r < VGX_CURVE_BINS)
             out->vergence[b] = v[l] + (v[r] - v[l]) * (q[b] - q[l]) / (q[r] - q[l]);
         else
             out->vergence[b] = l >= 0 ? v[l] : v[r];
@@ -67,48 +67,21 @@ vg_status disp_curve_build(const float *depth, const float *vergence, size_t n, 
     return VG_OK;
 }
 
-static float between(const vg_curve *c, int a, int b, float q)
-{
-    float dq = c->inv_depth[b] - c->inv_depth[a];
-    float t = fabsf(dq) > 1e-12f ? (q - c->inv_depth[a]) / dq : 0.0f;
-    return c->vergence[a] + t * (c->vergence[b] - c->vergence[a]);
-}
-
-float disp_curve_eval(const vg_curve *c, float depth)
-{
-    const int last = VG_CURVE_BINS - 1;
-    float q = 1.0f / (depth > 1e-6f ? depth : 1e-6f);
-    if (q <= c->inv_depth[0])
-        return between(c, 0, DISP_CURVE_REACH, q);
-    if (q >= c->inv_depth[last])
-        return between(c, last - DISP_CURVE_REACH, last, q);
-    /* The node segment that holds q: start at q's bin (nodes increase in
-     * inverse depth and each lies in its bin), then step to it. */
-    float span = c->inv_depth_near - c->inv_depth_far;
-    int i = (int)((q - c->inv_depth_far) / (span > 1e-12f ? span : 1e-12f) * (float)VG_CURVE_BINS);
-    i = i < 0 ? 0 : i > last - 1 ? last - 1 : i;
-    while (i > 0 && q < c->inv_depth[i])
-        i--;
-    while (i < last - 1 && q > c->inv_depth[i + 1])
-        i++;
-    return between(c, i, i + 1, q);
-}
-
 /* ------------------------------------------------------------------------- */
 /* File                                                                      */
 /* ------------------------------------------------------------------------- */
 
-vg_status disp_curve_write(const char *path, const vg_curve *c)
+vg_status disp_curve_write(const char *path, const vgx_curve_data *c)
 {
-    uint8_t buf[12 + sizeof(vg_curve)];
-    uint32_t head[3] = {0, 1, VG_CURVE_BINS};
+    uint8_t buf[12 + sizeof(vgx_curve_data)];
+    uint32_t head[3] = {0, 1, VGX_CURVE_BINS};
     memcpy(head, "VGCV", 4);
     memcpy(buf, head, 12);
     memcpy(buf + 12, c, sizeof *c);
     return vg_file_write_atomic(path, buf, sizeof buf);
 }
 
-vg_status disp_curve_read(const char *path, vg_curve *c)
+vg_status disp_curve_read(const char *path, vgx_curve_data *c)
 {
     uint8_t *data;
     size_t size;
@@ -121,17 +94,17 @@ vg_status disp_curve_read(const char *path, vg_curve *c)
         st = VG_ERR_FORMAT;
     } else {
         memcpy(head, data, 12);
-        if (memcmp(data, "VGCV", 4) || head[1] != 1 || head[2] != VG_CURVE_BINS) {
+        if (memcmp(data, "VGCV", 4) || head[1] != 1 || head[2] != VGX_CURVE_BINS) {
             vg_error("%s: not a vergence curve file (bad magic, version or bin count)", path);
             st = VG_ERR_FORMAT;
         } else {
             memcpy(c, data + 12, sizeof *c);
             bool ok = c->valid == 1 && isfinite(c->inv_depth_near) && isfinite(c->inv_depth_far) &&
                       c->inv_depth_near > c->inv_depth_far && c->inv_depth_far >= 0;
-            for (int b = 0; b < VG_CURVE_BINS && ok; b++)
+            for (int b = 0; b < VGX_CURVE_BINS && ok; b++)
                 ok = isfinite(c->inv_depth[b]) && (b == 0 || c->inv_depth[b] >= c->inv_depth[b - 1]);
             bool range = true;
-            for (int b = 0; b < VG_CURVE_BINS && ok && range; b++)
+            for (int b = 0; b < VGX_CURVE_BINS && ok && range; b++)
                 range = c->vergence[b] > 0 && c->vergence[b] < DISP_CURVE_MAX_ARCMIN;
             if (!ok) {
                 vg_error("%s: curve values are not finite or not increasing in inverse depth", path);

@@ -3,41 +3,16 @@
  * compute passes (paper Sec. 4.1-4.5; units in DESIGN.md; equations in
  * docs/method.md).
  *
- * Written in the subset of C17 and GLSL 4.50 that both accept:
- *   - structs of scalar float/uint members only, sizes a multiple of 16 bytes,
- *     so std430 and C agree on every offset (no vec3, no bool, no arrays);
- *   - float literals with an f suffix, uint literals with a u suffix;
- *   - casts through MID_UINT()/MID_FLOAT(), maths through mid_log/mid_exp/mid_abs;
- *   - functions marked MID_FN, taking and returning values (no pointers, no out).
- * The C side includes it from mid_*.c; GLSL includes it with
+ * Written in vergence/lang.h's subset of C17 and GLSL 4.50, with structs
+ * of scalar float/uint members only and sizes a multiple of 16 bytes, so
+ * std430 and C agree on every offset (static asserts at the end). The C side
+ * includes it from mid_*.c; GLSL includes it with
  * GL_GOOGLE_include_directive. Every field is float32; only reductions
  * (cost, dot products) are accumulated in double on the CPU. */
 #ifndef VG_MID_SHARED_H
 #define VG_MID_SHARED_H
 
-#if defined(__STDC__) || defined(__cplusplus)
-#include <math.h>
-typedef unsigned int uint;
-#define MID_FN static inline
-#define MID_UINT(x) ((uint)(x))
-#define MID_FLOAT(x) ((float)(x))
-#define mid_log logf
-#define mid_exp expf
-#define mid_abs fabsf
-#define mid_floor floorf
-#define mid_pow powf
-#define mid_sqrt sqrtf
-#else /* GLSL */
-#define MID_FN
-#define MID_UINT(x) uint(x)
-#define MID_FLOAT(x) float(x)
-#define mid_log log
-#define mid_exp exp
-#define mid_abs abs
-#define mid_floor floor
-#define mid_pow pow
-#define mid_sqrt sqrt
-#endif
+#include "vergence/lang.h"
 
 /* ------------------------------------------------------------------------- */
 /* Constants                                                                 */
@@ -141,7 +116,7 @@ typedef unsigned int uint;
 
 /* Uniform parameters of a window solve (std430, 48 bytes). Index of a
  * coarse pixel: i = k * ns + y * nx + x (keyframe-major, top row first). */
-struct mid_params {
+VGX_STRUCT(mid_params) {
     uint nx, ny, nt, ns;
     float w_data, w_spatial, w_temporal, w_accel;
     float range_lo, range_hi, grad_scale, inv_n; /* grad_scale = 2 / n */
@@ -150,7 +125,7 @@ struct mid_params {
 /* A_f or A_b row i (Sec. 4.3): bilinear interpolation of the neighbouring
  * keyframe at the flow target, restricted to the taps of the same surface
  * (mask) and renormalised. 16 bytes. */
-struct mid_link {
+VGX_STRUCT(mid_link) {
     uint base; /* index of the top-left tap in the neighbouring keyframe */
     float fx;  /* bilinear fractions in [0,1] */
     float fy;
@@ -160,47 +135,40 @@ struct mid_link {
 /* One entry of the transposed link matrix (A_f^T or A_b^T) in CSR form:
  * row j lists the source pixels i whose links read j, sorted by i, so that
  * the adjoint is a gather summed in a fixed order. 8 bytes. */
-struct mid_adj_entry {
+VGX_STRUCT(mid_adj_entry) {
     uint src;
     float w;
 };
 
 /* Normalised tap weights of a link. */
-struct mid_taps {
+VGX_STRUCT(mid_taps) {
     float w00, w10, w01, w11;
 };
-
-#if defined(__STDC__) || defined(__cplusplus)
-typedef struct mid_params mid_params;
-typedef struct mid_link mid_link;
-typedef struct mid_adj_entry mid_adj_entry;
-typedef struct mid_taps mid_taps;
-#endif
 
 /* ------------------------------------------------------------------------- */
 /* Per-element formulas                                                      */
 /* ------------------------------------------------------------------------- */
 
 /* p(v) = sign(v) ln(1 + |v|) / k (Sec. 4.2, symmetric form of DESIGN.md). */
-MID_FN float mid_p(float v)
+VGX_FN float mid_p(float v)
 {
     float s = v < 0.0f ? -STEREO_INV_WEBER_K : STEREO_INV_WEBER_K;
-    return s * mid_log(1.0f + mid_abs(v));
+    return s * vgx_log(1.0f + vgx_abs(v));
 }
 
 /* dp/dv = 1 / (k (1 + |v|)). */
-MID_FN float mid_dp(float v)
+VGX_FN float mid_dp(float v)
 {
-    return STEREO_INV_WEBER_K / (1.0f + mid_abs(v));
+    return STEREO_INV_WEBER_K / (1.0f + vgx_abs(v));
 }
 
 /* Edge weight a of Sec. 4.1 for a difference of h normalised to the range. */
-MID_FN float mid_edge_weight(float dh_normalised)
+VGX_FN float mid_edge_weight(float dh_normalised)
 {
-    return mid_exp(-MID_EDGE_SHARPNESS * mid_abs(dh_normalised));
+    return vgx_exp(-MID_EDGE_SHARPNESS * vgx_abs(dh_normalised));
 }
 
-MID_FN mid_taps mid_link_taps(mid_link l)
+VGX_FN mid_taps mid_link_taps(mid_link l)
 {
     float w00 = (l.mask & MID_TAP00) != 0u ? (1.0f - l.fx) * (1.0f - l.fy) : 0.0f;
     float w10 = (l.mask & MID_TAP10) != 0u ? l.fx * (1.0f - l.fy) : 0.0f;
@@ -218,7 +186,7 @@ MID_FN mid_taps mid_link_taps(mid_link l)
 }
 
 /* (A x)_i from the four tap values x[base], x[base+1], x[base+nx], x[base+nx+1]. */
-MID_FN float mid_link_apply(mid_taps t, float x00, float x10, float x01, float x11)
+VGX_FN float mid_link_apply(mid_taps t, float x00, float x10, float x01, float x11)
 {
     return t.w00 * x00 + t.w10 * x10 + t.w01 * x01 + t.w11 * x11;
 }
@@ -226,17 +194,13 @@ MID_FN float mid_link_apply(mid_taps t, float x00, float x10, float x01, float x
 /* Residuals of c_t and c_a at one pixel (Sec. 4.3), and their slopes.
  * fa = (A_f f)_i, fb = (A_b f)_i; inv_dt_f/b are 1/seconds to the next and
  * previous keyframe, or 0 where the link is invalid (which zeroes the terms). */
-struct mid_pixel {
+VGX_STRUCT(mid_pixel) {
     float r_t;  /* p(v+_f) - p(v+_h)                     (times m_f) */
     float r_a;  /* p(v+_f) - p(v-_f) - (p(v+_g) - p(v-_g)) (times m_f m_b) */
     float q_f;  /* d r / d (A_f f - f) = p'(v+) / dt        (times m_f) */
     float q_b;  /* d p(v-) / d (f - A_b f) = p'(v-) / dt    (times m_b) */
 };
-#if defined(__STDC__) || defined(__cplusplus)
-typedef struct mid_pixel mid_pixel;
-#endif
-
-MID_FN mid_pixel mid_pixel_eval(float f, float fa, float fb, float inv_dt_f, float inv_dt_b,
+VGX_FN mid_pixel mid_pixel_eval(float f, float fa, float fb, float inv_dt_f, float inv_dt_b,
                                 float m_f, float m_b, float ph, float pg_acc)
 {
     float vf = (fa - f) * inv_dt_f;
@@ -264,7 +228,7 @@ MID_FN mid_pixel mid_pixel_eval(float f, float fa, float fb, float inv_dt_f, flo
  * a gap the operator compresses, in 3 frames), f / h interpolated puts that
  * change into f (docs/method.md Sec. 8). Vergence is never 0; a missing g or
  * h (not a positive finite vergence: a video's unknown pixels) keeps m. */
-MID_FN float mid_ratio_to_h(float m, float g, float h)
+VGX_FN float mid_ratio_to_h(float m, float g, float h)
 {
     float r = m * g / h;
     return g > 0.0f && h > 0.0f && r < 1.0e3f ? r : m;
@@ -273,7 +237,7 @@ MID_FN float mid_ratio_to_h(float m, float g, float h)
 /* Slope in time (per second) of a ratio r (m = f / g) at a keyframe sample,
  * along the motion: the mean of the one-sided slopes to the keyframes its
  * links reach (rf = (A_f r)_i, rb = (A_b r)_i), one of them alone, or 0. */
-MID_FN float mid_ratio_slope(float r, float rf, float rb, uint has_f, uint has_b, float inv_dt_f, float inv_dt_b)
+VGX_FN float mid_ratio_slope(float r, float rf, float rb, uint has_f, uint has_b, float inv_dt_f, float inv_dt_b)
 {
     float sf = (rf - r) * inv_dt_f, sb = (r - rb) * inv_dt_b;
     if (has_f != 0u && has_b != 0u)
@@ -291,14 +255,14 @@ MID_FN float mid_ratio_slope(float r, float rf, float rb, uint has_f, uint has_b
  * ty) whose own flow (fx, fy) to the interval's other keyframe lands where
  * frame t's sample is in that keyframe (ox, oy) follows the sample's motion;
  * all in coarse pixels, within MID_FLOW_TOLERANCE + 10 % of the flow. */
-MID_FN uint mid_on_trajectory(float tx, float ty, float fx, float fy, float ox, float oy)
+VGX_FN uint mid_on_trajectory(float tx, float ty, float fx, float fy, float ox, float oy)
 {
     float dx = tx + fx - ox, dy = ty + fy - oy;
-    float lim = MID_FLOW_TOLERANCE + 0.1f * (mid_abs(fx) + mid_abs(fy));
-    return MID_UINT(dx * dx + dy * dy <= lim * lim ? 1 : 0);
+    float lim = MID_FLOW_TOLERANCE + 0.1f * (vgx_abs(fx) + vgx_abs(fy));
+    return VGX_UINT(dx * dx + dy * dy <= lim * lim ? 1 : 0);
 }
 
-MID_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, float span)
+VGX_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, float span)
 {
     float t2 = tau * tau, t3 = t2 * tau;
     return (2.0f * t3 - 3.0f * t2 + 1.0f) * r0 + (t3 - 2.0f * t2 + tau) * span * s0 +
@@ -326,13 +290,13 @@ MID_FN float mid_hermite(float r0, float s0, float r1, float s1, float tau, floa
 #define DISP_SAL_SPEED 0.02f
 
 /* CIE 1976 L*a*b* of linear sRGB (D65): f(t) of one XYZ component. */
-MID_FN float disp_lab_f(float t)
+VGX_FN float disp_lab_f(float t)
 {
-    return t > 0.008856f ? mid_pow(t, 1.0f / 3.0f) : 7.787f * t + 16.0f / 116.0f;
+    return t > 0.008856f ? vgx_pow(t, 1.0f / 3.0f) : 7.787f * t + 16.0f / 116.0f;
 }
 
 /* Delta E (CIE 1976) between two linear sRGB colours. */
-MID_FN float disp_delta_e(float r0, float g0, float b0, float r1, float g1, float b1)
+VGX_FN float disp_delta_e(float r0, float g0, float b0, float r1, float g1, float b1)
 {
     float x0 = disp_lab_f((0.4124f * r0 + 0.3576f * g0 + 0.1805f * b0) / 0.9505f);
     float y0 = disp_lab_f(0.2126f * r0 + 0.7152f * g0 + 0.0722f * b0);
@@ -341,17 +305,17 @@ MID_FN float disp_delta_e(float r0, float g0, float b0, float r1, float g1, floa
     float y1 = disp_lab_f(0.2126f * r1 + 0.7152f * g1 + 0.0722f * b1);
     float z1 = disp_lab_f((0.0193f * r1 + 0.1192f * g1 + 0.9505f * b1) / 1.089f);
     float dl = 116.0f * (y0 - y1), da = 500.0f * ((x0 - y0) - (x1 - y1)), db = 200.0f * ((y0 - z0) - (y1 - z1));
-    return mid_sqrt(dl * dl + da * da + db * db);
+    return vgx_sqrt(dl * dl + da * da + db * db);
 }
 
 /* The saliency of a pixel from its colour contrast (Delta E to the mean),
  * its speed (fraction of the image width per keyframe interval) and its
  * depth (metres, scale the scene's). */
-MID_FN float disp_saliency_computed(float delta_e, float speed, float depth, float depth_scale)
+VGX_FN float disp_saliency_computed(float delta_e, float speed, float depth, float depth_scale)
 {
     float c = delta_e < DISP_SAL_DE_FULL ? delta_e / DISP_SAL_DE_FULL : 1.0f;
-    float m = 1.0f - mid_exp(-speed / DISP_SAL_SPEED);
-    float n = depth_scale > 0.0f ? mid_exp(-depth / depth_scale) : 0.0f;
+    float m = 1.0f - vgx_exp(-speed / DISP_SAL_SPEED);
+    float n = depth_scale > 0.0f ? vgx_exp(-depth / depth_scale) : 0.0f;
     float s = DISP_SAL_W_CONTRAST * c + DISP_SAL_W_MOTION * m + DISP_SAL_W_NEAR * n;
     return s < 0.0f ? 0.0f : (s > 1.0f ? 1.0f : s);
 }
@@ -379,7 +343,7 @@ MID_FN float disp_saliency_computed(float delta_e, float speed, float depth, flo
 /* The c_a residual of x along a sample's links (Sec. 4.3; the MID metric,
  * disp_metrics.c, and the causal gate): x and g at the sample, ahead (a)
  * and behind (b). */
-MID_FN float mid_accel_residual(float xa, float x, float xb, float ga, float g, float gb, float inv_dt_f,
+VGX_FN float mid_accel_residual(float xa, float x, float xb, float ga, float g, float gb, float inv_dt_f,
                                 float inv_dt_b)
 {
     return (mid_p((xa - x) * inv_dt_f) - mid_p((x - xb) * inv_dt_b)) -
@@ -388,7 +352,7 @@ MID_FN float mid_accel_residual(float xa, float x, float xb, float ga, float g, 
 
 /* The gain for the keyframe published next, from the decayed sums (the
  * candidate's, h's) over `samples` samples and the gain published last. */
-MID_FN float mid_gate_gain(float sum_c, float sum_h, float samples, float gain_before)
+VGX_FN float mid_gate_gain(float sum_c, float sum_h, float samples, float gain_before)
 {
     float eps = MID_GATE_EPS * samples;
     float q = (sum_c + eps) / (sum_h + eps);
@@ -405,7 +369,7 @@ MID_FN float mid_gate_gain(float sum_c, float sum_h, float samples, float gain_b
 /* Push constants of every mid_*.comp kernel (window build and solver; 128
  * bytes). The window is n = ns * nt elements; every array of the solver
  * arena is `cap` elements long (the largest window). */
-struct mid_push {
+VGX_STRUCT(mid_push) {
     uint nx, ny, nt, ns;
     uint n, cap, blocks, op;       /* blocks: chunks of MID_SUM_CHUNK over n; op: the kernel's operation */
     float w_data, w_spatial, w_temporal, w_accel;
@@ -422,7 +386,7 @@ struct mid_push {
 /* Solver state on the GPU (mid_control.comp writes it; 96 bytes). The CPU
  * solver's scalars and branches (mid_solver.c) become these fields and the
  * dispatch sizes of the kernels that follow. */
-struct mid_solve_state {
+VGX_STRUCT(mid_solve_state) {
     float c, c_try, decrease, pg2;     /* cost, trial cost, Armijo decrease, |projected gradient|^2 */
     float rz, rz0, rz_new, php;        /* CG scalars */
     float a_cg, b_cg, range_lo, range_hi;
@@ -548,7 +512,7 @@ struct mid_solve_state {
  * measures. The correction is m = f / g (docs/method.md Sec. 8); under the
  * causal gate (of_h) it is f / h, so that a closed gate shows h at every
  * frame, not only at keyframes. */
-struct mid_published {
+VGX_STRUCT(mid_published) {
     float range_lo, range_hi; /* the range f was solved in (the clamp of upsampling) */
     uint keyframe_lo, keyframe_hi; /* keyframes published so far (absolute, inclusive) */
     float gate_c, gate_h, gate_gain; /* the causal gate's sums and gain (MID_GATE_*) */
@@ -556,7 +520,7 @@ struct mid_published {
 };
 
 /* Operator passes (disparity_operator_*.comp): push constants (96 bytes). */
-struct disp_op_push {
+VGX_STRUCT(disp_op_push) {
     uint kind, bins, stride, fixed_domain; /* stride: statistics from every stride-th pixel */
     float screen_vergence, range_lo, range_hi, floor_slope;
     float blur_bins, saliency_floor, smooth_alpha, dom_lo; /* smooth_alpha: per call (frame) */
@@ -577,14 +541,14 @@ struct disp_op_push {
 #define DISP_OP_ENTRY_TILE0 2u
 /* One mapping: its header, then DISP_OP_MAX_BINS + 1 knots (normalised
  * cumulative mapping in [0, 1]); DISP_OP_STATE_FLOATS floats per entry. */
-struct disp_op_state {
+VGX_STRUCT(disp_op_state) {
     float dom_lo, dom_hi, out_lo, out_hi;
     float scale, has_prev, lo, hi; /* lo, hi: target range */
 };
 #define DISP_OP_STATE_FLOATS 272u
 
 /* Upsampling passes (mid_upsample_*.comp): push constants (64 bytes). */
-struct disp_upsample_push {
+VGX_STRUCT(disp_upsample_push) {
     uint full_w, full_h, stride, nx;
     uint ny, slot0, slot1, has1;  /* ring slots of the keyframes before (k0) and after (k1) */
     float tau, log_tol, inv_2ss, inv_2sr;
@@ -593,16 +557,7 @@ struct disp_upsample_push {
     uint depth_only;              /* 1: the occlusion test in time by depth alone (no ids, no trajectory) */
 };
 
-#if defined(__STDC__) || defined(__cplusplus)
-typedef struct mid_push mid_push;
-typedef struct mid_solve_state mid_solve_state;
-typedef struct mid_published mid_published;
-typedef struct disp_op_push disp_op_push;
-typedef struct disp_op_state disp_op_state;
-typedef struct disp_upsample_push disp_upsample_push;
-#endif
-
-#if defined(__STDC__) || defined(__cplusplus)
+#ifndef GL_core_profile
 /* The std430 layouts the GLSL side assumes. */
 #include <stddef.h>
 _Static_assert(sizeof(mid_params) == 48 && offsetof(mid_params, w_data) == 16 &&

@@ -278,7 +278,7 @@ static vg_status build_graph(frame *f)
                 readback_add_item(f, res->ref_left, w, h, 4, &o->ref_left);
                 readback_add_item(f, res->ref_right, w, h, 4, &o->ref_right);
             }
-            readback_add_item(f, res->curve, sizeof(vg_curve), 0, 0, &o->curve);
+            readback_add_item(f, res->curve, sizeof(vgx_curve_data), 0, 0, &o->curve);
         }
         const readback_item *last = &f->items[f->item_count - 1];
         VkDeviceSize size = last->offset + (VkDeviceSize)last->width * (last->height ? last->height * last->texel : 1);

@@ -62,7 +62,7 @@ typedef struct frame_desc {
     bool overlay;                /* headless: draw frame_set_hud's text into the eyes (windowed: always) */
     VkFormat present_format;     /* windowed: the swapchain format, UNDEFINED = headless */
     uint32_t present_width, present_height; /* windowed: the swapchain extent */
-    const struct vg_curve *curve; /* a baked global curve instead of the per-frame one (copied) */
+    const struct vgx_curve_data *curve; /* a baked global curve instead of the per-frame one (copied) */
     /* The disparity pipeline (issue 4, DESIGN.md steps 4-7); zero = default. */
     disp_operator_kind op;       /* h = M(g, saliency), 0 = lang */
     disp_operator_preset op_preset; /* 0 = comfort (+-60 arcmin) */

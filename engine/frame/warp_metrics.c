@@ -222,11 +222,11 @@ vg_status warp_metrics_add(warp_metrics *m, const frame_outputs *o, uint32_t wid
                 continue;
             const float *a = aux[e] + 4 * i;
             int stage = (int)a[3];
-            if (stage < 0 || stage > VG_STAGE_CURVE)
-                stage = VG_STAGE_NONE;
+            if (stage < 0 || stage > VGX_STAGE_CURVE)
+                stage = VGX_STAGE_NONE;
             m->stage_pixels[stage]++;
             float err = fabsf(a[2]);
-            vg_status st = stage == VG_STAGE_CURVE ? push(&m->errors_curve, &m->curve_count, &m->curve_cap, err)
+            vg_status st = stage == VGX_STAGE_CURVE ? push(&m->errors_curve, &m->curve_count, &m->curve_cap, err)
                                                    : push(&m->errors, &m->error_count, &m->error_cap, err);
             if (st != VG_OK)
                 return st;
@@ -277,9 +277,9 @@ static double percentile(float *v, size_t n, double q)
 void warp_metrics_finish(warp_metrics *m)
 {
     uint64_t total = 0;
-    for (int s = 0; s <= VG_STAGE_CURVE; s++)
+    for (int s = 0; s <= VGX_STAGE_CURVE; s++)
         total += m->stage_pixels[s];
-    for (int s = 0; s <= VG_STAGE_CURVE; s++)
+    for (int s = 0; s <= VGX_STAGE_CURVE; s++)
         m->stage_fraction[s] = total ? (double)m->stage_pixels[s] / (double)total : 0.0;
     m->error_median = percentile(m->errors, m->error_count, 0.5);
     m->error_p99 = percentile(m->errors, m->error_count, 0.99);

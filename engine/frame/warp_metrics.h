@@ -45,7 +45,7 @@
 
 typedef struct warp_metrics {
     /* accumulated */
-    uint64_t stage_pixels[5];          /* VG_STAGE_NONE .. VG_STAGE_CURVE */
+    uint64_t stage_pixels[5];          /* VGX_STAGE_NONE .. VGX_STAGE_CURVE */
     float *errors, *errors_curve;      /* |error| samples (grown as needed) */
     size_t error_count, error_cap, curve_count, curve_cap;
     uint64_t reference_geometry, holes;

@@ -79,7 +79,7 @@ typedef struct render_desc {
     bool overlay;                /* the HUD drawn into the eyes */
     VkFormat present_format;     /* windowed: the swapchain format; UNDEFINED: headless */
     uint32_t present_width, present_height;
-    const struct vg_curve *curve; /* a baked global curve instead of the per-frame one */
+    const struct vgx_curve_data *curve; /* a baked global curve instead of the per-frame one */
     uint32_t probe_ids[FRAME_PROBE_MAX_IDS]; /* the probe's instances, 0-terminated */
 } render_desc;
 
@@ -95,7 +95,7 @@ typedef struct frame_outputs {
     const uint8_t *ref_left, *ref_right; /* the two-camera reference (desc.reference) */
     const uint8_t *stereo;       /* composed output, stereo_width x stereo_height RGBA8 */
     uint32_t stereo_width, stereo_height;
-    const struct vg_curve *curve; /* the global depth -> vergence curve the warp used */
+    const struct vgx_curve_data *curve; /* the global depth -> vergence curve the warp used */
     /* The shadow cascades' texels in world metres (0: the whole scene, 1: near the camera; their
      * sharpness: capture.json "shadow") and the view depth below which cascade 1 shades (0: none). */
     float shadow_texel_m[2], shadow_split_m;

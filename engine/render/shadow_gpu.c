@@ -42,7 +42,7 @@ struct shadow_gpu {
 #define SHADOW_SPLIT_PX 2.0f
 
 /* An orthographic box of half-width r around (x, y) of the light's view. */
-static void cascade(mat4 light_view, float x, float y, float r, float z_lo, float z_hi, vg_gmat4 *out)
+static void cascade(mat4 light_view, float x, float y, float r, float z_lo, float z_hi, vgx_mat4 *out)
 {
     mat4 proj, vp;
     glm_ortho(x - r, x + r, y - r, y + r, z_lo, z_hi, proj);

@@ -334,7 +334,7 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
                                                               .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT}, &c->warp_ubo);
         if (st == VG_OK)
-            st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx warp curve", .size = sizeof(vg_curve),
+            st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx warp curve", .size = sizeof(vgx_curve_data),
                                                               .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
                                    &c->curve_buf);
     }
@@ -627,7 +627,7 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     if (c->curve) {
         c->r_warp_ubo = rg_import_buffer(g, &(rg_buffer_desc){"vgx.warp.constants", sizeof(warp_constants)},
                                          &(rg_import_desc){RG_UNIFORM, RG_UNIFORM});
-        c->r_curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)},
+        c->r_curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vgx_curve_data)},
                                       &(rg_import_desc){RG_STORAGE_READ, RG_STORAGE_READ});
     }
     rg_pass p = rg_pass_add(g, &(rg_pass_desc){"vgx.constants", RG_PASS_TRANSFER, constants_execute, c, false});
@@ -883,7 +883,7 @@ vgx_result vgx_get_warp(const vgx_context *c, vgx_warp *out)
                                                              VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL}
                                                : (vgx_image){0},
                       .target = {t->image, t->view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
-                      .curve = c->curve_buf.buffer, .curve_size = sizeof(vg_curve)};
+                      .curve = c->curve_buf.buffer, .curve_size = sizeof(vgx_curve_data)};
     return VGX_SUCCESS;
 }
 

@@ -7,7 +7,7 @@
 
 #include "render/frame_types.h"
 
-/* Stage colours (index VG_STAGE_*), also the report's legend. */
+/* Stage colours (index VGX_STAGE_*), also the report's legend. */
 extern const float capture_cascade_tint[5][3];
 /* w x h RGB of the cascade view from fo->left and fo->left_aux; with
  * dim_rest, pixels without a stage (sky, holes) are washed out. */

@@ -122,7 +122,7 @@ void capture_json_stereo(vg_json *j, const frame_desc *fd, const warp_metrics *m
     vg_json_object_end(j);
     static const char *const stages[5] = {"none", "direct", "neighborhood", "halton", "curve"};
     vg_json_object_begin(j, "cascade");
-    for (int s = 1; s <= VG_STAGE_CURVE; s++)
+    for (int s = 1; s <= VGX_STAGE_CURVE; s++)
         vg_json_num(j, stages[s], m->stage_fraction[s]);
     vg_json_object_end(j);
     vg_json_object_begin(j, "warp_error_px");

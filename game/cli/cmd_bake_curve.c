@@ -307,7 +307,7 @@ static int run(int argc, char **argv)
         vg_progress("bake-curve", n - a, b - a + 1);
         st = bake_frame(dev, s, &ss, vg_jat(cams, (size_t)n), n, map, &p, &visible);
     }
-    vg_curve curve;
+    vgx_curve_data curve;
     if (st == VG_OK && p.count == 0) {
         vg_error("%s: no scene vertex is visible in frames %d..%d", o.capture, a, b);
         st = VG_ERR_FORMAT;

@@ -352,7 +352,7 @@ static vg_status write_previews(const char *dir, long n, const frame_outputs *fo
     return st;
 }
 
-static vg_status capture(gpu *g, const scene *s, const vg_curve *curve, vg_manifest *m)
+static vg_status capture(gpu *g, const scene *s, const vgx_curve_data *curve, vg_manifest *m)
 {
     frame_desc fd = {
         .width = (uint32_t)o.size[0], .height = (uint32_t)o.size[1], .fps = o.fps,
@@ -509,7 +509,7 @@ static int run(int argc, char **argv)
     if (st == VG_OK)
         st = vg_inputs_check_dir(&in, "--out", o.out, "capture.json", capture_json_writes);
     vg_inputs_free(&in);
-    vg_curve baked;
+    vgx_curve_data baked;
     if (st == VG_OK && o.curve)
         st = disp_curve_read(o.curve, &baked);
     vg_manifest man = {0};

@@ -433,11 +433,11 @@ static void cascade(demo_buf *b, const demo_scene *sc)
     P("<h3>The warp: cascade and holes</h3><p class=\"explain\">Left: which stage of the cascade (paper Fig. 5) "
       "gave each pixel's vertices their disparity, in the %s mode at t&nbsp;=&nbsp;%.2f&nbsp;s: ", mode,
       r->still_frames[k] / sc->fps);
-    for (int st = 1; st <= VG_STAGE_CURVE; st++) {
+    for (int st = 1; st <= VGX_STAGE_CURVE; st++) {
         const float *t = capture_cascade_tint[st];
         P("<span class=\"sw\" style=\"background:#%02x%02x%02x\"></span>%s%s", (unsigned)lroundf(255 * t[0]),
           (unsigned)lroundf(255 * t[1]), (unsigned)lroundf(255 * t[2]), stage_text[st],
-          st < VG_STAGE_CURVE ? ", " : ". ");
+          st < VGX_STAGE_CURVE ? ", " : ". ");
     }
     P("Middle: the tessellated warp's left eye. "
       "Right: the image-warping baseline's left eye, <span class=\"sw\" style=\"background:#ff00c8\"></span>magenta "

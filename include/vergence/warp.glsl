@@ -52,67 +52,19 @@ layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_CONSTANTS, std140) uniform
 
 #include "display.glsl"
 
-// Cascade stages (vgx_cascade's y, vgx_warp_vertex's one-hot).
-#define VGX_STAGE_DIRECT 1
-#define VGX_STAGE_NEIGHBORHOOD 2
-#define VGX_STAGE_HALTON 3
-#define VGX_STAGE_CURVE 4
+#include "warp_shared.h"
 
-// The global depth -> vergence curve: bins uniform in inverse depth, each
-// the centroid of its pairs (mean inverse depth, mean vergence); the curve is
-// linear in inverse depth between consecutive centroids.
-#define VGX_CURVE_BINS 256
 layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_DEPTH) uniform sampler2D vgx_depth_map;
 layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_TARGET) uniform sampler2D vgx_target_map;
 layout(set = VGX_WARP_SET, binding = VGX_WARP_BINDING_CURVE, std430) readonly buffer VgxCurveBlock {
-    float inv_depth_near; // 1 / the smallest depth covered
-    float inv_depth_far;  // 1 / the largest
-    uint valid;           // 0: no pairs were seen
-    uint pad;
-    float inv_depth[VGX_CURVE_BINS];
-    float vergence[VGX_CURVE_BINS];
-} vgx_curve;
+    vgx_curve_data vgx_curve;
+};
+
+#include "curve.h"
 
 bool vgx_same_surface(float map_z, float z)
 {
     return abs(map_z - z) < VGX_CONSTANTS.warp.z * z;
-}
-
-// Linear in inverse depth between consecutive bin centroids, and continued
-// linearly past the covered range (vertices off screen or nearer than any
-// pixel): the original g is affine in 1/z, so the continuation is exact for it.
-const int VGX_CURVE_REACH = 16; // bins between the two points of an end slope
-
-float vgx_curve_between(int a, int b, float q)
-{
-    float dq = vgx_curve.inv_depth[b] - vgx_curve.inv_depth[a];
-    float t = abs(dq) > 1e-12 ? (q - vgx_curve.inv_depth[a]) / dq : 0.0;
-    return mix(vgx_curve.vergence[a], vgx_curve.vergence[b], t);
-}
-
-// The segment of the curve that holds inverse depth q: (first bin, second bin).
-ivec2 vgx_curve_segment(float q)
-{
-    const int last = VGX_CURVE_BINS - 1;
-    if (q <= vgx_curve.inv_depth[0])
-        return ivec2(0, VGX_CURVE_REACH);
-    if (q >= vgx_curve.inv_depth[last])
-        return ivec2(last - VGX_CURVE_REACH, last);
-    float span = vgx_curve.inv_depth_near - vgx_curve.inv_depth_far;
-    int i = clamp(int((q - vgx_curve.inv_depth_far) / max(span, 1e-12) * float(VGX_CURVE_BINS)), 0, last);
-    // The centroid of bin i may lie on either side of q.
-    if (q < vgx_curve.inv_depth[i])
-        i = max(i - 1, 0);
-    while (i < last - 1 && q > vgx_curve.inv_depth[i + 1])
-        i++;
-    return ivec2(i, i + 1);
-}
-
-float vgx_curve_vergence(float z)
-{
-    float q = 1.0 / max(z, 1e-6);
-    ivec2 s = vgx_curve_segment(q);
-    return vgx_curve_between(s.x, s.y, q);
 }
 
 // The curve's vergence at depth z and its slope there, d vergence / d (1/z),
@@ -120,10 +72,8 @@ float vgx_curve_vergence(float z)
 vec2 vgx_curve_vergence_slope(float z)
 {
     float q = 1.0 / max(z, 1e-6);
-    ivec2 s = vgx_curve_segment(q);
-    float dq = vgx_curve.inv_depth[s.y] - vgx_curve.inv_depth[s.x];
-    return vec2(vgx_curve_between(s.x, s.y, q),
-                abs(dq) > 1e-12 ? (vgx_curve.vergence[s.y] - vgx_curve.vergence[s.x]) / dq : 0.0);
+    vgx_segment s = vgx_curve_segment(q);
+    return vec2(vgx_curve_between(s.first, s.second, q), vgx_curve_slope(s));
 }
 
 // d(z) * z in image pixels for points nearer than anything the depth map

@@ -15,13 +15,15 @@ usage: arch_test.py BUILD_DIR CASE
              its folder, and no other
   graph      the frame-graph dump in docs/architecture.md is what the binary
              prints for the settings the doc states (vergence capture --dump-graph)
-  constants  each constant C and GLSL share has one definition: the Weber
+  constants  each thing C and GLSL share has one definition: the Weber
              fraction in stereo/stereo_shared.h alone (no other 0.08 or 12.5
-             defined in the sources); where the public GLSL of the SDK must
-             spell a value again (include/vergence/*.glsl, for hosts that
-             include no engine header), both sides are read and must agree:
-             arcmin per radian, the curve's bins, the cascade's stage ids,
-             and the curve buffer's members (vg_curve, VgxCurveBlock)
+             defined in the sources); the cascade's stage ids, the curve's
+             bins, reach and layout in include/vergence/warp_shared.h alone,
+             the curve's evaluation in include/vergence/curve.h alone (both
+             compiled by C and GLSL); the shared subset's markers in
+             include/vergence/lang.h alone, and every shared header's structs
+             through VGX_STRUCT; arcmin per radian, spelt again in the SDK's
+             display.glsl for hosts, read on both sides and equal
   barriers   the frame graph records every barrier: no vkCmdPipelineBarrier*
              in the sources outside engine/graph and engine/gpu (a pass of
              dependent dispatches is several steps of the graph; the example
@@ -326,49 +328,59 @@ def case_constants():
         if m:
             line = text[:m.start()].count("\n") + 1
             fail(f"{path}:{line} defines the Weber fraction again ({m.group(1)}): include {home}")
-    # Written twice by necessity (the SDK's GLSL is for hosts): the same value.
-    pairs = [
-        ("arcmin per radian", "engine/stereo/stereo_shared.h", "STEREO_ARCMIN_PER_RAD",
-         "include/vergence/display.glsl", "VGX_ARCMIN_PER_RAD", 1e-5),
-        ("curve bins", "shaders/shared.h", "VG_CURVE_BINS", "include/vergence/warp.glsl", "VGX_CURVE_BINS", 0),
-    ]
-    for stage in ("DIRECT", "NEIGHBORHOOD", "HALTON", "CURVE"):
-        pairs.append((f"stage {stage.lower()}", "shaders/shared.h", f"VG_STAGE_{stage}", "include/vergence/warp.glsl",
-                      f"VGX_STAGE_{stage}", 0))
-    for what, fa, na, fb, nb, tol in pairs:
-        a, b = number(defined(fa, na)), number(defined(fb, nb))
-        if abs(a - b) > tol * max(abs(a), 1.0):
-            fail(f"{what}: {fa} {na} = {a}, {fb} {nb} = {b}")
-        print(f"{what}: {na} = {nb} = {a:g}")
-    # The curve buffer's layout, declared on both sides: the same members in
-    # the same order (std430 and C agree on scalars and float arrays).
-    c_side, glsl_side = members("shaders/shared.h", r"VG_STRUCT\(vg_curve\)\s*\{(.*?)\};"), \
-        members("include/vergence/warp.glsl", r"buffer VgxCurveBlock\s*\{(.*?)\}")
-    if c_side != glsl_side:
-        fail(f"the curve's layout: shaders/shared.h vg_curve {c_side} against include/vergence/warp.glsl "
-             f"VgxCurveBlock {glsl_side}")
-    print(f"the curve's layout: vg_curve = VgxCurveBlock, {len(c_side)} members")
+    # Written twice by necessity (the SDK's display.glsl is GLSL for hosts,
+    # STEREO_ARCMIN_PER_RAD a double for C): the same value.
+    what, fa, na, fb, nb = ("arcmin per radian", "engine/stereo/stereo_shared.h", "STEREO_ARCMIN_PER_RAD",
+                            "include/vergence/display.glsl", "VGX_ARCMIN_PER_RAD")
+    a, b = number(defined(fa, na)), number(defined(fb, nb))
+    if abs(a - b) > 1e-5 * max(abs(a), 1.0):
+        fail(f"{what}: {fa} {na} = {a}, {fb} {nb} = {b}")
+    print(f"{what}: {na} = {nb} = {a:g}")
+    texts = dict(source_texts())
+    # The warp's share (stage ids, curve bins and reach, the curve's layout)
+    # is defined once, in include/vergence/warp_shared.h; the names of the
+    # copies it replaced are defined nowhere.
+    share = "include/vergence/warp_shared.h"
+    once = ["VGX_CURVE_BINS", "VGX_CURVE_REACH"] + [f"VGX_STAGE_{s}" for s in
+                                                    ("NONE", "DIRECT", "NEIGHBORHOOD", "HALTON", "CURVE")]
+    gone = ["VG_CURVE_BINS", "DISP_CURVE_REACH"] + [f"VG_STAGE_{s}" for s in
+                                                                      ("NONE", "DIRECT", "NEIGHBORHOOD", "HALTON", "CURVE")]
+    for name in once + gone:
+        where = [p for p, t in texts.items()
+                 if re.search(r"^\s*(?:#define\s+%s\b|(?:static\s+)?const\s+\w+\s+%s\s*=)" % (name, name), t, re.M)]
+        want = [share] if name in once else []
+        if where != want:
+            fail(f"{name} is defined in {where or 'no file'}; want {want or 'no file'}")
+    layout = [p for p, t in texts.items() if re.search(r"\bfloat\s+inv_depth_near\s*;", t)]
+    if layout != [share]:
+        fail(f"the curve's layout is declared in {layout}; want {share} alone")
+    # The curve's evaluation has one source, compiled by C and GLSL alike.
+    curve = "include/vergence/curve.h"
+    evals = [p for p, t in texts.items()
+             if re.search(r"inv_depth\[[^\]]*\+\s*1\]", t) or re.search(r"\w*curve_(?:between|segment|eval)\s*\([^;]*\)\s*\{", t)]
+    if evals != [curve]:
+        fail(f"the curve is evaluated in {evals}; want {curve} alone")
+    print(f"the warp's share: {len(once)} constants and the curve's layout in {share} alone, "
+          f"the curve's evaluation in {curve} alone")
+    # One style of shared header: only vergence/lang.h defines the subset's
+    # markers (function, struct) and C's uint; shared headers declare their
+    # structs through VGX_STRUCT.
+    prelude = "include/vergence/lang.h"
+    shared = [p for p in texts if p.endswith(("_shared.h", "/shared.h")) or p in (curve, prelude)]
+    for p, t in texts.items():
+        if p == prelude:
+            continue
+        m = re.search(r"^\s*#define\s+\w*_(?:FN|STRUCT)\b|^\s*typedef\s+unsigned\s+int\s+uint\s*;", t, re.M)
+        if m:
+            fail(f"{p}:{t[:m.start()].count(chr(10)) + 2} defines a marker of the shared subset again: "
+                 f"include {prelude}")
+        if p in shared and re.search(r"^\s*(?:typedef\s+)?struct\s+\w+\s*\{", t, re.M):
+            fail(f"{p} declares a struct without VGX_STRUCT")
+        if p in shared and p != curve and "vergence/lang.h" not in t and "warp_shared.h" not in t and \
+                re.search(r"\bVGX_(?:FN|STRUCT)\b", t):
+            fail(f"{p} uses the shared subset without including vergence/lang.h")
+    print(f"one style of shared header: {len(shared)} headers, markers in {prelude} alone")
     print(f"the Weber fraction {k:g} (1 / {inv:g}) is defined in {home} alone")
-
-
-def members(path, block):
-    """(type, name, array length) of each member of a struct body matched by block."""
-    text = open(os.path.join(ROOT, path)).read()
-    m = re.search(block, text, re.S)
-    if not m:
-        fail(f"{path}: no {block}")
-    body = re.sub(r"/\*.*?\*/|//[^\n]*", "", m.group(1), flags=re.S)
-    out = []
-    for decl in filter(None, (d.strip() for d in body.split(";"))):
-        mm = re.fullmatch(r"(\w+)\s+(\w+)(?:\[(\w+)\])?", decl)
-        if not mm:
-            fail(f"{path}: cannot read the member '{decl}'")
-        kind = {"VG_UINT": "uint", "uint32_t": "uint"}.get(mm.group(1), mm.group(1))
-        n = mm.group(3)
-        if n and not n.isdigit():
-            n = str(int(number(defined(path, n))))
-        out.append((kind, mm.group(2), n))
-    return out
 
 
 BARRIER_HOMES = ("engine/graph/", "engine/gpu/")

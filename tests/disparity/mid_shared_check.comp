@@ -16,5 +16,5 @@ void main()
     uint b = l.base;
     float fa = mid_link_apply(t, f[b], f[b + 1u], f[b + params.nx], f[b + params.nx + 1u]);
     mid_pixel r = mid_pixel_eval(f[i], fa, fa, 6.0f, 6.0f, 1.0f, 1.0f, 0.0f, 0.0f);
-    o[i] = r.r_t + r.r_a + r.q_f + r.q_b + mid_edge_weight(0.1f) + mid_dp(fa) + adj[i].w + MID_UINT(adj[i].src);
+    o[i] = r.r_t + r.r_a + r.q_f + r.q_b + mid_edge_weight(0.1f) + mid_dp(fa) + adj[i].w + VGX_UINT(adj[i].src);
 }

@@ -5,6 +5,7 @@
 
 #include "../test.h"
 #include "disparity/disp_curve.h"
+#include "vergence/curve.h"
 #include "testlib.h"
 
 #define NPAIRS 200000
@@ -26,11 +27,11 @@ static int exact_monotone(void)
         z[i] = 1.0f / rnd_uniform(&s, 0.1f, 2.0f); /* 0.5 m .. 10 m */
         d[i] = (float)mapping(z[i]);
     }
-    vg_curve c;
+    vgx_curve_data c;
     CHECK(disp_curve_build(z, d, NPAIRS, &c) == VG_OK && c.valid, "build");
     double worst = 0, worst_lin = 0;
     for (double inv = 0.102; inv < 1.998; inv += 0.0007) {
-        double e = fabs(disp_curve_eval(&c, (float)(1.0 / inv)) - mapping(1.0 / inv));
+        double e = fabs(vgx_curve_vergence(&c, (float)(1.0 / inv)) - mapping(1.0 / inv));
         worst = fmax(worst, e);
     }
     /* A mapping linear in inverse depth is reproduced to float precision. */
@@ -38,8 +39,8 @@ static int exact_monotone(void)
         d[i] = 200.0f + 60.0f / z[i];
     CHECK(disp_curve_build(z, d, NPAIRS, &c) == VG_OK, "build");
     for (double inv = 0.102; inv < 1.998; inv += 0.0007)
-        worst_lin = fmax(worst_lin, fabs(disp_curve_eval(&c, (float)(1.0 / inv)) - (200.0 + 60.0 * inv)));
-    printf("%d bins; max error: non-linear mapping %.4f arcmin, linear %.2g arcmin\n", VG_CURVE_BINS, worst,
+        worst_lin = fmax(worst_lin, fabs(vgx_curve_vergence(&c, (float)(1.0 / inv)) - (200.0 + 60.0 * inv)));
+    printf("%d bins; max error: non-linear mapping %.4f arcmin, linear %.2g arcmin\n", VGX_CURVE_BINS, worst,
            worst_lin);
     CHECK(worst < 0.05, "non-linear mapping: %.4f arcmin", worst);
     CHECK(worst_lin < 2e-3, "linear mapping: %.3g arcmin", worst_lin);
@@ -61,15 +62,15 @@ static int linear_across_gaps(void)
         z[i] = 1.0f / inv;
         d[i] = (float)mapping(z[i]);
     }
-    vg_curve c;
+    vgx_curve_data c;
     CHECK(disp_curve_build(z, d, NPAIRS, &c) == VG_OK, "build");
     /* The empty interval: inverse depth 0.4 .. 1.2; the curve is linear in
      * inverse depth there. */
-    float va = disp_curve_eval(&c, 1.0f / 0.45f), vb = disp_curve_eval(&c, 1.0f / 1.15f);
+    float va = vgx_curve_vergence(&c, 1.0f / 0.45f), vb = vgx_curve_vergence(&c, 1.0f / 1.15f);
     double worst = 0;
     for (double inv = 0.45; inv <= 1.15; inv += 0.001) {
         double line = va + (vb - va) * (inv - 0.45) / (1.15 - 0.45);
-        worst = fmax(worst, fabs(disp_curve_eval(&c, (float)(1.0 / inv)) - line));
+        worst = fmax(worst, fabs(vgx_curve_vergence(&c, (float)(1.0 / inv)) - line));
     }
     /* The line joins the clusters: its ends lie between the clusters' values. */
     double end_far = mapping(1.0 / 0.4), end_near = mapping(1.0 / 1.2);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "disparity/disp_curve.h"
+#include "vergence/curve.h"
 #include "disparity/disp_operator.h"
 #include "disparity/disp_upsample.h"
 #include "disparity/mid_shared.h"
@@ -483,12 +484,12 @@ static int curve_agrees(void)
     t.target = harness_image_add(&hs, "target", VK_FORMAT_R32_SFLOAT, CV_W, CV_H, true, false);
     CHECK(harness_upload(&hs) == 0, "upload");
     gpu_buffer out;
-    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "curve", .size = sizeof(vg_curve),
+    CHECK(gpu_buffer_create(hs.gpu, &(gpu_buffer_desc){.name = "curve", .size = sizeof(vgx_curve_data),
                                                         .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, .host_visible = true},
                             &out) == VG_OK, "curve buffer");
-    t.curve = rg_import_buffer(hs.graph, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)},
+    t.curve = rg_import_buffer(hs.graph, &(rg_buffer_desc){"warp.curve", sizeof(vgx_curve_data)},
                                &(rg_import_desc){.initial = RG_STORAGE_READ_WRITE, .final = RG_HOST_READ});
-    uint64_t tiles = (uint64_t)t.tiles_x * t.tiles_y * VG_CURVE_BINS * 4;
+    uint64_t tiles = (uint64_t)t.tiles_x * t.tiles_y * VGX_CURVE_BINS * 4;
     t.count = rg_buffer(hs.graph, &(rg_buffer_desc){"tile_count", tiles});
     t.sum = rg_buffer(hs.graph, &(rg_buffer_desc){"tile_sum", tiles});
     t.offset = rg_buffer(hs.graph, &(rg_buffer_desc){"tile_offset", tiles});
@@ -517,7 +518,7 @@ static int curve_agrees(void)
     float *depth = harness_data(&hs, t.depth), *target = harness_data(&hs, t.target);
     curve_inputs(depth, target);
     CHECK(harness_run(&hs) == 0, "run");
-    const vg_curve *gc = out.mapped;
+    const vgx_curve_data *gc = out.mapped;
     /* The CPU reference on the same pairs: the geometry pixels (curve.glsl). */
     int np = CV_W * CV_H, n = 0;
     float *z = malloc(np * sizeof(float)), *v = malloc(np * sizeof(float));
@@ -526,11 +527,11 @@ static int curve_agrees(void)
             z[n] = depth[i];
             v[n++] = target[i];
         }
-    vg_curve cc;
+    vgx_curve_data cc;
     CHECK(disp_curve_build(z, v, (size_t)n, &cc) == VG_OK, "CPU curve");
     double worst = 0, worst_z = 0;
     for (int i = 0; i < n; i++) {
-        double e = fabs((double)disp_curve_eval(gc, z[i]) - disp_curve_eval(&cc, z[i]));
+        double e = fabs((double)vgx_curve_vergence(gc, z[i]) - vgx_curve_vergence(&cc, z[i]));
         if (e > worst) {
             worst = e;
             worst_z = z[i];
@@ -540,7 +541,7 @@ static int curve_agrees(void)
     double lo = 1.0 / gc->inv_depth_near, hi = 1.0 / gc->inv_depth_far, sweep = 0;
     for (int k = 0; k <= 4000; k++) {
         float zz = (float)(1.0 / (1.0 / hi + (1.0 / lo - 1.0 / hi) * k / 4000.0));
-        sweep = fmax(sweep, fabs((double)disp_curve_eval(gc, zz) - disp_curve_eval(&cc, zz)));
+        sweep = fmax(sweep, fabs((double)vgx_curve_vergence(gc, zz) - vgx_curve_vergence(&cc, zz)));
     }
     printf("curve over %d pairs (%.1f .. %.1f m): max |GPU - CPU| %.4f arcmin at the pairs (worst at %.2f m), %.4f over the domain\n",
            n, lo, hi, worst, worst_z, sweep);

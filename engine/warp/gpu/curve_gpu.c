@@ -114,7 +114,7 @@ void curve_gpu_add(curve_gpu *c, rg_graph *g, rg_res depth, rg_res target, rg_re
     c->depth = depth, c->target = target, c->curve = curve;
     for (uint32_t k = 0; k < 4; k++)
         c->steps[k] = (struct curve_step){c, k};
-    uint64_t tiles = (uint64_t)c->tiles_x * c->tiles_y * VG_CURVE_BINS * sizeof(uint32_t);
+    uint64_t tiles = (uint64_t)c->tiles_x * c->tiles_y * VGX_CURVE_BINS * sizeof(uint32_t);
     c->tiles_count = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_count", tiles});
     c->tiles_sum = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_sum", tiles});
     c->tiles_offset = rg_buffer(g, &(rg_buffer_desc){"warp.curve.tile_offset", tiles});

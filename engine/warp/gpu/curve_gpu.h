@@ -16,7 +16,7 @@ typedef struct curve_gpu curve_gpu;
 
 vg_status curve_gpu_create(gpu *g, uint32_t width, uint32_t height, curve_gpu **out);
 void curve_gpu_destroy(curve_gpu *c);
-/* Adds the passes: the curve (a vg_curve buffer) of the (depth, target)
+/* Adds the passes: the curve (a vgx_curve_data buffer) of the (depth, target)
  * pairs of the pixels nearer than the background depth (depth and target
  * R32F storage images, width x height). */
 void curve_gpu_add(curve_gpu *c, rg_graph *g, rg_res depth, rg_res target, rg_res curve);

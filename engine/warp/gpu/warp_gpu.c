@@ -59,7 +59,7 @@ struct warp_gpu {
     gpu_buffer classify_work;    /* the edges to sample, by bucket, and the vertices to search
                                     (VG_BINDING_CLASSIFY_WORK) */
     uint32_t stamp;              /* this frame's (warp.cull) */
-    gpu_buffer baked;            /* a baked vg_curve (desc.curve), else none */
+    gpu_buffer baked;            /* a baked vgx_curve_data (desc.curve), else none */
     uint32_t chunk_count;
     uint32_t tess_slots;         /* indirect commands of all tessellated chunks */
     curve_gpu *curve;            /* warp.curve */
@@ -426,10 +426,10 @@ void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
     if (!target.id) {
         /* Two cameras with nothing to measure: no curve. */
     } else if (w->baked.buffer) {
-        res->curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve.baked", sizeof(vg_curve)},
+        res->curve = rg_import_buffer(g, &(rg_buffer_desc){"warp.curve.baked", sizeof(vgx_curve_data)},
                                       &(rg_import_desc){.initial = RG_STORAGE_READ});
     } else {
-        res->curve = rg_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vg_curve)});
+        res->curve = rg_buffer(g, &(rg_buffer_desc){"warp.curve", sizeof(vgx_curve_data)});
         curve_gpu_add(w->curve, g, res->depth, target, res->curve);
     }
 
@@ -836,12 +836,12 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
                                                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT}, &w->fill_header);
     }
     if (st == VG_OK && fc->desc.curve) {
-        st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vg_curve),
+        st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vgx_curve_data),
                                                            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                                                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                                            .host_visible = true}, &w->baked);
         if (st == VG_OK)
-            memcpy(w->baked.mapped, fc->desc.curve, sizeof(vg_curve));
+            memcpy(w->baked.mapped, fc->desc.curve, sizeof(vgx_curve_data));
     }
     if (st == VG_OK)
         st = load_shaders(fc->gpu, &s);
