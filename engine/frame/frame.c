@@ -50,7 +50,7 @@ const char *const frame_saliency_names[] = {"auto", "authored", "computed", NULL
 
 struct frame {
     frame_desc desc;             /* as asked, defaults resolved (frame_get_desc) */
-    frame_ctx fc;                /* fc.desc: the part the pass modules render */
+    frame_ctx fc;                /* what the pass modules share */
     shadow_gpu *shadow;
     gbuffer_gpu *gbuffer;
     vgx_context *vgx;            /* the disparity passes, through the public API (include/vergence) */
@@ -132,7 +132,7 @@ static void readback_add_item(frame *f, rg_res res, uint32_t w, uint32_t h, uint
 
 /* Two real cameras showing g need no disparity map: only their measures
  * and the readback of the maps do. Every other stereo frame draws one. */
-static bool frame_needs_maps(const render_desc *d)
+static bool frame_needs_maps(const frame_desc *d)
 {
     return d->stereo != FRAME_STEREO_OFF &&
            (d->stereo != FRAME_STEREO_CAMERAS || d->mode != FRAME_MODE_ORIGINAL || d->measure || d->readback);
@@ -164,7 +164,7 @@ static void sdk_pass_execute(const rg_context *ctx, void *user)
                       vgx_image_of(ctx, a->ids)},
         /* The original rig as stereo_setup makes it: the render camera's field of view. */
         .rig = {.hfov_deg = 2.0 * atan(tan(0.5 * fc->cam.yfov) * fc->cam.aspect) * 180.0 / M_PI,
-                .interaxial_m = fc->desc.rig.interaxial_m, .convergence_m = fc->desc.rig.convergence_m},
+                .interaxial_m = f->desc.rig.interaxial_m, .convergence_m = f->desc.rig.convergence_m},
         .first_pass = p->index, .pass_count = 1,
     };
     if (vgx_dispatch(f->vgx, &d) != VGX_SUCCESS)
@@ -186,8 +186,8 @@ static vg_status sdk_passes_add(frame *f, rg_graph *g, frame_resources *res, con
         vgx_image img;
         if (vgx_get_output(f->vgx, (vgx_output)i, &img) != VGX_SUCCESS)
             continue;
-        *maps[i] = rg_import_image(g, &(rg_image_desc){names[i], VK_FORMAT_R32_SFLOAT, f->fc.desc.width,
-                                                       f->fc.desc.height, 1}, &sampled);
+        *maps[i] = rg_import_image(g, &(rg_image_desc){names[i], VK_FORMAT_R32_SFLOAT, f->fc.width,
+                                                       f->fc.height, 1}, &sampled);
         f->maps[i] = img;
     }
     rg_res reads[8] = {res->depth, res->color, res->motion, res->ids, atlas->depth, atlas->color, atlas->motion,
@@ -222,9 +222,9 @@ static vg_status build_graph(frame *f)
 
     shadow_gpu_add(f->shadow, g, res);
     gbuffer_gpu_add(f->gbuffer, g, res);
-    bool stereo = fc->desc.stereo != FRAME_STEREO_OFF;
-    uint32_t w = fc->desc.width, h = fc->desc.height, sw = 0, sh = 0;
-    bool eyes = stereo && !fc->desc.maps_only;
+    bool stereo = f->desc.stereo != FRAME_STEREO_OFF;
+    uint32_t w = fc->width, h = fc->height, sw = 0, sh = 0;
+    bool eyes = stereo && !f->desc.maps_only;
     if (stereo) {
         rg_res target = {0};
         if (f->vgx) {
@@ -233,13 +233,13 @@ static vg_status build_graph(frame *f)
             vg_status st = sdk_passes_add(f, g, res, &atlas);
             if (st != VG_OK)
                 return st;
-            target = fc->desc.mode == FRAME_MODE_MANIPULATED ? res->h
-                     : fc->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
+            target = f->desc.mode == FRAME_MODE_MANIPULATED ? res->h
+                     : f->desc.mode == FRAME_MODE_OPTIMIZED ? res->f
                                                              : res->g;
         }
-        if (!target.id && frame_needs_maps(&fc->desc)) {
+        if (!target.id && frame_needs_maps(&f->desc)) {
             vg_error("mode '%s' is not available: the disparity passes did not produce its map",
-                     frame_mode_names[fc->desc.mode]);
+                     frame_mode_names[f->desc.mode]);
             return VG_ERR_UNSUPPORTED;
         }
         if (f->probe && target.id)
@@ -249,11 +249,11 @@ static vg_status build_graph(frame *f)
             if (f->overlay)
                 overlay_gpu_add(f->overlay, g, res);
             compose_gpu_add(f->compose, g, res);
-            frame_compose_size(fc->desc.compose, w, h, &sw, &sh);
+            frame_compose_size(f->desc.compose, w, h, &sw, &sh);
         }
     }
 
-    if (fc->desc.readback) {
+    if (f->desc.readback) {
         frame_outputs *o = &f->outputs;
         *o = (frame_outputs){0};
         readback_add_item(f, res->color, w, h, 4, &o->color);
@@ -303,7 +303,7 @@ static vg_status build_graph(frame *f)
     }
     if (f->present)
         f->r_swapchain = present_gpu_add(f->present, g, res);
-    if (!fc->desc.readback && !f->present)
+    if (!f->desc.readback && !f->present)
         rg_export(g, eyes ? res->stereo : res->color);
     vg_status st = rg_compile(g);
     if (st == VG_OK)
@@ -413,8 +413,8 @@ static vg_status create_submission(frame *f)
 }
 
 /* Every default of a frame_desc, resolved once (frame_get_desc gives them
- * back); the pass modules get the part they render (render_settings) and
- * change nothing. */
+ * back); each pass module gets the part it renders in its own desc
+ * (frame_create) and changes nothing. */
 static frame_desc resolve_defaults(const frame_desc *desc)
 {
     frame_desc d = *desc;
@@ -461,21 +461,6 @@ static frame_desc resolve_defaults(const frame_desc *desc)
     if (d.rig.convergence_m <= 0)
         d.rig.convergence_m = FRAME_DEFAULT_CONVERGENCE;
     return d;
-}
-
-/* The part of a resolved frame_desc the pass modules render. */
-static render_desc render_settings(const frame_desc *d)
-{
-    render_desc r = {
-        .width = d->width, .height = d->height, .fps = d->fps, .keyframe_stride = d->keyframe_stride,
-        .camera = d->camera, .readback = d->readback, .maps_only = d->maps_only, .shadow_size = d->shadow_size,
-        .display = d->display, .rig = d->rig, .stereo = d->stereo, .mode = d->mode, .compose = d->compose,
-        .swap_eyes = d->swap_eyes, .max_tess_level = d->max_tess_level, .reference = d->reference,
-        .measure = d->measure, .overlay = d->overlay, .present_format = d->present_format,
-        .present_width = d->present_width, .present_height = d->present_height, .curve = d->curve,
-    };
-    memcpy(r.probe_ids, d->probe_ids, sizeof r.probe_ids);
-    return r;
 }
 
 bool frame_size_ok(uint32_t width, uint32_t height, char *why, size_t cap)
@@ -549,9 +534,11 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         f->desc.max_tess_level = g->props.limits.maxTessellationGenerationLevel;
     if (f->desc.shadow_size * VG_SHADOW_CASCADES > g->props.limits.maxImageDimension2D)
         f->desc.shadow_size = g->props.limits.maxImageDimension2D / VG_SHADOW_CASCADES;
-    fc->desc = render_settings(&f->desc);
+    fc->width = f->desc.width;
+    fc->height = f->desc.height;
+    fc->camera = f->desc.camera;
     fc->slot = -1;
-    stereo_display_init(&fc->display, &fc->desc.display);
+    stereo_display_init(&fc->display, &f->desc.display);
 
     vg_status st = scene_gpu_create(g, s, &fc->sg);
     if (f->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
@@ -562,25 +549,37 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         st = create_layouts(fc);
     if (st == VG_OK)
         st = create_submission(f);
+    /* Each pass module gets the settings it renders. The lit centre colour
+     * is only looked at in captures, mono frames and the image-warping
+     * baseline; a warped stereo frame shades its eyes. */
+    const frame_desc *d = &f->desc;
     if (st == VG_OK)
-        st = shadow_gpu_create(fc, &f->shadow);
+        st = shadow_gpu_create(fc, &(shadow_gpu_desc){.size = d->shadow_size}, &f->shadow);
     if (st == VG_OK)
-        st = gbuffer_gpu_create(fc, &f->gbuffer);
-    if (st == VG_OK && fc->desc.stereo != FRAME_STEREO_OFF) {
-        if (frame_needs_maps(&fc->desc))
-            st = disparity_create(f);
-        if (st == VG_OK && !fc->desc.maps_only)
-            st = warp_gpu_create(fc, &f->warp);
-        if (st == VG_OK && !fc->desc.maps_only)
-            st = compose_gpu_create(fc, &f->compose);
-        if (st == VG_OK && fc->desc.probe_ids[0] && frame_needs_maps(&fc->desc))
-            st = probe_gpu_create(fc, &f->probe);
-        if (st == VG_OK && !fc->desc.maps_only && (fc->desc.overlay || fc->desc.present_format != VK_FORMAT_UNDEFINED))
-            st = overlay_gpu_create(fc, &f->overlay);
+        st = gbuffer_gpu_create(fc, &(gbuffer_gpu_desc){.lit = d->readback || d->stereo == FRAME_STEREO_OFF ||
+                                                               d->stereo == FRAME_STEREO_IMAGEWARP}, &f->gbuffer);
+    bool eyes = d->stereo != FRAME_STEREO_OFF && !d->maps_only;
+    if (st == VG_OK && d->stereo != FRAME_STEREO_OFF && frame_needs_maps(d))
+        st = disparity_create(f);
+    if (st == VG_OK && eyes)
+        st = warp_gpu_create(fc, &(warp_gpu_desc){.stereo = d->stereo, .measure = d->measure,
+                                                   .reference = d->reference, .max_tess_level = d->max_tess_level,
+                                                   .curve = d->curve}, &f->warp);
+    if (st == VG_OK && eyes)
+        st = compose_gpu_create(fc, &(compose_gpu_desc){.compose = d->compose, .swap_eyes = d->swap_eyes},
+                                &f->compose);
+    if (st == VG_OK && d->probe_ids[0] && frame_needs_maps(d))
+        st = probe_gpu_create(fc, d->probe_ids, &f->probe);
+    if (st == VG_OK && eyes && (d->overlay || d->present_format != VK_FORMAT_UNDEFINED))
+        st = overlay_gpu_create(fc, &f->overlay);
+    if (st == VG_OK && d->present_format != VK_FORMAT_UNDEFINED) {
+        VkExtent2D source = {d->width, d->height};
+        if (d->stereo != FRAME_STEREO_OFF)
+            frame_compose_size(d->compose, d->width, d->height, &source.width, &source.height);
+        st = present_gpu_create(fc, &(present_gpu_desc){.format = d->present_format,
+                                                         .extent = {d->present_width, d->present_height},
+                                                         .source = source}, &f->present);
     }
-    if (st == VG_OK && fc->desc.present_format != VK_FORMAT_UNDEFINED)
-        st = present_gpu_create(fc, fc->desc.present_format,
-                                 (VkExtent2D){fc->desc.present_width, fc->desc.present_height}, &f->present);
     if (st == VG_OK)
         st = build_graph(f);
     if (st != VG_OK) {
@@ -676,9 +675,9 @@ static void fill_ubo(frame *f, vg_frame_ubo *u)
     glm_mat4_inv(vp, inv);
     memcpy(u->inv_view_proj.m, inv, 64);
     memcpy(u->camera_pos.v, (float[4]){fc->cam.position[0], fc->cam.position[1], fc->cam.position[2], fc->cam.zfar}, 16);
-    memcpy(u->viewport.v, (float[4]){(float)fc->desc.width, (float)fc->desc.height, 1.0f / (float)fc->desc.width,
-                                     1.0f / (float)fc->desc.height}, 16);
-    shadow_gpu_setup(fc, u);
+    memcpy(u->viewport.v, (float[4]){(float)fc->width, (float)fc->height, 1.0f / (float)fc->width,
+                                     1.0f / (float)fc->height}, 16);
+    shadow_gpu_setup(f->shadow, u);
     stereo_setup(f, u);
     /* Computed saliency: the contrast's reference colour and the depth
      * scale, the camera's distance to the scene's centre. */
@@ -719,13 +718,13 @@ static vg_status frame_begin(frame *f, long index)
         slot_done(f, slot, false);
     }
     f->host_t0 = vg_now_ms(); /* the host part starts once the slot is free */
-    fc->times = frame_times_at(index, fc->desc.fps, fc->desc.keyframe_stride);
+    fc->times = frame_times_at(index, f->desc.fps, f->desc.keyframe_stride);
     f->slot_index[slot] = index;
     scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
-    float aspect = (float)fc->desc.width / (float)fc->desc.height;
-    scene_camera_resolve(fc->scene, &fc->sg.now, fc->desc.camera, aspect, &fc->cam);
-    scene_camera_resolve(fc->scene, &fc->sg.prev, fc->desc.camera, aspect, &fc->cam_prev);
-    scene_camera_resolve(fc->scene, &fc->sg.next, fc->desc.camera, aspect, &fc->cam_next);
+    float aspect = (float)fc->width / (float)fc->height;
+    scene_camera_resolve(fc->scene, &fc->sg.now, fc->camera, aspect, &fc->cam);
+    scene_camera_resolve(fc->scene, &fc->sg.prev, fc->camera, aspect, &fc->cam_prev);
+    scene_camera_resolve(fc->scene, &fc->sg.next, fc->camera, aspect, &fc->cam_next);
     vg_frame_ubo *u = fc->ubo[slot].mapped;
     fill_ubo(f, u);
     f->outputs.shadow_texel_m[0] = u->shadow.v[1];
@@ -763,7 +762,7 @@ static void frame_bind(frame *f)
     for (int i = 0; i < 3; i++)
         if (f->vgx && f->maps[i].image)
             rg_bind_image(f->graph, maps[i], f->maps[i].image, f->maps[i].view);
-    if (fc->desc.readback)
+    if (f->desc.readback)
         rg_bind_buffer(f->graph, f->r_readback, f->readback.buffer);
     if (f->probe)
         probe_gpu_bind(f->probe, f->graph);

@@ -1,7 +1,8 @@
 /* vergence — what an application asks a frame for (frame_create): the
  * image, the display, the stereo pair, the disparity pipeline, each with its
- * default at zero. The frame resolves the defaults once and hands the pass
- * modules the part they render (render_desc, render/frame_types.h). */
+ * default at zero. The frame resolves the defaults once and hands each pass
+ * module the part it renders (its X_gpu_desc: shadow, gbuffer, warp,
+ * compose, present). */
 #pragma once
 #include <stdbool.h>
 #include <stdint.h>

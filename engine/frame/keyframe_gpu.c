@@ -113,7 +113,7 @@ void keyframe_gpu_prepare(keyframe_gpu *k, const keyframe_gpu_tile *tiles, int c
     const scene *s = fc->scene;
     int slot = fc->slot;
     k->tiles = count < (int)k->d.max_tiles ? count : (int)k->d.max_tiles;
-    float aspect = (float)fc->desc.width / (float)fc->desc.height;
+    float aspect = (float)fc->width / (float)fc->height;
     for (int m = 0; m < k->tiles; m++) {
         const keyframe_gpu_tile *tile = &tiles[m];
         const scene_past *known = scene_gpu_known(&fc->sg);
@@ -121,9 +121,9 @@ void keyframe_gpu_prepare(keyframe_gpu *k, const keyframe_gpu_tile *tiles, int c
         scene_evaluate_known(s, known, (float)tile->t_prev, &k->prev);
         scene_evaluate_known(s, known, (float)tile->t_next, &k->next);
         vg_camera cam, cp, cn;
-        scene_camera_resolve(s, &k->now, fc->desc.camera, aspect, &cam);
-        scene_camera_resolve(s, &k->prev, fc->desc.camera, aspect, &cp);
-        scene_camera_resolve(s, &k->next, fc->desc.camera, aspect, &cn);
+        scene_camera_resolve(s, &k->now, fc->camera, aspect, &cam);
+        scene_camera_resolve(s, &k->prev, fc->camera, aspect, &cp);
+        scene_camera_resolve(s, &k->next, fc->camera, aspect, &cn);
         tile_ubo(k, tile->atlas_from_clip, &cam, &cp, &cn, (vg_frame_ubo *)((uint8_t *)k->ubo[slot].mapped + UBO_STRIDE * m));
         float *v = (float *)((uint8_t *)k->vertices[slot].mapped + k->tile_bytes * m);
         float *pv = v + 6 * (size_t)s->vertex_count, *nv = pv + 3 * (size_t)s->vertex_count;

@@ -13,6 +13,7 @@ _Static_assert(FRAME_PROBE_MAX_IDS == VG_PROBE_MAX_IDS, "probe id counts differ 
 
 struct probe_gpu {
     frame_ctx *fc;
+    uint32_t probe_ids[FRAME_PROBE_MAX_IDS]; /* the probed instances, 0-terminated */
     gpu_compute_kit kit;
     gpu_buffer partials[VG_FRAMES_IN_FLIGHT];
     uint32_t groups_x, groups_y;
@@ -28,8 +29,8 @@ static void probe_execute(const rg_context *ctx, void *user)
         {fc->nearest_clamp, rg_ctx_view(ctx, p->g), rg_ctx_layout(ctx, p->g)},
         {fc->nearest_clamp, rg_ctx_view(ctx, p->shown), rg_ctx_layout(ctx, p->shown)},
     };
-    vg_probe_push push = {.width = fc->desc.width, .height = fc->desc.height, .groups_x = p->groups_x};
-    memcpy(push.ids, fc->desc.probe_ids, sizeof push.ids);
+    vg_probe_push push = {.width = fc->width, .height = fc->height, .groups_x = p->groups_x};
+    memcpy(push.ids, p->probe_ids, sizeof push.ids);
     gpu_binding b[4] = {
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &img[0], VK_NULL_HANDLE, NULL},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &img[1], VK_NULL_HANDLE, NULL},
@@ -70,15 +71,16 @@ frame_probe probe_gpu_read(const probe_gpu *p, int slot, long index)
     return (frame_probe){index, pixels, pixels ? sum / pixels : 0.0};
 }
 
-vg_status probe_gpu_create(frame_ctx *fc, probe_gpu **out)
+vg_status probe_gpu_create(frame_ctx *fc, const uint32_t ids[FRAME_PROBE_MAX_IDS], probe_gpu **out)
 {
     *out = NULL;
     probe_gpu *p = calloc(1, sizeof *p);
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
-    p->groups_x = (fc->desc.width + VG_PROBE_GROUP - 1) / VG_PROBE_GROUP;
-    p->groups_y = (fc->desc.height + VG_PROBE_GROUP - 1) / VG_PROBE_GROUP;
+    memcpy(p->probe_ids, ids, sizeof p->probe_ids);
+    p->groups_x = (fc->width + VG_PROBE_GROUP - 1) / VG_PROBE_GROUP;
+    p->groups_y = (fc->height + VG_PROBE_GROUP - 1) / VG_PROBE_GROUP;
     static const VkDescriptorType types[4] = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                               VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                                               VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,

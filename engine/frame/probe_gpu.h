@@ -10,7 +10,8 @@
 
 typedef struct probe_gpu probe_gpu;
 
-vg_status probe_gpu_create(frame_ctx *fc, probe_gpu **out);
+/* ids: the probed instances, 0-terminated. */
+vg_status probe_gpu_create(frame_ctx *fc, const uint32_t ids[FRAME_PROBE_MAX_IDS], probe_gpu **out);
 void probe_gpu_destroy(probe_gpu *p);
 /* The pass: reads res->ids, res->g and `shown`. */
 void probe_gpu_add(probe_gpu *p, rg_graph *g, const frame_resources *res, rg_res shown);

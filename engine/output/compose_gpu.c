@@ -10,6 +10,7 @@
 
 struct compose_gpu {
     frame_ctx *fc;
+    compose_gpu_desc desc;
     gpu_compute_kit kit;
     frame_resources *res;
     uint32_t out_w, out_h;
@@ -27,9 +28,11 @@ _Static_assert(FRAME_COMPOSE_SBS - 1 == VG_COMPOSE_SBS && FRAME_COMPOSE_RIGHT - 
                "compose mode numbering differs between C and GLSL");
 
 /* The copy regions of a layout, or 0 when it needs the shader. */
-static int copy_regions(const render_desc *d, VkImageCopy copy[2], bool right[2])
+static int copy_regions(const compose_gpu *c, VkImageCopy copy[2], bool right[2])
 {
-    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
+    const compose_gpu_desc *d = &c->desc;
+    uint32_t width = c->fc->width, height = c->fc->height;
+    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, width, height);
     bool one = d->compose == FRAME_COMPOSE_LEFT || d->compose == FRAME_COMPOSE_RIGHT;
     if (l.overlaid && !one)
         return 0;
@@ -37,7 +40,7 @@ static int copy_regions(const render_desc *d, VkImageCopy copy[2], bool right[2]
     uint64_t covered = 0;
     for (int e = 0; e < n; e++) {
         const frame_eye_rect *r = &l.eye[e];
-        if (r->w != d->width || r->h != d->height)
+        if (r->w != width || r->h != height)
             return 0; /* halved: the shader averages */
         covered += (uint64_t)r->w * r->h;
         right[e] = one ? (d->compose == FRAME_COMPOSE_RIGHT) != d->swap_eyes : e == 1;
@@ -72,9 +75,10 @@ static void compose_execute(const rg_context *ctx, void *user)
         {.imageView = rg_ctx_view(ctx, r->stereo), .imageLayout = rg_ctx_layout(ctx, r->stereo)},
     };
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    const render_desc *d = &c->fc->desc;
-    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
-    vg_compose_push push = {.swap = d->swap_eyes, .width = d->width, .height = d->height};
+    const compose_gpu_desc *d = &c->desc;
+    uint32_t width = c->fc->width, height = c->fc->height;
+    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, width, height);
+    vg_compose_push push = {.swap = d->swap_eyes, .width = width, .height = height};
     for (int e = 0; e < 2; e++) {
         const frame_eye_rect *r = &l.eye[e];
         push.rect[4 * e] = r->x, push.rect[4 * e + 1] = r->y, push.rect[4 * e + 2] = r->w, push.rect[4 * e + 3] = r->h;
@@ -87,10 +91,9 @@ static void compose_execute(const rg_context *ctx, void *user)
 void compose_gpu_add(compose_gpu *c, rg_graph *g, frame_resources *res)
 {
     c->res = res;
-    const render_desc *d = &c->fc->desc;
-    frame_compose_size(d->compose, d->width, d->height, &c->out_w, &c->out_h);
+    frame_compose_size(c->desc.compose, c->fc->width, c->fc->height, &c->out_w, &c->out_h);
     res->stereo = rg_image(g, &(rg_image_desc){"stereo", VK_FORMAT_R8G8B8A8_UNORM, c->out_w, c->out_h, 1});
-    c->copies = copy_regions(d, c->copy, c->copy_right);
+    c->copies = copy_regions(c, c->copy, c->copy_right);
     if (c->copies) {
         rg_pass p = rg_pass_add(g, &(rg_pass_desc){.name = "compose", .type = RG_PASS_TRANSFER,
                                                    .execute = copy_execute, .user = c});
@@ -106,17 +109,18 @@ void compose_gpu_add(compose_gpu *c, rg_graph *g, frame_resources *res)
     rg_use(g, p, res->stereo, RG_STORAGE_WRITE);
 }
 
-vg_status compose_gpu_create(frame_ctx *fc, compose_gpu **out)
+vg_status compose_gpu_create(frame_ctx *fc, const compose_gpu_desc *desc, compose_gpu **out)
 {
     compose_gpu *c = calloc(1, sizeof *c);
     if (!c)
         return VG_ERR_NOMEM;
     c->fc = fc;
+    c->desc = *desc;
     gpu *g = fc->gpu;
     static const VkDescriptorType types[3] = {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                               VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-    const render_desc *d = &fc->desc;
-    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, d->width, d->height);
+    const compose_gpu_desc *d = desc;
+    frame_layout l = frame_compose_layout(d->compose, d->swap_eyes, fc->width, fc->height);
     uint32_t layout[2] = {(uint32_t)(d->compose == FRAME_COMPOSE_DEFAULT ? FRAME_COMPOSE_SBS : d->compose) - 1,
                           !l.overlaid};
     vg_status st = gpu_compute_kit_create(g, &(gpu_compute_kit_desc){

@@ -152,7 +152,7 @@ void overlay_gpu_update(overlay_gpu *o, const frame_hud *hud)
     int slot = o->fc->slot;
     hud_vertex *v = o->vertices[slot].mapped;
     uint32_t n = 0;
-    const render_desc *d = &o->fc->desc;
+    const frame_ctx *d = o->fc;
     /* Font pixels are 6 x 12 a character line: one eye pixel each up to 480
      * eye pixels across, so a 64-character line fits any eye. */
     float scale = hud && hud->scale > 0 ? hud->scale : fmaxf(1.0f, floorf((float)d->width / 480.0f));
@@ -229,7 +229,7 @@ static void overlay_execute(const rg_context *ctx, void *user)
     int slot = o->fc->slot;
     if (!o->quads[slot])
         return;
-    const render_desc *d = &o->fc->desc;
+    const frame_ctx *d = o->fc;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, o->pipeline);
     VkDeviceSize offset = 0;

@@ -5,33 +5,22 @@
 
 struct present_gpu {
     frame_ctx *fc;
-    VkFormat format;
-    VkExtent2D extent;
+    present_gpu_desc desc;
     VkOffset2D blit_min, blit_max;   /* where the picture lands in the window */
     frame_resources *res;
     rg_res target;
 };
 
-/* Size of what the frame composes (the stereo image, or the centre colour). */
-static VkExtent2D source_size(const present_gpu *p)
-{
-    const render_desc *d = &p->fc->desc;
-    VkExtent2D e = {d->width, d->height};
-    if (d->stereo != FRAME_STEREO_OFF)
-        frame_compose_size(d->compose, d->width, d->height, &e.width, &e.height);
-    return e;
-}
-
 /* Fit inside the window keeping the aspect ratio (game_click_to_image maps
  * clicks back the same way). */
 static void place_picture(present_gpu *p)
 {
-    VkExtent2D src = source_size(p);
-    float s = (float)p->extent.width / (float)src.width;
-    if ((float)src.height * s > (float)p->extent.height)
-        s = (float)p->extent.height / (float)src.height;
+    VkExtent2D src = p->desc.source;
+    float s = (float)p->desc.extent.width / (float)src.width;
+    if ((float)src.height * s > (float)p->desc.extent.height)
+        s = (float)p->desc.extent.height / (float)src.height;
     int32_t w = (int32_t)((float)src.width * s + 0.5f), h = (int32_t)((float)src.height * s + 0.5f);
-    p->blit_min = (VkOffset2D){((int32_t)p->extent.width - w) / 2, ((int32_t)p->extent.height - h) / 2};
+    p->blit_min = (VkOffset2D){((int32_t)p->desc.extent.width - w) / 2, ((int32_t)p->desc.extent.height - h) / 2};
     p->blit_max = (VkOffset2D){p->blit_min.x + w, p->blit_min.y + h};
 }
 
@@ -51,7 +40,7 @@ static void blit_execute(const rg_context *ctx, void *user)
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     VkImage dst = rg_ctx_image(ctx, p->target);
     VkImageLayout dst_layout = rg_ctx_layout(ctx, p->target);
-    VkExtent2D src = source_size(p);
+    VkExtent2D src = p->desc.source;
     rg_res from = p->res->stereo.id ? p->res->stereo : p->res->color;
     VkImageBlit blit = {
         .srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
@@ -67,7 +56,7 @@ rg_res present_gpu_add(present_gpu *p, rg_graph *g, frame_resources *res)
 {
     p->res = res;
     place_picture(p);
-    p->target = rg_import_image(g, &(rg_image_desc){"swapchain", p->format, p->extent.width, p->extent.height, 1},
+    p->target = rg_import_image(g, &(rg_image_desc){"swapchain", p->desc.format, p->desc.extent.width, p->desc.extent.height, 1},
                                 &(rg_import_desc){.initial = RG_PRESENT, .final = RG_PRESENT});
     /* The window has no history: the clear and the blit cover every pixel. */
     if (p->blit_min.x > 0 || p->blit_min.y > 0) {
@@ -82,14 +71,13 @@ rg_res present_gpu_add(present_gpu *p, rg_graph *g, frame_resources *res)
     return p->target;
 }
 
-vg_status present_gpu_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_gpu **out)
+vg_status present_gpu_create(frame_ctx *fc, const present_gpu_desc *desc, present_gpu **out)
 {
     present_gpu *p = calloc(1, sizeof *p);
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
-    p->format = format;
-    p->extent = extent;
+    p->desc = *desc;
     *out = p;
     return VG_OK;
 }

@@ -12,7 +12,13 @@
 
 typedef struct present_gpu present_gpu;
 
-vg_status present_gpu_create(frame_ctx *fc, VkFormat format, VkExtent2D extent, present_gpu **out);
+typedef struct present_gpu_desc {
+    VkFormat format;             /* the swapchain's */
+    VkExtent2D extent;           /* the swapchain image's */
+    VkExtent2D source;           /* what the frame shows: the composed stereo image, or the centre colour */
+} present_gpu_desc;
+
+vg_status present_gpu_create(frame_ctx *fc, const present_gpu_desc *desc, present_gpu **out);
 void present_gpu_destroy(present_gpu *p);
 /* Declares the swapchain image and the pass; returns the imported image. */
 rg_res present_gpu_add(present_gpu *p, rg_graph *g, frame_resources *res);

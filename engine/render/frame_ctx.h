@@ -1,10 +1,12 @@
 /* vergence — what the frame shares with its pass modules.
  *
  * A pass module (gbuffer, disparity, warp, compose) owns its pipelines and
- * persistent resources, and adds its passes to the frame graph in
- * X_gpu_add(), reading and writing named resources of frame_resources. Its
- * execute callbacks read per-frame state (slot, times, cameras) from the
- * frame_ctx, which lives as long as the frame. */
+ * persistent resources, made by X_gpu_create() from the frame_ctx and, where
+ * it has settings, its own desc (X_gpu_desc, the frame fills it in), and
+ * adds its passes to the frame graph in X_gpu_add(), reading and writing
+ * named resources of frame_resources. Its execute callbacks read per-frame
+ * state (slot, times, cameras) from the frame_ctx, which lives as long as
+ * the frame. */
 #pragma once
 #include "frame_types.h"
 #include "gpu/gpu.h"
@@ -15,7 +17,8 @@
 typedef struct frame_ctx {
     gpu *gpu;
     const scene *scene;
-    render_desc desc;            /* what the passes render, defaults resolved */
+    uint32_t width, height;      /* the centre image and each eye, pixels */
+    int camera;                  /* the scene camera it renders (node order) */
     scene_gpu sg;
     gpu_buffer ubo[VG_FRAMES_IN_FLIGHT];    /* vg_frame_ubo per slot */
     VkDescriptorSetLayout push_layout;      /* set 0: frame UBO (0), shadow map (1), pass images (2..) */

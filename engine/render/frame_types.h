@@ -1,9 +1,10 @@
 /* vergence — the frame's types, shared by the frame (frame/frame.h) and
- * every pass module (the pass kit, render/frame_ctx.h): what the passes
- * render (render_desc and its enums), the frame's times, what it hands back
- * (frame_outputs) and the HUD a windowed frame draws. Pure data, and pure
- * functions over it (frame_types.c). What an application asks a frame for,
- * the disparity pipeline's settings among it, is frame/frame_desc.h. */
+ * every pass module (the pass kit, render/frame_ctx.h): the enums of how a
+ * stereo frame is made and shown (each pass module's desc takes the ones it
+ * renders), the frame's times, what it hands back (frame_outputs) and the
+ * HUD a windowed frame draws. Pure data, and pure functions over it
+ * (frame_types.c). What an application asks a frame for, the disparity
+ * pipeline's settings among it, is frame/frame_desc.h. */
 #pragma once
 #include <stdbool.h>
 #include <stdint.h>
@@ -55,33 +56,6 @@ extern const char *const frame_mode_names[];
 
 #define FRAME_PROBE_MAX_IDS 8
 #define FRAME_PROBES_KEPT 4      /* completed probes a frame keeps until frame_take_probes */
-
-/* What the pass modules render: the frame's settings that reach them, every
- * default resolved (frame/frame.c fills it from the frame_desc it was made
- * with; the pass modules change nothing). */
-typedef struct render_desc {
-    uint32_t width, height;      /* the centre image and each eye */
-    double fps;
-    int keyframe_stride;
-    int camera;                  /* camera node index (in node order) */
-    bool readback;               /* the G-buffer and the maps copied to the host every frame */
-    bool maps_only;              /* stereo frames: the G-buffer and the maps g, h, f only, no eyes */
-    uint32_t shadow_size;        /* a shadow cascade's side in texels */
-    stereo_display_desc display;
-    stereo_camera_desc rig;      /* the original stereo camera */
-    frame_stereo stereo;
-    frame_mode mode;
-    frame_compose compose;
-    bool swap_eyes;
-    uint32_t max_tess_level;     /* within the device's limit */
-    bool reference;              /* the two-camera reference eyes too */
-    bool measure;                /* the eyes' disparity error per pixel (aux.z) */
-    bool overlay;                /* the HUD drawn into the eyes */
-    VkFormat present_format;     /* windowed: the swapchain format; UNDEFINED: headless */
-    uint32_t present_width, present_height;
-    const struct vgx_curve_data *curve; /* a baked global curve instead of the per-frame one */
-    uint32_t probe_ids[FRAME_PROBE_MAX_IDS]; /* the probe's instances, 0-terminated */
-} render_desc;
 
 /* Host copies after frame_render() (readback only; NULL when not rendered). */
 typedef struct frame_outputs {

@@ -47,7 +47,7 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
 
 void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res)
 {
-    uint32_t w = p->fc->desc.width, h = p->fc->desc.height;
+    uint32_t w = p->fc->width, h = p->fc->height;
     gbuffer_targets t = gbuffer_gpu_targets(g, "gbuffer", w, h);
     res->color = t.color, res->depth = t.depth, res->ids = t.ids, res->motion = t.motion, res->zbuffer = t.zbuffer;
     p->shadow_map = res->shadow;
@@ -91,17 +91,13 @@ void gbuffer_gpu_targets_write(rg_graph *g, rg_pass p, const gbuffer_targets *t)
 /* Pipelines                                                                 */
 /* ------------------------------------------------------------------------- */
 
-vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out)
+vg_status gbuffer_gpu_create(frame_ctx *fc, const gbuffer_gpu_desc *desc, gbuffer_gpu **out)
 {
     gbuffer_gpu *p = calloc(1, sizeof *p);
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
-    /* The lit centre colour is only looked at in captures, mono frames and
-     * the image-warping baseline; a warped stereo frame shades its eyes. */
-    const render_desc *d = &fc->desc;
-    bool lit = d->readback || d->stereo == FRAME_STEREO_OFF || d->stereo == FRAME_STEREO_IMAGEWARP;
-    vg_status st = gbuffer_gpu_pipelines_create(fc, "gbuffer", lit, &p->sky, &p->gbuffer);
+    vg_status st = gbuffer_gpu_pipelines_create(fc, "gbuffer", desc->lit, &p->sky, &p->gbuffer);
     if (st != VG_OK) {
         gbuffer_gpu_destroy(p);
         return st;

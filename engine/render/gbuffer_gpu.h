@@ -6,7 +6,11 @@
 
 typedef struct gbuffer_gpu gbuffer_gpu;
 
-vg_status gbuffer_gpu_create(frame_ctx *fc, gbuffer_gpu **out);
+typedef struct gbuffer_gpu_desc {
+    bool lit;                    /* the centre colour shaded (else only what the disparity passes read) */
+} gbuffer_gpu_desc;
+
+vg_status gbuffer_gpu_create(frame_ctx *fc, const gbuffer_gpu_desc *desc, gbuffer_gpu **out);
 void gbuffer_gpu_destroy(gbuffer_gpu *p);
 void gbuffer_gpu_add(gbuffer_gpu *p, rg_graph *g, frame_resources *res);
 

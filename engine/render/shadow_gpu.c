@@ -17,6 +17,7 @@
 
 struct shadow_gpu {
     frame_ctx *fc;
+    uint32_t size;           /* a cascade's side, texels */
     VkPipeline pipeline;
     rg_res map, cache_res;
     /* The shadow cascades of the casters that stand still, kept while none of
@@ -63,13 +64,14 @@ static void cascade(mat4 light_view, float x, float y, float r, float z_lo, floa
  * its shadow edges do not crawl as the camera moves. Without a perspective
  * camera, or when it would be less than twice as fine as cascade 0, there is
  * one. */
-void shadow_gpu_setup(frame_ctx *fc, vg_frame_ubo *u)
+void shadow_gpu_setup(shadow_gpu *p, vg_frame_ubo *u)
 {
+    frame_ctx *fc = p->fc;
     vec3 sun = {-0.42f, 0.74f, 0.52f};
     glm_vec3_normalize(sun);
     const scene_state *st = &fc->sg.now;
     const vg_camera *cam = &fc->cam;
-    float size = (float)fc->desc.shadow_size, keep = size / (size - 2.0f * SHADOW_MARGIN_TEXELS);
+    float size = (float)p->size, keep = size / (size - 2.0f * SHADOW_MARGIN_TEXELS);
     vec3 lo, hi, centre, up = {0, 1, 0}, origin = {0, 0, 0};
     glm_vec3_copy((float *)st->bounds_min, lo);
     glm_vec3_copy((float *)st->bounds_max, hi);
@@ -91,7 +93,7 @@ void shadow_gpu_setup(frame_ctx *fc, vg_frame_ubo *u)
     if (!cam->orthographic && cam->yfov > 0.0f) {
         const scene *sc = fc->scene;
         float rest = 0.5f * glm_vec3_distance((float *)sc->bounds_min, (float *)sc->bounds_max) + 0.01f;
-        float px_at_1m = 2.0f * tanf(0.5f * cam->yfov) / (float)fc->desc.height;
+        float px_at_1m = 2.0f * tanf(0.5f * cam->yfov) / (float)fc->height;
         float d = 2.0f * rest * keep / size / (SHADOW_SPLIT_PX * px_at_1m);
         /* The smallest sphere around the frustum's slice [near, d]: k^2 is
          * the squared tangent of the corner rays' angle to the axis. */
@@ -128,7 +130,7 @@ void shadow_gpu_setup(frame_ctx *fc, vg_frame_ubo *u)
 static void shadow_draw(const shadow_gpu *p, VkCommandBuffer cmd, int c, bool cached, bool clear)
 {
     const frame_ctx *fc = p->fc;
-    uint32_t side = fc->desc.shadow_size;
+    uint32_t side = p->size;
     VkRect2D rect = {{(int32_t)(c * side), 0}, {side, side}};
     vkCmdSetViewport(cmd, 0, 1, &(VkViewport){(float)(c * side), 0, (float)side, (float)side, 0, 1});
     vkCmdSetScissor(cmd, 0, 1, &rect);
@@ -200,7 +202,7 @@ static void static_execute(const rg_context *ctx, void *user)
 static void copy_execute(const rg_context *ctx, void *user)
 {
     const shadow_gpu *p = user;
-    uint32_t side = p->fc->desc.shadow_size;
+    uint32_t side = p->size;
     vkCmdCopyImage(rg_ctx_cmd(ctx), rg_ctx_image(ctx, p->cache_res), rg_ctx_layout(ctx, p->cache_res),
                    rg_ctx_image(ctx, p->map), rg_ctx_layout(ctx, p->map), 1,
                    &(VkImageCopy){.srcSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1},
@@ -232,7 +234,7 @@ static void shadow_pass(rg_graph *g, const frame_resources *res, const char *nam
 
 void shadow_gpu_add(shadow_gpu *p, rg_graph *g, frame_resources *res)
 {
-    uint32_t sz = p->fc->desc.shadow_size;
+    uint32_t sz = p->size;
     res->shadow = p->map =
         rg_image(g, &(rg_image_desc){"shadow.map", GBUFFER_DEPTH_FORMAT, VG_SHADOW_CASCADES * sz, sz, 1});
     p->cache_res = rg_import_image(g, &(rg_image_desc){"shadow.cache", GBUFFER_DEPTH_FORMAT, VG_SHADOW_CASCADES * sz,
@@ -266,7 +268,7 @@ static vg_status shadow_cache_create(shadow_gpu *p)
     p->last_placed = calloc(16 * n, sizeof(float));
     if (!p->in_cache || !p->cache_placed || !p->last_placed)
         return VG_ERR_NOMEM;
-    uint32_t sz = p->fc->desc.shadow_size;
+    uint32_t sz = p->size;
     vg_status st = gpu_image_create(g, &(gpu_image_desc){.name = "shadow.cache", .format = GBUFFER_DEPTH_FORMAT,
                                                          .width = VG_SHADOW_CASCADES * sz, .height = sz,
                                                          .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
@@ -281,7 +283,7 @@ static vg_status shadow_cache_create(shadow_gpu *p)
     return gpu_oneshot_submit(g, cmd);
 }
 
-vg_status shadow_gpu_create(frame_ctx *fc, shadow_gpu **out)
+vg_status shadow_gpu_create(frame_ctx *fc, const shadow_gpu_desc *desc, shadow_gpu **out)
 {
     *out = NULL;
     gpu *g = fc->gpu;
@@ -289,6 +291,7 @@ vg_status shadow_gpu_create(frame_ctx *fc, shadow_gpu **out)
     if (!p)
         return VG_ERR_NOMEM;
     p->fc = fc;
+    p->size = desc->size;
     VkShaderModule svert = 0;
     vg_status st = GPU_SHADER(g, spv_shadow_vert, &svert);
     if (st == VG_OK) {

@@ -9,11 +9,15 @@
 struct vg_frame_ubo;
 typedef struct shadow_gpu shadow_gpu;
 
-vg_status shadow_gpu_create(frame_ctx *fc, shadow_gpu **out);
+typedef struct shadow_gpu_desc {
+    uint32_t size;               /* a cascade's side in texels (the atlas is VG_SHADOW_CASCADES wide) */
+} shadow_gpu_desc;
+
+vg_status shadow_gpu_create(frame_ctx *fc, const shadow_gpu_desc *desc, shadow_gpu **out);
 void shadow_gpu_destroy(shadow_gpu *p);
 /* The sun, the sky's colours and the cascades of this frame into the frame
  * constants; sets fc->shadow_cascades. */
-void shadow_gpu_setup(frame_ctx *fc, struct vg_frame_ubo *u);
+void shadow_gpu_setup(shadow_gpu *p, struct vg_frame_ubo *u);
 /* Declares res->shadow and the passes that draw it. */
 void shadow_gpu_add(shadow_gpu *p, rg_graph *g, frame_resources *res);
 /* Binds the cache (imported) to the compiled graph g. */

@@ -10,7 +10,9 @@ usage: arch_test.py BUILD_DIR CASE
   circles    no two source files of the project (engine, game, the content
              tool) use each other's functions, directly or around a longer
              circle (nm on BUILD_DIR's objects)
-  prefixes   a pass module X_gpu.c defines functions named X_gpu_* only
+  prefixes   a pass module X_gpu.c defines functions named X_gpu_* only;
+             its X_gpu_create takes the frame_ctx, its own X_gpu_desc (or
+             nothing) and its out, and frame_ctx holds no settings desc
   libraries  docs/architecture.md's table names every library of the build in
              its folder, and no other
   graph      the frame-graph dump in docs/architecture.md is what the binary
@@ -94,7 +96,7 @@ def folder_of(path, folders):
 
 
 # Folders kept apart though the lower may be below: the pass kit renders and
-# knows nothing of the science core (the frame hands it a render_desc).
+# knows nothing of the science core (the frame hands each pass module its desc).
 APART = {("engine/render", "engine/disparity"): "the pass kit does not depend on the science core",
          ("engine/render", "engine/disparity/gpu"): "the pass kit does not depend on the disparity passes"}
 
@@ -241,11 +243,31 @@ def case_prefixes(build):
             parts = line.split()
             if len(parts) == 3 and parts[1] == "T" and not parts[2].startswith(stem + "_"):
                 bad.append(f"{short(o, build)} defines {parts[2]} (not {stem}_*)")
+    # The pass kit shares no settings: a pass module's create takes the frame
+    # context, its own desc (X_gpu_desc) where it has settings, and its out.
+    create = re.compile(r"^vg_status (\w+_gpu)_create\(([^)]*)\);", re.M)
+    descs = 0
+    for src in sources():
+        if not src.endswith("_gpu.h"):
+            continue
+        for m in create.finditer(open(os.path.join(ROOT, src)).read()):
+            args = [a.strip() for a in m.group(2).split(",")]
+            if args[0] != "frame_ctx *fc":
+                continue  # not a pass module of the frame (the SDK's disparity passes)
+            if len(args) > 2 and not args[1].startswith(f"const {m.group(1)}_desc *") and \
+                    not args[1].startswith("const uint32_t"):
+                bad.append(f"{src}: {m.group(1)}_create takes {args[1]}, not its own {m.group(1)}_desc")
+            descs += len(args) > 2
+    frame_ctx = open(os.path.join(ROOT, "engine/render/frame_ctx.h")).read()
+    body = frame_ctx[frame_ctx.index("typedef struct frame_ctx {"):frame_ctx.index("} frame_ctx;")]
+    if re.search(r"\b\w+_desc\s+\w+;", body):
+        bad.append("engine/render/frame_ctx.h: frame_ctx holds a settings desc the passes would share")
     for b in bad:
         print(b)
     if bad:
-        fail(f"{len(bad)} functions of pass modules do not carry their file's prefix")
-    print(f"{n} pass modules, every function named after its file")
+        fail(f"{len(bad)} functions of pass modules do not carry their file's prefix or take another's settings")
+    print(f"{n} pass modules, every function named after its file; {descs} creates take their own desc, "
+          f"frame_ctx holds no shared settings")
 
 
 def doc():

@@ -46,6 +46,7 @@ typedef struct eye_pass {
 
 struct warp_gpu {
     frame_ctx *fc;
+    warp_gpu_desc desc;          /* its curve copied into `baked` and cleared */
     VkPipeline warp, warp_flat, cameras, imagewarp, sky;
     gpu_compute_kit classify;    /* K_CULL, K_VERTICES, K_VERTEX_SEARCH, K_EDGES, K_EDGE_LEVELS, K_CLASSIFY,
                                     K_COMPACT */
@@ -249,7 +250,7 @@ static void draw_warped(warp_gpu *w, const rg_context *ctx, uint32_t flags)
  * culls the G-buffer. */
 static bool eye_reads_maps(const warp_gpu *w, eye_kind kind)
 {
-    return w->target.id && (kind != EYE_CAMERAS || w->fc->desc.measure);
+    return w->target.id && (kind != EYE_CAMERAS || w->desc.measure);
 }
 
 static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
@@ -319,7 +320,7 @@ static void eye_execute(const rg_context *ctx, void *user)
         vg_draw_push push = {.flags = flags};
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->imagewarp);
         vkCmdPushConstants(cmd, fc->scene_layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof push, &push);
-        vkCmdDraw(cmd, fc->desc.width * fc->desc.height, 1, 0, 0);
+        vkCmdDraw(cmd, fc->width * fc->height, 1, 0, 0);
         return;
     }
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg.texture_set, 0, NULL);
@@ -366,7 +367,7 @@ static void fill_execute(const rg_context *ctx, void *user)
     if (step->kernel == K_FILL_RESET)
         vkCmdDispatch(cmd, 1, 1, 1);
     else if (step->kernel == K_FILL_FIND)
-        vkCmdDispatch(cmd, (w->fc->desc.width + 7) / 8, (w->fc->desc.height + 7) / 8, 1);
+        vkCmdDispatch(cmd, (w->fc->width + 7) / 8, (w->fc->height + 7) / 8, 1);
     else
         vkCmdDispatchIndirect(cmd, w->fill_header.buffer, VG_WORKLIST_ARGS(f->eye));
 }
@@ -374,7 +375,7 @@ static void fill_execute(const rg_context *ctx, void *user)
 static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e, const char *name,
                     rg_res color, rg_res aux)
 {
-    uint32_t width = w->fc->desc.width, height = w->fc->desc.height;
+    uint32_t width = w->fc->width, height = w->fc->height;
     char zname[48];
     snprintf(zname, sizeof zname, "%s.zbuffer", name);
     rg_res z = rg_image(g, &(rg_image_desc){zname, GBUFFER_DEPTH_FORMAT, width, height, 1});
@@ -414,8 +415,8 @@ static void add_eye(warp_gpu *w, rg_graph *g, frame_resources *res, eye_pass *e,
 
 void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target)
 {
-    const render_desc *d = &w->fc->desc;
-    uint32_t width = d->width, height = d->height;
+    const warp_gpu_desc *d = &w->desc;
+    uint32_t width = w->fc->width, height = w->fc->height;
     w->res = res;
     w->target = target;
     if (d->stereo == FRAME_STEREO_OFF)
@@ -602,10 +603,10 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
     d.tesc = s->warp_tesc;
     d.tese = s->warp_tese;
     /* Measuring costs the fragment shader a second cascade: only captures do it. */
-    VkShaderModule warp_frag = fc->desc.measure ? s->eye_measure_frag : s->eye_frag;
+    VkShaderModule warp_frag = w->desc.measure ? s->eye_measure_frag : s->eye_frag;
     d.frag = warp_frag;
     /* Only the warp tessellates: the baselines run on devices without it. */
-    vg_status st = fc->desc.stereo == FRAME_STEREO_WARP ? gpu_graphics_pipeline_create(g, &d, &w->warp) : VG_OK;
+    vg_status st = w->desc.stereo == FRAME_STEREO_WARP ? gpu_graphics_pipeline_create(g, &d, &w->warp) : VG_OK;
     if (st == VG_OK) {
         d = eye;
         d.name = "warp.stereo flat";
@@ -617,7 +618,7 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
         d = eye;
         d.name = "cameras";
         d.vert = s->cameras_vert;
-        d.frag = fc->desc.measure ? s->eye_measure_frag : s->eye_frag;
+        d.frag = w->desc.measure ? s->eye_measure_frag : s->eye_frag;
         st = gpu_graphics_pipeline_create(g, &d, &w->cameras);
     }
     if (st == VG_OK)
@@ -633,7 +634,7 @@ static vg_status create_pipelines(warp_gpu *w, const shader_set *s)
             .color_formats = k_eye_formats, .color_count = 2, .depth_format = GBUFFER_DEPTH_FORMAT}, &w->imagewarp);
 
     if (st == VG_OK)
-        st = curve_gpu_create(g, fc->desc.width, fc->desc.height, &w->curve);
+        st = curve_gpu_create(g, fc->width, fc->height, &w->curve);
     /* warp.classify: the scene bindings of set 0 plus its own buffers; the
      * frame constants as a storage buffer (shaders/common.glsl,
      * VG_FRAME_STORAGE: lavapipe would compile a variant per camera pose). */
@@ -801,10 +802,10 @@ void warp_gpu_bind(warp_gpu *w, rg_graph *g)
         rg_bind_buffer(g, w->fill_header_res, w->fill_header.buffer);
 }
 
-vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
+vg_status warp_gpu_create(frame_ctx *fc, const warp_gpu_desc *desc, warp_gpu **out)
 {
     *out = NULL;
-    if (fc->desc.stereo == FRAME_STEREO_WARP && !fc->gpu->features.tessellation) {
+    if (desc->stereo == FRAME_STEREO_WARP && !fc->gpu->features.tessellation) {
         vg_error("%s has no tessellation shaders, which the 3D warp needs (try --stereo-render cameras)",
                  fc->gpu->props.deviceName);
         return VG_ERR_DEVICE;
@@ -813,16 +814,18 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
     if (!w)
         return VG_ERR_NOMEM;
     w->fc = fc;
+    w->desc = *desc;
+    w->desc.curve = NULL;
     /* lavapipe corrupts draws tessellated into more than 65,535 vertices; a
      * level-L triangle patch makes about 0.8 (L + 1)^2 of them there. */
-    uint32_t level = fc->desc.max_tess_level;
+    uint32_t level = desc->max_tess_level;
     w->patches_per_draw = fc->gpu->is_cpu ? (uint32_t)(60000.0 / (0.8 * (level + 1) * (level + 1))) : 0;
     if (fc->gpu->is_cpu && w->patches_per_draw < 1)
         w->patches_per_draw = 1;
     shader_set s = {0};
     vg_status st = create_instance_table(w);
     /* Zero: no frame has stamped a vertex yet (warp.cull). */
-    if (st == VG_OK && fc->desc.stereo == FRAME_STEREO_WARP) {
+    if (st == VG_OK && desc->stereo == FRAME_STEREO_WARP) {
         st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "warp vertex stamps",
                                                            .size = 4 * (VkDeviceSize)(fc->scene->vertex_count + 1),
                                                            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -835,13 +838,13 @@ vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out)
                                                                .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT}, &w->fill_header);
     }
-    if (st == VG_OK && fc->desc.curve) {
+    if (st == VG_OK && desc->curve) {
         st = gpu_buffer_create(fc->gpu, &(gpu_buffer_desc){.name = "baked curve", .size = sizeof(vgx_curve_data),
                                                            .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                                                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                                            .host_visible = true}, &w->baked);
         if (st == VG_OK)
-            memcpy(w->baked.mapped, fc->desc.curve, sizeof(vgx_curve_data));
+            memcpy(w->baked.mapped, desc->curve, sizeof(vgx_curve_data));
     }
     if (st == VG_OK)
         st = load_shaders(fc->gpu, &s);

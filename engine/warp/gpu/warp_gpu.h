@@ -13,7 +13,15 @@
 
 typedef struct warp_gpu warp_gpu;
 
-vg_status warp_gpu_create(frame_ctx *fc, warp_gpu **out);
+typedef struct warp_gpu_desc {
+    frame_stereo stereo;         /* how the pair is made (not FRAME_STEREO_OFF) */
+    bool measure;                /* the eyes' disparity error per pixel (aux.z), the two cameras' too */
+    bool reference;              /* the two-camera reference eyes too */
+    uint32_t max_tess_level;     /* within the device's limit */
+    const struct vgx_curve_data *curve; /* a baked global curve instead of each frame's (copied) */
+} warp_gpu_desc;
+
+vg_status warp_gpu_create(frame_ctx *fc, const warp_gpu_desc *desc, warp_gpu **out);
 void warp_gpu_destroy(warp_gpu *w);
 void warp_gpu_add(warp_gpu *w, rg_graph *g, frame_resources *res, rg_res target);
 /* Each frame before recording: binds the module's imported resources (a
