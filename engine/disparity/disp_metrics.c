@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "core/json.h"
+
 /* A pixel moves in depth when g changes along a valid link by at least the
  * threshold velocity (the image-space motion alone is not motion in depth). */
 /* Velocities per second whatever unit the window's solve uses (time_unit:
@@ -56,4 +58,13 @@ void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics
     m.static_grad_rms = m.static_count ? sqrt(grad2 / m.static_count) : 0.0;
     m.range_violation = m.samples ? (double)out_of_range / m.samples : 0.0;
     *out = m;
+}
+
+void disp_metrics_write_json(vg_json *j, const disp_metrics *m, double range_violation)
+{
+    vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
+    vg_json_num(j, "range_violation", range_violation);
+    vg_json_num(j, "static_rms", m->static_rms);
+    vg_json_num(j, "static_grad_rms", m->static_grad_rms);
+    vg_json_int(j, "moving_samples", m->moving_measured);
 }

@@ -30,6 +30,11 @@ typedef struct disp_metrics_desc {
 
 void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics_desc *desc,
                          disp_metrics *out);
+/* The metrics of a field as the JSON files write them (metrics.json,
+ * capture.json): the members of the object the caller opened. */
+struct vg_json;
+void disp_metrics_write_json(struct vg_json *j, const disp_metrics *m, double range_violation);
+
 /* In the target range [lo, hi] up to 1e-3 arcmin (float rounding of the clamp). */
 static inline bool disp_metrics_in_range(float x, float lo, float hi)
 {

@@ -321,11 +321,7 @@ static vg_status write_slice(const offline_seq *s, int m, const float *v, float 
 static void json_metrics(vg_json *j, const char *key, const disp_metrics *m, double range_violation)
 {
     vg_json_object_begin(j, key);
-    vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
-    vg_json_num(j, "range_violation", range_violation);
-    vg_json_num(j, "static_rms", m->static_rms);
-    vg_json_num(j, "static_grad_rms", m->static_grad_rms);
-    vg_json_int(j, "moving_samples", m->moving_measured);
+    disp_metrics_write_json(j, m, range_violation);
     vg_json_object_end(j);
 }
 

@@ -153,11 +153,7 @@ static void json_field_metrics(vg_json *j, const char *key, const disp_metrics *
                                const science_second_difference *d2)
 {
     vg_json_object_begin(j, key);
-    vg_json_num(j, "mid_distortion_jnd", m->mid_distortion_jnd);
-    vg_json_num(j, "range_violation", violation);
-    vg_json_num(j, "static_rms", m->static_rms);
-    vg_json_num(j, "static_grad_rms", m->static_grad_rms);
-    vg_json_int(j, "moving_samples", m->moving_measured);
+    disp_metrics_write_json(j, m, violation);
     vg_json_object_begin(j, "second_difference");
     vg_json_num(j, "at_keyframe_boundaries", d2->boundary);
     vg_json_num(j, "between_keyframes", d2->between);
