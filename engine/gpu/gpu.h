@@ -184,6 +184,12 @@ vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd);
  * across frames outside the frame graph (created once, imported after). */
 void gpu_cmd_enter_layout(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkImageLayout layout);
 
+/* Records, after every command before it in cmd, the write of `value`
+ * into the first 4 bytes of a host-visible buffer (TRANSFER_DST usage),
+ * made available to the host: once the submission's fence has signalled,
+ * the host reads it. How far the GPU got, without a fence of one's own. */
+void gpu_cmd_mark(VkCommandBuffer cmd, VkBuffer buffer, uint32_t value);
+
 /* Uploads pixels into a sampled image (layout SHADER_READ_ONLY_OPTIMAL after). */
 vg_status gpu_image_upload(gpu *g, gpu_image *img, const void *pixels, size_t size);
 

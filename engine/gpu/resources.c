@@ -262,6 +262,26 @@ void gpu_cmd_enter_layout(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags
                                                    .imageMemoryBarrierCount = 1, .pImageMemoryBarriers = &b});
 }
 
+void gpu_cmd_mark(VkCommandBuffer cmd, VkBuffer buffer, uint32_t value)
+{
+    VkMemoryBarrier2 before = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                               .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                               .dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT};
+    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
+                                                   .memoryBarrierCount = 1, .pMemoryBarriers = &before});
+    vkCmdFillBuffer(cmd, buffer, 0, 4, value);
+    VkBufferMemoryBarrier2 after = {.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2,
+                                    .srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                                    .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                    .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
+                                    .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT,
+                                    .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                    .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                                    .buffer = buffer, .offset = 0, .size = 4};
+    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
+                                                   .bufferMemoryBarrierCount = 1, .pBufferMemoryBarriers = &after});
+}
+
 vg_status gpu_image_upload(gpu *g, gpu_image *img, const void *pixels, size_t size)
 {
     gpu_buffer staging;

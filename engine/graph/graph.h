@@ -161,7 +161,7 @@ vg_status rg_realize(rg_graph *g, struct gpu *gpu);
 void rg_bind_image(rg_graph *g, rg_res res, VkImage image, VkImageView view);
 void rg_bind_buffer(rg_graph *g, rg_res res, VkBuffer buffer);
 /* Frames in flight that can each hold their own timestamps. */
-#define RG_MAX_SLOTS 2
+#define RG_MAX_SLOTS 4
 
 /* Records every ordered pass with its barriers into cmd; `slot` (below
  * RG_MAX_SLOTS) picks the timestamp queries of this frame in flight. */

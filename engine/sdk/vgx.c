@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,20 @@
 #define VGX_LIBRARY_VERSION VGX_MAKE_VERSION(VERGENCE_VERSION_MAJOR, VERGENCE_VERSION_MINOR, VERGENCE_VERSION_PATCH)
 
 #define VGX_INPUTS 8 /* frame depth, saliency, motion, ids; the atlas's four */
+
+/* The size of the vgx_context_desc a host built against header 0.1 passes:
+ * the 0.1 members end where 0.2's begin (vergence.h, "How the ABI grows"). */
+#define VGX_CONTEXT_DESC_SIZE_0_1 offsetof(vgx_context_desc, frames_in_flight)
+_Static_assert(sizeof(void *) != 8 || VGX_CONTEXT_DESC_SIZE_0_1 == 208, "the 0.1 vgx_context_desc is 208 bytes on LP64");
+_Static_assert(VGX_MAX_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "a graph keeps timestamps for every frame in flight");
+
+/* Graphs of configurations replaced while frames that used them were in
+ * flight, each freed once the GPU has passed the last such frame. */
+#define VGX_RETIRED 8
+typedef struct vgx_retired {
+    rg_graph *graph;
+    uint32_t last;                    /* the serial of the last dispatch that recorded it */
+} vgx_retired;
 
 /* The public enums are the engine's, value for value (vgx_context_create
  * casts one to the other). */
@@ -66,6 +81,16 @@ struct vgx_context {
     gpu_buffer warp_ubo, curve_buf;
     warp_constants warp;
     int warp_map;                     /* the output it reads (VGX_OUTPUT_*) */
+
+    /* Frames in flight: `serial` numbers the dispatches (the first is 1),
+     * each of which writes its number into `progress` when the GPU has run
+     * it (gpu_cmd_mark); a graph replaced at serial s waits in `retired`
+     * until progress reaches s. */
+    uint32_t frames_in_flight;
+    uint32_t serial;
+    gpu_buffer progress;
+    vgx_retired retired[VGX_RETIRED];
+    int retired_count;
 
     /* The graph for the host's current input layouts and warp map. */
     rg_graph *graph;
@@ -192,9 +217,10 @@ vgx_result vgx_get_missing_requirements(VkPhysicalDevice physical_device, uint32
 static vg_status check_desc(const vgx_context_desc *d)
 {
     uint32_t v = d->header_version, lib = VGX_LIBRARY_VERSION;
-    if (VGX_VERSION_MAJOR(v) != VGX_VERSION_MAJOR(lib) ||
-        (VGX_VERSION_MAJOR(lib) == 0 && VGX_VERSION_MINOR(v) != VGX_VERSION_MINOR(lib))) {
-        vg_error("vgx_context_desc.header_version is %u.%u.%u; this library is %u.%u.%u (set VGX_HEADER_VERSION)",
+    if (VGX_VERSION_MAJOR(v) != VGX_VERSION_MAJOR(lib) || VGX_VERSION_MINOR(v) > VGX_VERSION_MINOR(lib) ||
+        (VGX_VERSION_MAJOR(v) == 0 && VGX_VERSION_MINOR(v) == 0)) {
+        vg_error("vgx_context_desc.header_version is %u.%u.%u; this library is %u.%u.%u and runs hosts built "
+                 "against its major version, up to its minor (set VGX_HEADER_VERSION)",
                  VGX_VERSION_MAJOR(v), VGX_VERSION_MINOR(v), VGX_VERSION_PATCH(v), VGX_VERSION_MAJOR(lib),
                  VGX_VERSION_MINOR(lib), VGX_VERSION_PATCH(lib));
         return VG_ERR_UNSUPPORTED;
@@ -237,6 +263,11 @@ static vg_status check_desc(const vgx_context_desc *d)
                      VGX_CONTEXT_DEBUG_UTILS;
     if (d->flags & ~known) {
         vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
+        return VG_ERR_ARG;
+    }
+    if (d->frames_in_flight > VGX_MAX_FRAMES_IN_FLIGHT) {
+        vg_error("vgx_context_desc.frames_in_flight is %u (1 to %d; 0 = 2)", d->frames_in_flight,
+                 VGX_MAX_FRAMES_IN_FLIGHT);
         return VG_ERR_ARG;
     }
     return VG_OK;
@@ -296,6 +327,12 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
     st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx constants", .size = sizeof(vg_frame_ubo),
                                                       .usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                                                VK_BUFFER_USAGE_TRANSFER_DST_BIT}, &c->ubo);
+    if (st == VG_OK)
+        st = gpu_buffer_create(c->gpu, &(gpu_buffer_desc){.name = "vgx progress", .size = 4,
+                                                          .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                                          .host_visible = true}, &c->progress);
+    if (st == VG_OK)
+        memset(c->progress.mapped, 0, 4);
     static const char *const names[3] = {"vgx g", "vgx h", "vgx f"};
     for (int i = 0; i < (optimize ? 3 : 2) && st == VG_OK; i++)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = names[i], .format = VK_FORMAT_R32_SFLOAT,
@@ -363,14 +400,23 @@ static vgx_result context_create(const vgx_context_desc *desc, const disparity_g
     vg_log_sink was = sink_begin(&m, desc ? desc->message : NULL, desc ? desc->message_user : NULL);
     vg_status st = VG_ERR_ARG;
     vgx_context *c = NULL;
+    /* The host's desc has the members of the header it was built with
+     * (its header_version, the first member of every version); the newer
+     * ones stay zero: their defaults. */
+    vgx_context_desc d = {0};
     if (!desc)
         vg_error("vgx_context_create: desc is null");
-    else if ((st = check_desc(desc)) == VG_OK) {
-        c = calloc(1, sizeof *c);
-        st = c ? VG_OK : VG_ERR_NOMEM;
+    else {
+        bool v01 = VGX_VERSION_MAJOR(desc->header_version) == 0 && VGX_VERSION_MINOR(desc->header_version) == 1;
+        memcpy(&d, desc, v01 ? VGX_CONTEXT_DESC_SIZE_0_1 : sizeof d);
+        if ((st = check_desc(&d)) == VG_OK) {
+            c = calloc(1, sizeof *c);
+            st = c ? VG_OK : VG_ERR_NOMEM;
+        }
     }
     if (st == VG_OK) {
-        c->desc = *desc;
+        c->desc = d;
+        c->frames_in_flight = d.frames_in_flight ? d.frames_in_flight : 2;
         st = create(c, tuning);
         if (st != VG_OK) {
             vgx_context_destroy(c);
@@ -405,6 +451,9 @@ void vgx_context_destroy(vgx_context *c)
     vg_log_sink was = sink_begin(&m, c->desc.message, c->desc.message_user);
     if (c->gpu) {
         rg_destroy(c->graph);
+        for (int i = 0; i < c->retired_count; i++)
+            rg_destroy(c->retired[i].graph);
+        gpu_buffer_destroy(c->gpu, &c->progress);
         for (int i = 0; i < 3; i++)
             gpu_image_destroy(c->gpu, &c->out[i]);
         for (int i = 0; i < 2; i++)
@@ -480,7 +529,7 @@ vgx_result vgx_begin_frame(vgx_context *c, int64_t frame_index, vgx_frame_plan *
         return VGX_ERROR_INVALID_ARGUMENT;
     message_to m;
     vg_log_sink was = sink_begin(&m, c->desc.message, c->desc.message_user);
-    vg_status st = begin_frame(c, frame_index, (int)(frame_index % 2));
+    vg_status st = begin_frame(c, frame_index, (int)((c->serial + 1) % c->frames_in_flight));
     vg_log_set_sink(was);
     if (st == VG_OK && plan)
         *plan = c->plan;
@@ -586,9 +635,41 @@ static bool input_used(const vgx_context *c, int i)
     return kind == 0 || (kind == 1 ? saliency : i >= 4 || optimize);
 }
 
+/* The GPU's progress: the serial of the last dispatch it has run (every
+ * one before it has run too). */
+static uint32_t progress(const vgx_context *c)
+{
+    return *(const volatile uint32_t *)c->progress.mapped;
+}
+
+/* Frees the retired graphs the GPU has passed. */
+static void free_retired(vgx_context *c)
+{
+    uint32_t done = progress(c);
+    int kept = 0;
+    for (int i = 0; i < c->retired_count; i++) {
+        if ((int32_t)(done - c->retired[i].last) >= 0)
+            rg_destroy(c->retired[i].graph);
+        else
+            c->retired[kept++] = c->retired[i];
+    }
+    c->retired_count = kept;
+}
+
 static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS], int warp_map)
 {
-    rg_destroy(c->graph);
+    /* What the replaced graph's dispatches still in flight use stays until
+     * the GPU has run the last of them. */
+    if (c->graph) {
+        free_retired(c);
+        if (c->retired_count == VGX_RETIRED) {
+            vg_error("vgx_dispatch: %d configurations were replaced within the frames in flight; dispatch with "
+                     "one configuration until the GPU catches up", VGX_RETIRED);
+            return VG_ERR_ARG;
+        }
+        c->retired[c->retired_count++] = (vgx_retired){c->graph, c->serial};
+        c->graph = NULL;
+    }
     rg_graph *g = c->graph = rg_create();
     if (!g)
         return VG_ERR_NOMEM;
@@ -777,13 +858,22 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
             return VG_ERR_ARG;
         }
     }
+    /* A new frame: the one frames_in_flight before it has completed (the
+     * host waited for its fence), so the GPU wrote its serial. */
+    uint32_t serial = c->serial + 1, in_flight = c->frames_in_flight;
+    if (d->first_pass == 0 && serial > in_flight && (int32_t)(progress(c) - (serial - in_flight)) < 0) {
+        vg_error("vgx_dispatch: this would be frame %u and the GPU has not completed frame %u: "
+                 "vgx_context_desc.frames_in_flight is %u; wait for that frame's fence before recording this one",
+                 serial, serial - in_flight, in_flight);
+        return VG_ERR_ARG;
+    }
     if (!c->planned) {
         if (optimize) {
             vg_error("vgx_dispatch: call vgx_begin_frame first (a context with VGX_CONTEXT_OPTIMIZE plans each "
                      "frame's keyframes)");
             return VG_ERR_ARG;
         }
-        vg_status st = begin_frame(c, c->next_index, (int)(c->next_index % 2));
+        vg_status st = begin_frame(c, c->next_index, (int)((c->serial + 1) % c->frames_in_flight));
         if (st != VG_OK)
             return st;
     }
@@ -827,6 +917,8 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
     }
     if (first > 0) {
         rg_execute_range(c->graph, d->command_buffer, first, end);
+        if (end == passes)
+            gpu_cmd_mark(d->command_buffer, c->progress.buffer, c->serial);
         c->next_pass = end == passes ? 0 : end;
         c->planned = c->next_pass != 0;
         return VG_OK;
@@ -855,7 +947,11 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
     }
     /* The host's earlier writes to its images, whichever stage made them:
      * the graph's first barrier. */
+    c->serial = serial;
+    free_retired(c);
     rg_execute_range(c->graph, cmd, 0, end);
+    if (end == passes)
+        gpu_cmd_mark(cmd, c->progress.buffer, serial);
     c->next_pass = end == passes ? 0 : end;
     c->planned = c->next_pass != 0;
     return VG_OK;

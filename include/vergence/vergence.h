@@ -5,8 +5,11 @@
  * records one dispatch into its own command buffer, naming its own images
  * (VkImage + VkImageView + the layout they are in), and gets the vergence
  * maps back as images it can sample. Nothing is ever submitted or waited
- * on behind the host's back; every Vulkan object of the context is made in
- * vgx_context_create.
+ * on behind the host's back. Every Vulkan object of the context is made in
+ * vgx_context_create, but for the first dispatch of another configuration
+ * (other input layouts, warp_map or depth_kind), which makes its passes'
+ * scratch images and buffers; what the configuration before used is freed
+ * once the frames in flight that used it have completed.
  *
  *   g  the vergence (arcmin) a viewer of the display gets from the host's
  *      original stereo camera, per pixel of the host's linear depth
@@ -58,9 +61,21 @@ extern "C" {
 #define VGX_VERSION_MINOR(v) (((uint32_t)(v) >> 12) & 0x3ffu)
 #define VGX_VERSION_PATCH(v) ((uint32_t)(v) & 0xfffu)
 /* The version of this header; vgx_version() is the library's. A context
- * is created only when both have the same major version (and, while it is
- * 0, the same minor version). */
-#define VGX_HEADER_VERSION VGX_MAKE_VERSION(0, 1, 0)
+ * is created when both have the same major version and the library's minor
+ * version is at least the header's (0.1 hosts run on a 0.2 library).
+ *
+ * How the ABI grows: a release never moves or removes a member of a public
+ * struct; a desc gains members at its end only, and the library reads a
+ * host's descs (vgx_context_desc.header_version for the context's, the
+ * context's for every desc given to it later) with the members of the
+ * header the host was built with, the newer ones taking their zero
+ * default. Structs the library fills are never grown. sdk/abi/ in the
+ * repository keeps each release's header and ABI, and the test command
+ * checks this library against them (abidiff; a 0.1 host's test run). */
+#define VGX_HEADER_VERSION VGX_MAKE_VERSION(VGX_HEADER_VERSION_MAJOR, VGX_HEADER_VERSION_MINOR, 0)
+/* The same, for #if (0.2 on; a 0.1 header leaves them undefined). */
+#define VGX_HEADER_VERSION_MAJOR 0
+#define VGX_HEADER_VERSION_MINOR 2
 
 #if defined(_WIN32)
 #define VGX_API
@@ -197,7 +212,14 @@ typedef struct vgx_context_desc {
     uint32_t flags;                   /* VGX_CONTEXT_* */
     vgx_message_fn message;           /* NULL = stderr */
     void *message_user;
+    /* 0.2: */
+    uint32_t frames_in_flight;        /* frames the host keeps in flight, 1 to VGX_MAX_FRAMES_IN_FLIGHT; 0 = 2.
+                                         Before recording the dispatch of frame n, the host has waited for frame
+                                         n - frames_in_flight to complete (its fence); a dispatch that would make
+                                         one more in flight is refused (VGX_ERROR_INVALID_ARGUMENT, its message) */
 } vgx_context_desc;
+
+#define VGX_MAX_FRAMES_IN_FLIGHT 4
 
 typedef struct vgx_context vgx_context;
 

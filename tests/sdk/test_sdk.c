@@ -44,9 +44,11 @@ static vgx_context_desc context_desc(const gpu *g, uint32_t w, uint32_t h, messa
     d.height = h;
     d.message = on_message;
     d.message_user = m;
+#ifdef VGX_CONTEXT_DEBUG_UTILS /* 0.2 */
     /* Under validation the instance has debug utils: every context names its
      * objects and labels its passes, and the layer checks each call. */
     d.flags = g->debug_utils ? VGX_CONTEXT_DEBUG_UTILS : 0u;
+#endif
     return d;
 }
 
@@ -141,12 +143,21 @@ static gpu *make_gpu(void)
 /* Cases                                                                     */
 /* ------------------------------------------------------------------------- */
 
+/* The library runs a host built against this header: the same major
+ * version, a minor version at least the header's (the compat_0_1 build of
+ * this file is such a host, built against release 0.1's header). */
 static int version(void)
 {
-    CHECK(vgx_version() == VGX_HEADER_VERSION, "library %u.%u.%u, header %u.%u.%u",
+    uint32_t lib = vgx_version();
+    CHECK(VGX_VERSION_MAJOR(lib) == VGX_VERSION_MAJOR(VGX_HEADER_VERSION) &&
+              VGX_VERSION_MINOR(lib) >= VGX_VERSION_MINOR(VGX_HEADER_VERSION),
+          "library %u.%u.%u, header %u.%u.%u",
           VGX_VERSION_MAJOR(vgx_version()), VGX_VERSION_MINOR(vgx_version()), VGX_VERSION_PATCH(vgx_version()),
           VGX_VERSION_MAJOR(VGX_HEADER_VERSION), VGX_VERSION_MINOR(VGX_HEADER_VERSION),
           VGX_VERSION_PATCH(VGX_HEADER_VERSION));
+    printf("library %u.%u.%u runs this host (header %u.%u.%u)\n", VGX_VERSION_MAJOR(lib), VGX_VERSION_MINOR(lib),
+           VGX_VERSION_PATCH(lib), VGX_VERSION_MAJOR(VGX_HEADER_VERSION), VGX_VERSION_MINOR(VGX_HEADER_VERSION),
+           VGX_VERSION_PATCH(VGX_HEADER_VERSION));
     CHECK(strcmp(vgx_result_name(VGX_SUCCESS), "VGX_SUCCESS") == 0, "%s", vgx_result_name(VGX_SUCCESS));
     CHECK(strcmp(vgx_result_name(VGX_ERROR_VERSION), "VGX_ERROR_VERSION") == 0, "%s",
           vgx_result_name(VGX_ERROR_VERSION));
@@ -161,6 +172,7 @@ static int version(void)
  * lavapipe, tessellationShader for a warp context once
  * VERGENCE_DISABLE=tessellation takes it away, and a count past the
  * capacity it was given. */
+#if VGX_HEADER_VERSION_MINOR >= 2 /* 0.2 */
 static int requirements(void)
 {
     gpu *g = make_gpu();
@@ -186,6 +198,7 @@ static int requirements(void)
     gpu_destroy(g);
     return 0;
 }
+#endif
 
 /* Every bad field: one error line through the host's callback naming it,
  * the documented result, no context. */
@@ -203,6 +216,13 @@ static int errors(void)
     d.header_version = VGX_MAKE_VERSION(VGX_VERSION_MAJOR(VGX_HEADER_VERSION) + 1, 0, 0);
     CHECK(vgx_context_create(&d, &c) == VGX_ERROR_VERSION && c == NULL, "version");
     CHECK(m.errors == 1 && strstr(m.last, "header_version"), "%d errors, last '%s'", m.errors, m.last);
+
+    /* A header newer than the library. */
+    d = context_desc(g, 64, 48, &m);
+    d.header_version = VGX_MAKE_VERSION(VGX_VERSION_MAJOR(vgx_version()), VGX_VERSION_MINOR(vgx_version()) + 1, 0);
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_VERSION && c == NULL, "newer header");
+    CHECK(m.errors == 2 && strstr(m.last, "header_version"), "%d errors, last '%s'", m.errors, m.last);
+    m.errors = 1;
 
     d = context_desc(g, 0, 48, &m);
     CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "width 0");
@@ -222,6 +242,13 @@ static int errors(void)
     d.op = (vgx_operator)9;
     CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "op");
     CHECK(m.errors == 5 && strstr(m.last, ".op"), "%d errors, last '%s'", m.errors, m.last);
+#if VGX_HEADER_VERSION_MINOR >= 2 /* 0.2 */
+    d = context_desc(g, 64, 48, &m);
+    d.frames_in_flight = VGX_MAX_FRAMES_IN_FLIGHT + 1;
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && c == NULL, "frames in flight");
+    CHECK(m.errors == 6 && strstr(m.last, "frames_in_flight"), "%d errors, last '%s'", m.errors, m.last);
+    m.errors = 5;
+#endif
 
     /* A good context, then bad dispatches: nothing is recorded. */
     d = context_desc(g, 64, 48, &m);
@@ -514,11 +541,208 @@ static int threads(void)
     return gpu_validation_messages() != 0;
 }
 
+#if VGX_HEADER_VERSION_MINOR >= 2 /* 0.2 */
+/* Frames in flight (issue 42). A warp context declares three. The host
+ * submits each frame without waiting, waiting only for the frame three
+ * before it (its fence) before it records the next; after each dispatch it
+ * reads the warp's target map (copied, as a screenshot would). Midway it
+ * moves its depth image to another layout and changes the warp map twice:
+ * each change is a new configuration whose graph replaces one that frames
+ * in flight still use. Under synchronization validation a missing
+ * dependency between the frames would be a message. Then a fourth frame in
+ * flight, the GPU held back by an event the host sets later, is refused
+ * with one message line. */
+enum { FLIGHT = 3, FLIGHT_FRAMES = 12 };
+
+/* The host's read of a frame's warp map into `to`. */
+static void host_reads(VkCommandBuffer cmd, const vgx_warp *w, VkBuffer to, uint32_t width, uint32_t height)
+{
+    VkImageMemoryBarrier2 b = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2,
+        .srcStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+        .dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+        .dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT,
+        .oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+        .newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+        .image = w->target.image,
+        .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1},
+    };
+    VkDependencyInfo dep = {.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .imageMemoryBarrierCount = 1,
+                            .pImageMemoryBarriers = &b};
+    vkCmdPipelineBarrier2(cmd, &dep);
+    VkBufferImageCopy region = {.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+                                .imageExtent = {width, height, 1}};
+    vkCmdCopyImageToBuffer(cmd, w->target.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to, 1, &region);
+    b.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+    b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    b.dstAccessMask = VK_ACCESS_2_SHADER_READ_BIT;
+    b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    vkCmdPipelineBarrier2(cmd, &dep);
+    VkMemoryBarrier2 host = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, .srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT,
+                             .srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                             .dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT, .dstAccessMask = VK_ACCESS_2_HOST_READ_BIT};
+    vkCmdPipelineBarrier2(cmd, &(VkDependencyInfo){.sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO,
+                                                   .memoryBarrierCount = 1, .pMemoryBarriers = &host});
+}
+
+static VkResult submit(gpu *g, VkCommandBuffer cmd, VkFence fence)
+{
+    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
+    return vkQueueSubmit(g->queue, 1, &si, fence);
+}
+
+static int in_flight(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    enum { W = 64, H = 48 };
+    messages m = {0};
+    vgx_context_desc d = context_desc(g, W, H, &m);
+    d.flags |= VGX_CONTEXT_WARP;
+    d.frames_in_flight = FLIGHT;
+    vgx_context *c = NULL;
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
+    vgx_warp warp;
+    CHECK(vgx_get_warp(c, &warp) == VGX_SUCCESS, "warp");
+
+    static float depth[W * H];
+    const double z[4] = {2.0, 4.5, 9.0, 40.0};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            depth[y * W + x] = (float)z[x * 4 / W];
+    gpu_image img;
+    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
+                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
+                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                           &img) == VG_OK, "depth image");
+    CHECK(gpu_image_upload(g, &img, depth, sizeof depth) == VG_OK, "upload");
+
+    /* One command buffer and fence per frame in flight, and a fourth for
+     * the frame that would be one too many; a readback per frame. */
+    VkCommandPool pool;
+    VkCommandPoolCreateInfo pi = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+                                  .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+                                  .queueFamilyIndex = g->queue_family};
+    CHECK(vkCreateCommandPool(g->device, &pi, NULL, &pool) == VK_SUCCESS, "pool");
+    VkCommandBuffer cmds[FLIGHT + 1];
+    VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, .commandPool = pool,
+                                      .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY, .commandBufferCount = FLIGHT + 1};
+    CHECK(vkAllocateCommandBuffers(g->device, &ai, cmds) == VK_SUCCESS, "command buffers");
+    VkFence fences[FLIGHT + 1];
+    for (int i = 0; i <= FLIGHT; i++)
+        CHECK(vkCreateFence(g->device, &(VkFenceCreateInfo){.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO,
+                                                            .flags = VK_FENCE_CREATE_SIGNALED_BIT},
+                            NULL, &fences[i]) == VK_SUCCESS, "fence");
+    size_t bytes = (size_t)W * H * 4;
+    static gpu_buffer readback[FLIGHT_FRAMES + 1];
+    for (int i = 0; i <= FLIGHT_FRAMES; i++)
+        CHECK(gpu_buffer_create(g, &(gpu_buffer_desc){.name = "test readback", .size = bytes,
+                                                      .usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                                      .host_visible = true}, &readback[i]) == VG_OK, "readback");
+    VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                   .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+    /* Frames 0-3 warp g with the depth in SHADER_READ_ONLY_OPTIMAL, 4-5 h,
+     * 6-7 h with the depth in GENERAL, 8-11 g again. */
+    for (int k = 0; k < FLIGHT_FRAMES; k++) {
+        int slot = k % FLIGHT;
+        CHECK(vkWaitForFences(g->device, 1, &fences[slot], VK_TRUE, UINT64_MAX) == VK_SUCCESS, "wait");
+        CHECK(vkResetFences(g->device, 1, &fences[slot]) == VK_SUCCESS, "reset");
+        VkCommandBuffer cmd = cmds[slot];
+        CHECK(vkBeginCommandBuffer(cmd, &bi) == VK_SUCCESS, "begin");
+        VkImageLayout layout = k < 6 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+        if (k == 6)
+            host_layout(cmd, img.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                        VK_IMAGE_LAYOUT_GENERAL);
+        vgx_dispatch_desc dd = depth_dispatch(cmd, &img, layout);
+        for (int i = 0; i < 16; i++)
+            dd.view_proj[i] = i % 5 == 0 ? 1.0f : 0.0f;
+        dd.background_depth_m = 40.0f;
+        dd.warp_map = k >= 4 && k < 8 ? VGX_WARP_MAP_H : VGX_WARP_MAP_G;
+        CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "frame %d: %s", k, m.last);
+        CHECK(vgx_get_warp(c, &warp) == VGX_SUCCESS, "warp");
+        host_reads(cmd, &warp, readback[k].buffer, W, H);
+        CHECK(vkEndCommandBuffer(cmd) == VK_SUCCESS, "end");
+        CHECK(submit(g, cmd, fences[slot]) == VK_SUCCESS, "submit %d", k);
+    }
+    CHECK(vkWaitForFences(g->device, FLIGHT, fences, VK_TRUE, UINT64_MAX) == VK_SUCCESS, "wait all");
+    CHECK(m.errors == 0, "%d errors: %s", m.errors, m.last);
+
+    stereo_display disp;
+    stereo_display_init(&disp, NULL);
+    stereo_camera cam;
+    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
+                                                   .image_width = W}, &disp);
+    const float *last = readback[FLIGHT_FRAMES - 1].mapped, *h5 = readback[5].mapped, *h7 = readback[7].mapped;
+    for (int band = 0; band < 4; band++) {
+        int i = (H / 2) * W + band * (W / 4) + 3;
+        EXPECT_NEAR(last[i], stereo_camera_vergence(&cam, &disp, z[band]), 0.05, "g at %g m, frame %d", z[band],
+                    FLIGHT_FRAMES - 1);
+    }
+    EXPECT(memcmp(h5, h7, (size_t)W * H * 4) == 0, "h differs with the depth in GENERAL (frame 7) and in "
+                                                     "SHADER_READ_ONLY_OPTIMAL (frame 5)");
+    EXPECT(memcmp(readback[3].mapped, last, bytes) == 0, "frame 3 and frame 11 (both g) differ");
+    EXPECT(memcmp(h5, last, (size_t)W * H * 4) != 0, "the warp read g where it asked for h");
+    printf("%d frames, %d in flight, 3 configurations: g at the bands %.2f %.2f %.2f %.2f arcmin\n", FLIGHT_FRAMES,
+           FLIGHT, last[(H / 2) * W + 3], last[(H / 2) * W + W / 4 + 3], last[(H / 2) * W + W / 2 + 3],
+           last[(H / 2) * W + 3 * W / 4 + 3]);
+
+    /* Three frames held back by the gate (the first waits for an event the
+     * host sets), then a fourth: refused. */
+    VkEvent gate;
+    CHECK(vkCreateEvent(g->device, &(VkEventCreateInfo){.sType = VK_STRUCTURE_TYPE_EVENT_CREATE_INFO}, NULL,
+                        &gate) == VK_SUCCESS, "gate");
+    CHECK(vkResetFences(g->device, FLIGHT + 1, fences) == VK_SUCCESS, "reset");
+    for (int k = 0; k <= FLIGHT; k++) {
+        VkCommandBuffer cmd = cmds[k];
+        CHECK(vkBeginCommandBuffer(cmd, &bi) == VK_SUCCESS, "begin");
+        if (k == 0)
+            vkCmdWaitEvents(cmd, 1, &gate, VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, NULL, 0,
+                            NULL, 0, NULL);
+        vgx_dispatch_desc dd = depth_dispatch(cmd, &img, VK_IMAGE_LAYOUT_GENERAL);
+        for (int i = 0; i < 16; i++)
+            dd.view_proj[i] = i % 5 == 0 ? 1.0f : 0.0f;
+        dd.background_depth_m = 40.0f;
+        if (k == FLIGHT) {
+            int before = m.errors;
+            CHECK(vgx_dispatch(c, &dd) == VGX_ERROR_INVALID_ARGUMENT, "a fourth frame in flight was recorded");
+            CHECK(m.errors == before + 1 && strstr(m.last, "frames_in_flight is 3"), "%d lines, last '%s'",
+                  m.errors - before, m.last);
+            printf("a fourth frame in flight: %s\n", m.last);
+            m.errors = before;
+            CHECK(vkSetEvent(g->device, gate) == VK_SUCCESS, "set the gate");
+            CHECK(vkWaitForFences(g->device, 1, &fences[0], VK_TRUE, UINT64_MAX) == VK_SUCCESS, "wait frame 1");
+        }
+        CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "held frame %d: %s", k, m.last);
+        CHECK(vkEndCommandBuffer(cmd) == VK_SUCCESS, "end");
+        CHECK(submit(g, cmd, fences[k]) == VK_SUCCESS, "submit");
+    }
+    CHECK(vkWaitForFences(g->device, FLIGHT + 1, fences, VK_TRUE, UINT64_MAX) == VK_SUCCESS, "wait all");
+    CHECK(m.errors == 0, "%d errors: %s", m.errors, m.last);
+    vgx_context_destroy(c);
+    vkDestroyEvent(g->device, gate, NULL);
+    for (int i = 0; i <= FLIGHT; i++)
+        vkDestroyFence(g->device, fences[i], NULL);
+    vkDestroyCommandPool(g->device, pool, NULL);
+    for (int i = 0; i <= FLIGHT_FRAMES; i++)
+        gpu_buffer_destroy(g, &readback[i]);
+    gpu_image_destroy(g, &img);
+    gpu_destroy(g);
+    return gpu_validation_messages() != 0;
+}
+#endif
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
         {"version", version}, {"errors", errors}, {"maps", maps}, {"device_depth", device_depth},
-        {"allocator", allocator}, {"threads", threads}, {"requirements", requirements},
+        {"allocator", allocator}, {"threads", threads},
+#if VGX_HEADER_VERSION_MINOR >= 2 /* 0.2 */
+        {"requirements", requirements}, {"in_flight", in_flight},
+#endif
     };
     return vg_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
