@@ -518,6 +518,8 @@ vg_status gpu_import(const gpu_import_desc *desc, gpu **out)
         return VG_ERR_NOMEM;
     g->imported = true;
     g->alloc = desc->alloc;
+    if (desc->hooks.allocate && desc->hooks.free)
+        g->hooks = desc->hooks;
     g->instance = desc->instance;
     g->phys = desc->physical_device;
     g->device = desc->device;

@@ -37,6 +37,23 @@ typedef struct gpu_features {
     bool draw_indirect_count;   /* the GPU decides how many indirect draws run */
 } gpu_features;
 
+/* A range of device memory a host's allocator gave (the SDK's memory
+ * hooks, vgx_memory_hooks): bound at `offset`; `mapped` for host-visible
+ * requests; `user` is the host's handle, given back to free. */
+typedef struct gpu_memory_block {
+    VkDeviceMemory memory;
+    VkDeviceSize offset;
+    void *mapped;
+    void *user;
+} gpu_memory_block;
+
+typedef struct gpu_memory_hooks {
+    VkResult (*allocate)(void *user, const char *name, const VkMemoryRequirements *requirements,
+                         VkMemoryPropertyFlags properties, gpu_memory_block *block);
+    void (*free)(void *user, const gpu_memory_block *block);
+    void *user;
+} gpu_memory_hooks;
+
 typedef struct gpu {
     VkInstance instance;
     VkDebugUtilsMessengerEXT messenger;
@@ -59,6 +76,9 @@ typedef struct gpu {
     PFN_vkCmdEndDebugUtilsLabelEXT cmd_end_label;
     VkDeviceSize memory_bytes;  /* device memory allocated through gpu_*_create now */
     VkDeviceSize memory_peak;   /* ... and at most so far */
+    VkDeviceSize host_visible_bytes; /* of memory_bytes: host-visible */
+    uint32_t allocations;       /* resources holding memory now (one allocation each) */
+    gpu_memory_hooks hooks;     /* allocate set: device memory comes from the host (gpu_import) */
     long submits;               /* queue submissions so far */
     long lost_at;               /* VERGENCE_FAULT=device-lost:N (tests): submission N and later fail as
                                    VK_ERROR_DEVICE_LOST without reaching the queue; 0 = never */
@@ -80,6 +100,7 @@ typedef struct gpu_import_desc {
     uint32_t queue_family, queue_index;
     const VkAllocationCallbacks *alloc;
     bool debug_utils;           /* the host's instance enabled VK_EXT_debug_utils: name and label */
+    gpu_memory_hooks hooks;     /* allocate and free set: every resource's memory from the host's allocator */
 } gpu_import_desc;
 vg_status gpu_import(const gpu_import_desc *desc, gpu **out);
 /* Every requirement physical device p lacks: Vulkan 1.3, the features and
@@ -143,6 +164,9 @@ typedef struct gpu_buffer {
     VkDeviceSize size;
     VkDeviceSize memory_size;   /* bytes of its allocation */
     void *mapped;
+    VkDeviceSize memory_offset; /* within `memory`: a host's block (gpu.hooks), else 0 */
+    void *memory_user;          /* the host's handle of the block */
+    bool host_visible;
 } gpu_buffer;
 
 typedef struct gpu_image_desc {
@@ -158,6 +182,8 @@ typedef struct gpu_image {
     VkImageView view;
     VkDeviceMemory memory;
     VkDeviceSize memory_size;   /* bytes of its allocation */
+    VkDeviceSize memory_offset; /* within `memory`: a host's block (gpu.hooks), else 0 */
+    void *memory_user;          /* the host's handle of the block */
     VkFormat format;
     uint32_t width, height, layers;
 } gpu_image;

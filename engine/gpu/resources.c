@@ -16,12 +16,52 @@ static int find_memory_type(const gpu *g, uint32_t bits, VkMemoryPropertyFlags w
     return -1;
 }
 
-static vg_status allocate(gpu *g, VkMemoryRequirements req, bool host_visible, const char *name,
-                          VkDeviceMemory *out, VkDeviceSize *size)
+static void count(gpu *g, VkDeviceSize size, bool host_visible)
 {
+    g->memory_bytes += size;
+    g->host_visible_bytes += host_visible ? size : 0;
+    g->allocations++;
+    if (g->memory_bytes > g->memory_peak)
+        g->memory_peak = g->memory_bytes;
+}
+
+static void uncount(gpu *g, VkDeviceSize size, bool host_visible)
+{
+    g->memory_bytes -= size;
+    g->host_visible_bytes -= host_visible ? size : 0;
+    g->allocations--;
+}
+
+/* A resource's memory: one dedicated allocation, or a block of the host's
+ * allocator (gpu.hooks), which says its offset and, host-visible, its
+ * mapping. */
+static vg_status allocate(gpu *g, VkMemoryRequirements req, bool host_visible, const char *name,
+                          gpu_memory_block *out, VkDeviceSize *size)
+{
+    *out = (gpu_memory_block){0};
     VkMemoryPropertyFlags want = host_visible
         ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
         : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    if (g->hooks.allocate) {
+        VkResult r = g->hooks.allocate(g->hooks.user, name, &req, want, out);
+        if (r != VK_SUCCESS || !out->memory) {
+            vg_error("%s: the host's memory hook gave no memory (VkResult %d) for %llu bytes", name, (int)r,
+                     (unsigned long long)req.size);
+            *out = (gpu_memory_block){0};
+            return r == VK_ERROR_OUT_OF_HOST_MEMORY ? VG_ERR_NOMEM : VG_ERR_VULKAN;
+        }
+        if (out->offset % (req.alignment ? req.alignment : 1) || (host_visible && !out->mapped)) {
+            vg_error("%s: the host's memory hook gave offset %llu (alignment %llu)%s", name,
+                     (unsigned long long)out->offset, (unsigned long long)req.alignment,
+                     host_visible && !out->mapped ? " and no mapping for a host-visible request" : "");
+            g->hooks.free(g->hooks.user, out);
+            *out = (gpu_memory_block){0};
+            return VG_ERR_VULKAN;
+        }
+        *size = req.size;
+        count(g, req.size, host_visible);
+        return VG_OK;
+    }
     int type = find_memory_type(g, req.memoryTypeBits, want);
     if (type < 0 && !host_visible)
         type = find_memory_type(g, req.memoryTypeBits, 0);
@@ -34,13 +74,23 @@ static vg_status allocate(gpu *g, VkMemoryRequirements req, bool host_visible, c
         .allocationSize = req.size,
         .memoryTypeIndex = (uint32_t)type,
     };
-    VK_TRY(vkAllocateMemory(g->device, &info, g->alloc, out));
-    GPU_NAME(g, VK_OBJECT_TYPE_DEVICE_MEMORY, *out, "%s memory", name);
+    VK_TRY(vkAllocateMemory(g->device, &info, g->alloc, &out->memory));
+    GPU_NAME(g, VK_OBJECT_TYPE_DEVICE_MEMORY, out->memory, "%s memory", name);
     *size = req.size;
-    g->memory_bytes += req.size;
-    if (g->memory_bytes > g->memory_peak)
-        g->memory_peak = g->memory_bytes;
+    count(g, req.size, host_visible);
     return VG_OK;
+}
+
+static void release(gpu *g, VkDeviceMemory memory, VkDeviceSize offset, void *mapped, void *user, VkDeviceSize size,
+                    bool host_visible)
+{
+    if (!memory)
+        return;
+    if (g->hooks.allocate)
+        g->hooks.free(g->hooks.user, &(gpu_memory_block){memory, offset, mapped, user});
+    else
+        vkFreeMemory(g->device, memory, g->alloc);
+    uncount(g, size, host_visible);
 }
 
 /* ------------------------------------------------------------------------- */
@@ -61,13 +111,19 @@ vg_status gpu_buffer_create(gpu *g, const gpu_buffer_desc *desc, gpu_buffer *out
     GPU_NAME(g, VK_OBJECT_TYPE_BUFFER, out->buffer, "%s", name);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(g->device, out->buffer, &req);
-    vg_status st = allocate(g, req, desc->host_visible, name, &out->memory, &out->memory_size);
+    gpu_memory_block block;
+    vg_status st = allocate(g, req, desc->host_visible, name, &block, &out->memory_size);
+    out->memory = block.memory;
+    out->memory_offset = block.offset;
+    out->memory_user = block.user;
+    out->mapped = block.mapped;
+    out->host_visible = desc->host_visible;
     if (st != VG_OK) {
         gpu_buffer_destroy(g, out);
         return st;
     }
-    VK_TRY(vkBindBufferMemory(g->device, out->buffer, out->memory, 0));
-    if (desc->host_visible)
+    VK_TRY(vkBindBufferMemory(g->device, out->buffer, out->memory, out->memory_offset));
+    if (desc->host_visible && !g->hooks.allocate)
         VK_TRY(vkMapMemory(g->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped));
     out->size = info.size;
     return VG_OK;
@@ -79,10 +135,7 @@ void gpu_buffer_destroy(gpu *g, gpu_buffer *b)
         return;
     if (b->buffer)
         vkDestroyBuffer(g->device, b->buffer, g->alloc);
-    if (b->memory) {
-        vkFreeMemory(g->device, b->memory, g->alloc);
-        g->memory_bytes -= b->memory_size;
-    }
+    release(g, b->memory, b->memory_offset, b->mapped, b->memory_user, b->memory_size, b->host_visible);
     *b = (gpu_buffer){0};
 }
 
@@ -158,12 +211,16 @@ vg_status gpu_image_create(gpu *g, const gpu_image_desc *desc, gpu_image *out)
     GPU_NAME(g, VK_OBJECT_TYPE_IMAGE, out->image, "%s", name);
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(g->device, out->image, &req);
-    vg_status st = allocate(g, req, false, name, &out->memory, &out->memory_size);
+    gpu_memory_block block;
+    vg_status st = allocate(g, req, false, name, &block, &out->memory_size);
+    out->memory = block.memory;
+    out->memory_offset = block.offset;
+    out->memory_user = block.user;
     if (st != VG_OK) {
         gpu_image_destroy(g, out);
         return st;
     }
-    VK_TRY(vkBindImageMemory(g->device, out->image, out->memory, 0));
+    VK_TRY(vkBindImageMemory(g->device, out->image, out->memory, out->memory_offset));
     out->format = desc->format;
     out->width = desc->width;
     out->height = desc->height;
@@ -194,10 +251,7 @@ void gpu_image_destroy(gpu *g, gpu_image *img)
         vkDestroyImageView(g->device, img->view, g->alloc);
     if (img->image)
         vkDestroyImage(g->device, img->image, g->alloc);
-    if (img->memory) {
-        vkFreeMemory(g->device, img->memory, g->alloc);
-        g->memory_bytes -= img->memory_size;
-    }
+    release(g, img->memory, img->memory_offset, NULL, img->memory_user, img->memory_size, false);
     *img = (gpu_image){0};
 }
 

@@ -64,6 +64,7 @@ struct vgx_context {
     disparity_gpu *d;
     disparity_gpu_info info;
     uint32_t atlas_w, atlas_h;
+    VkDeviceSize graph_bytes;         /* device memory of the first configuration's graph */
     gpu_buffer ubo;                   /* vg_frame_ubo: rig, display, viewport (device-local, updated in the command buffer) */
     gpu_image out[3];                 /* g, h, f */
     gpu_image blank[2];               /* where the host gives no saliency: the frame's and the atlas's */
@@ -84,8 +85,8 @@ struct vgx_context {
 
     /* Frames in flight: `serial` numbers the dispatches (the first is 1),
      * each of which writes its number into `progress` when the GPU has run
-     * it (gpu_cmd_mark); a graph replaced at serial s waits in `retired`
-     * until progress reaches s. */
+     * it (gpu_cmd_mark); a graph last used at serial s waits in `retired`
+     * until the dispatch s + frames_in_flight (free_retired). */
     uint32_t frames_in_flight;
     uint32_t serial;
     gpu_buffer progress;
@@ -265,6 +266,10 @@ static vg_status check_desc(const vgx_context_desc *d)
         vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
         return VG_ERR_ARG;
     }
+    if (!d->memory.allocate != !d->memory.free) {
+        vg_error("vgx_context_desc.memory: set both allocate and free, or neither");
+        return VG_ERR_ARG;
+    }
     if (d->frames_in_flight > VGX_MAX_FRAMES_IN_FLIGHT) {
         vg_error("vgx_context_desc.frames_in_flight is %u (1 to %d; 0 = 2)", d->frames_in_flight,
                  VGX_MAX_FRAMES_IN_FLIGHT);
@@ -281,6 +286,23 @@ static bool has_keyframes(const vgx_context *c)
 static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INPUTS], int warp_map);
 static bool input_used(const vgx_context *c, int i);
 
+/* The host's memory hooks, as the gpu module calls them. */
+static VkResult hook_allocate(void *user, const char *name, const VkMemoryRequirements *requirements,
+                              VkMemoryPropertyFlags properties, gpu_memory_block *block)
+{
+    const vgx_memory_hooks *h = user;
+    vgx_memory_block b = {0};
+    VkResult r = h->allocate(h->user, &(vgx_memory_request){name, *requirements, properties}, &b);
+    *block = (gpu_memory_block){b.memory, b.offset, b.mapped, b.user};
+    return r;
+}
+
+static void hook_free(void *user, const gpu_memory_block *block)
+{
+    const vgx_memory_hooks *h = user;
+    h->free(h->user, &(vgx_memory_block){block->memory, block->offset, block->mapped, block->user});
+}
+
 static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
 {
     const vgx_context_desc *d = &c->desc;
@@ -288,7 +310,11 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
     vg_status st = gpu_import(&(gpu_import_desc){.instance = d->instance, .physical_device = d->physical_device,
                                                  .device = d->device, .queue_family = d->queue_family,
                                                  .alloc = d->allocator,
-                                                 .debug_utils = (d->flags & VGX_CONTEXT_DEBUG_UTILS) != 0},
+                                                 .debug_utils = (d->flags & VGX_CONTEXT_DEBUG_UTILS) != 0,
+                                                 .hooks = d->memory.allocate
+                                                     ? (gpu_memory_hooks){hook_allocate, hook_free,
+                                                                          (void *)&c->desc.memory}
+                                                     : (gpu_memory_hooks){0}},
                      &c->gpu);
     if (st != VG_OK)
         return st;
@@ -386,8 +412,10 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
     for (int i = 0; i < VGX_INPUTS; i++)
         general[i] = input_used(c, i) ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_UNDEFINED;
     c->graph_depth_kind = VGX_DEPTH_LINEAR;
+    VkDeviceSize before = c->gpu->memory_bytes;
     if (st == VG_OK)
         st = build_graph(c, general, c->warp_map);
+    c->graph_bytes = c->gpu->memory_bytes - before;
     return st;
 }
 
@@ -431,6 +459,21 @@ static vgx_result context_create(const vgx_context_desc *desc, const disparity_g
 vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context **out)
 {
     return context_create(desc, NULL, out);
+}
+
+vgx_result vgx_get_memory_footprint(const vgx_context_desc *desc, vgx_memory_footprint *footprint)
+{
+    if (!footprint)
+        return VGX_ERROR_INVALID_ARGUMENT;
+    *footprint = (vgx_memory_footprint){0};
+    vgx_context *c = NULL;
+    vgx_result r = context_create(desc, NULL, &c);
+    if (r != VGX_SUCCESS)
+        return r;
+    *footprint = (vgx_memory_footprint){.bytes = c->gpu->memory_bytes, .host_visible_bytes = c->gpu->host_visible_bytes,
+                                        .blocks = c->gpu->allocations, .configuration_bytes = c->graph_bytes};
+    vgx_context_destroy(c);
+    return VGX_SUCCESS;
 }
 
 vgx_result vgx_engine_context_create(const vgx_context_desc *desc, const disparity_gpu_desc *tuning, vgx_context **out)
@@ -642,13 +685,18 @@ static uint32_t progress(const vgx_context *c)
     return *(const volatile uint32_t *)c->progress.mapped;
 }
 
-/* Frees the retired graphs the GPU has passed. */
-static void free_retired(vgx_context *c)
+/* Frees the retired graphs whose last frame has completed: the host waited
+ * for its fence (the frames-in-flight contract: frame serial - N before
+ * recording frame serial), so the GPU has run it and Vulkan knows it has
+ * (the GPU's own mark alone would free it before the host's wait tells the
+ * validation layer so). */
+static void free_retired(vgx_context *c, uint32_t serial)
 {
     uint32_t done = progress(c);
     int kept = 0;
     for (int i = 0; i < c->retired_count; i++) {
-        if ((int32_t)(done - c->retired[i].last) >= 0)
+        uint32_t last = c->retired[i].last;
+        if ((int32_t)(serial - last) >= (int32_t)c->frames_in_flight && (int32_t)(done - last) >= 0)
             rg_destroy(c->retired[i].graph);
         else
             c->retired[kept++] = c->retired[i];
@@ -661,7 +709,7 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     /* What the replaced graph's dispatches still in flight use stays until
      * the GPU has run the last of them. */
     if (c->graph) {
-        free_retired(c);
+        free_retired(c, c->serial + 1);
         if (c->retired_count == VGX_RETIRED) {
             vg_error("vgx_dispatch: %d configurations were replaced within the frames in flight; dispatch with "
                      "one configuration until the GPU catches up", VGX_RETIRED);
@@ -948,7 +996,7 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
     /* The host's earlier writes to its images, whichever stage made them:
      * the graph's first barrier. */
     c->serial = serial;
-    free_retired(c);
+    free_retired(c, serial);
     rg_execute_range(c->graph, cmd, 0, end);
     if (end == passes)
         gpu_cmd_mark(cmd, c->progress.buffer, serial);

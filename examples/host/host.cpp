@@ -1144,8 +1144,18 @@ int main(int argc, char **argv)
     if (validate) // the instance has VK_EXT_debug_utils then: the SDK's objects and passes get names
         cd.flags |= VGX_CONTEXT_DEBUG_UTILS;
     cd.message = on_vgx_message;
+    // What the context will hold of this device's memory, before making it.
+    vgx_memory_footprint fp;
+    vgx_result vr = vgx_get_memory_footprint(&cd, &fp);
+    if (vr != VGX_SUCCESS) {
+        std::fprintf(stderr, "vergence_host: error: vgx_get_memory_footprint: %s\n", vgx_result_name(vr));
+        return 2;
+    }
+    std::printf("vergence_host: the context holds %.2f MiB of device memory in %u blocks (%.2f MiB host-visible; "
+                "%.2f MiB more while a configuration change is in flight)\n", fp.bytes / 1048576.0, fp.blocks,
+                fp.host_visible_bytes / 1048576.0, fp.configuration_bytes / 1048576.0);
     vgx_context *ctx = nullptr;
-    vgx_result vr = vgx_context_create(&cd, &ctx);
+    vr = vgx_context_create(&cd, &ctx);
     if (vr != VGX_SUCCESS) {
         std::fprintf(stderr, "vergence_host: error: vgx_context_create: %s\n", vgx_result_name(vr));
         return 2;

@@ -192,6 +192,33 @@ typedef enum vgx_look_ahead {
                                      only where motion stays constant over the window's future */
 } vgx_look_ahead;
 
+/* Device memory from the host's own allocator (0.2; vgx_context_desc.memory).
+ * The context asks once per image or buffer it makes, in
+ * vgx_context_create and in the first dispatch of a configuration (see
+ * vgx_dispatch), and gives each block back when it no longer uses it: in
+ * vgx_context_destroy, or in a later dispatch for a replaced
+ * configuration's. Called on the thread of that vgx_ call. */
+typedef struct vgx_memory_request {
+    const char *name;                 /* what it is for ("vgx g", "rg warp.curve.tiles", ...) */
+    VkMemoryRequirements requirements;/* of the image or buffer it is bound to */
+    VkMemoryPropertyFlags properties; /* DEVICE_LOCAL (preferred; any type of memoryTypeBits will do), or
+                                         HOST_VISIBLE | HOST_COHERENT (required, and mapped) */
+} vgx_memory_request;
+
+typedef struct vgx_memory_block {
+    VkDeviceMemory memory;
+    VkDeviceSize offset;              /* a multiple of requirements.alignment; size bytes from it are the context's */
+    void *mapped;                     /* host-visible requests: the host address of `offset`, mapped until freed */
+    void *user;                       /* the host's own handle of the block (a VmaAllocation, say) */
+} vgx_memory_block;
+
+typedef struct vgx_memory_hooks {
+    /* VK_SUCCESS and the block, or an error (the call that asked fails with its message). */
+    VkResult (*allocate)(void *user, const vgx_memory_request *request, vgx_memory_block *block);
+    void (*free)(void *user, const vgx_memory_block *block);
+    void *user;
+} vgx_memory_hooks;
+
 typedef struct vgx_context_desc {
     uint32_t header_version;          /* VGX_HEADER_VERSION */
     VkInstance instance;
@@ -217,6 +244,8 @@ typedef struct vgx_context_desc {
                                          Before recording the dispatch of frame n, the host has waited for frame
                                          n - frames_in_flight to complete (its fence); a dispatch that would make
                                          one more in flight is refused (VGX_ERROR_INVALID_ARGUMENT, its message) */
+    vgx_memory_hooks memory;          /* both set: every block of device memory from the host; zero: a dedicated
+                                         vkAllocateMemory per image or buffer */
 } vgx_context_desc;
 
 #define VGX_MAX_FRAMES_IN_FLIGHT 4
@@ -227,6 +256,19 @@ VGX_API vgx_result vgx_context_create(const vgx_context_desc *desc, vgx_context 
 /* The host makes sure the GPU no longer uses what the context recorded
  * (vkDeviceWaitIdle, or its frame fences). NULL is ignored. */
 VGX_API void vgx_context_destroy(vgx_context *context);
+
+/* The device memory a context of `desc` holds (0.2), measured by making it
+ * on desc's device and destroying it (about the time of
+ * vgx_context_create; the memory hooks, if any, are called). */
+typedef struct vgx_memory_footprint {
+    VkDeviceSize bytes;               /* all of it, after vgx_context_create */
+    VkDeviceSize host_visible_bytes;  /* of which host-visible */
+    uint32_t blocks;                  /* images and buffers: one allocation (or hook call) each */
+    VkDeviceSize configuration_bytes; /* of `bytes`: the scratch of the dispatch's graph. A configuration change
+                                         (vgx_dispatch) makes as much again, and the replaced one is freed once the
+                                         frames in flight that used it have completed */
+} vgx_memory_footprint;
+VGX_API vgx_result vgx_get_memory_footprint(const vgx_context_desc *desc, vgx_memory_footprint *footprint);
 
 /* What a context was made into (fixed for its life). */
 typedef struct vgx_context_info {

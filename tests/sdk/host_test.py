@@ -17,6 +17,7 @@ printed side by side. Validation messages fail the run (the host exits 3).
 import atexit
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -96,6 +97,8 @@ def main():
         p = run([exe, "--scene", SCENE, "--size", SIZE, "--time", TIME, "--frames", str(FRAMES), "--out", out,
                  "--validate"] + extra)
         print(f"{name}: {p.stdout.strip()}")
+        if not re.search(r"the context holds [0-9.]+ MiB of device memory in [1-9][0-9]* blocks", p.stdout):
+            sys.exit(f"FAIL: {name}: the host printed no memory footprint (vgx_get_memory_footprint)")
         outs[name] = out
     caps, mid = {}, {}
     for look in ("foresight", "causal"):

@@ -3,6 +3,7 @@
  * gpu module, as any host's would from its renderer; everything else goes
  * through vgx_ calls only. */
 #include <pthread.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -735,13 +736,172 @@ static int in_flight(void)
 }
 #endif
 
+#if VGX_HEADER_VERSION_MINOR >= 2 /* 0.2 */
+/* The host's own allocator (issue 42): one 64 MiB block per memory type,
+ * handed out in aligned ranges, and counted. */
+typedef struct host_pool {
+    gpu *g;
+    VkDeviceMemory block[VK_MAX_MEMORY_TYPES];
+    void *mapped[VK_MAX_MEMORY_TYPES];
+    VkDeviceSize used[VK_MAX_MEMORY_TYPES];
+    int live, calls, fail_at;   /* fail_at: that call (1-based) fails */
+    VkDeviceSize bytes;
+} host_pool;
+#define HOST_POOL_BYTES ((VkDeviceSize)64 << 20)
+
+static VkResult pool_allocate(void *user, const vgx_memory_request *r, vgx_memory_block *b)
+{
+    host_pool *p = user;
+    if (++p->calls == p->fail_at)
+        return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    const VkPhysicalDeviceMemoryProperties *mem = &p->g->mem;
+    int t = -1;
+    for (int pass = 0; pass < 2 && t < 0; pass++)
+        for (uint32_t i = 0; i < mem->memoryTypeCount && t < 0; i++)
+            if ((r->requirements.memoryTypeBits & (1u << i)) &&
+                (mem->memoryTypes[i].propertyFlags & r->properties) == (pass ? 0 : r->properties))
+                t = (int)i;
+    bool host = r->properties & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+    if (t < 0 || (host && !(mem->memoryTypes[t].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)))
+        return VK_ERROR_FEATURE_NOT_PRESENT;
+    if (!p->block[t]) {
+        VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, .allocationSize = HOST_POOL_BYTES,
+                                   .memoryTypeIndex = (uint32_t)t};
+        if (vkAllocateMemory(p->g->device, &ai, NULL, &p->block[t]) != VK_SUCCESS)
+            return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+        if ((mem->memoryTypes[t].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) &&
+            vkMapMemory(p->g->device, p->block[t], 0, VK_WHOLE_SIZE, 0, &p->mapped[t]) != VK_SUCCESS)
+            return VK_ERROR_MEMORY_MAP_FAILED;
+    }
+    VkDeviceSize align = r->requirements.alignment, gran = p->g->props.limits.bufferImageGranularity;
+    align = align > gran ? align : gran;
+    VkDeviceSize at = (p->used[t] + align - 1) / align * align;
+    if (at + r->requirements.size > HOST_POOL_BYTES)
+        return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    p->used[t] = at + r->requirements.size;
+    *b = (vgx_memory_block){p->block[t], at, host ? (uint8_t *)p->mapped[t] + at : NULL,
+                            (void *)(uintptr_t)r->requirements.size};
+    p->live++;
+    p->bytes += r->requirements.size;
+    return VK_SUCCESS;
+}
+
+static void pool_free(void *user, const vgx_memory_block *b)
+{
+    host_pool *p = user;
+    p->live--;
+    p->bytes -= (VkDeviceSize)(uintptr_t)b->user;
+}
+
+static void pool_destroy(host_pool *p)
+{
+    for (uint32_t i = 0; i < VK_MAX_MEMORY_TYPES; i++)
+        if (p->block[i])
+            vkFreeMemory(p->g->device, p->block[i], NULL);
+}
+
+/* h of the depth bands of `maps`, one dispatch. */
+static int bands_h(gpu *g, vgx_context *c, const gpu_image *img, uint32_t w, uint32_t h, float *out)
+{
+    VkCommandBuffer cmd;
+    CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+    vgx_dispatch_desc dd = depth_dispatch(cmd, img, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    CHECK(vgx_dispatch(c, &dd) == VGX_SUCCESS, "dispatch");
+    CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit");
+    vgx_image oh;
+    CHECK(vgx_get_output(c, VGX_OUTPUT_H, &oh) == VGX_SUCCESS, "output");
+    return read_map(g, &oh, w, h, out);
+}
+
+/* Memory (issue 42): the footprint before creation, the host's allocator
+ * giving every block (the same maps as the driver's allocations; every
+ * block back after destroy; the footprint is what the hooks gave), a hook
+ * that fails midway (one line, nothing kept), and the footprint of a warp
+ * context with VERGENCE_DISABLE=tessellation (the context itself needs no
+ * tessellation: only the host's shaders do). */
+static int memory(void)
+{
+    gpu *g = make_gpu();
+    CHECK(g, "gpu");
+    enum { W = 64, H = 48 };
+    messages m = {0};
+    vgx_context_desc d = context_desc(g, W, H, &m);
+    vgx_memory_footprint fp, fp_hooked, fp_warp, fp_notess;
+    CHECK(vgx_get_memory_footprint(&d, &fp) == VGX_SUCCESS, "footprint: %s", m.last);
+    CHECK(fp.blocks > 4 && fp.bytes > 0 && fp.host_visible_bytes >= 4 && fp.configuration_bytes < fp.bytes,
+          "footprint %llu bytes, %llu host-visible, %u blocks, %llu per configuration", (unsigned long long)fp.bytes,
+          (unsigned long long)fp.host_visible_bytes, fp.blocks, (unsigned long long)fp.configuration_bytes);
+    CHECK(vgx_get_memory_footprint(NULL, &fp_hooked) == VGX_ERROR_INVALID_ARGUMENT &&
+              vgx_get_memory_footprint(&d, NULL) == VGX_ERROR_INVALID_ARGUMENT, "null arguments");
+    m.errors = 0;
+
+    static float depth[W * H];
+    const double z[4] = {2.0, 4.5, 9.0, 40.0};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            depth[y * W + x] = (float)z[x * 4 / W];
+    gpu_image img;
+    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
+                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
+                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                           &img) == VG_OK, "depth image");
+    CHECK(gpu_image_upload(g, &img, depth, sizeof depth) == VG_OK, "upload");
+    static float h_driver[W * H], h_host[W * H];
+    vgx_context *c = NULL;
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
+    CHECK(bands_h(g, c, &img, W, H, h_driver) == 0, "h, driver's memory");
+    vgx_context_destroy(c);
+
+    host_pool pool = {.g = g};
+    d.memory = (vgx_memory_hooks){pool_allocate, pool_free, &pool};
+    CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create with hooks: %s", m.last);
+    CHECK(pool.live == (int)fp.blocks && pool.bytes == fp.bytes, "the hooks gave %d blocks, %llu bytes; the "
+          "footprint said %u, %llu", pool.live, (unsigned long long)pool.bytes, fp.blocks,
+          (unsigned long long)fp.bytes);
+    CHECK(bands_h(g, c, &img, W, H, h_host) == 0, "h, the host's memory");
+    vgx_context_destroy(c);
+    CHECK(pool.live == 0 && pool.bytes == 0, "%d blocks (%llu bytes) not given back", pool.live,
+          (unsigned long long)pool.bytes);
+    EXPECT(memcmp(h_driver, h_host, sizeof h_driver) == 0, "h differs in the host's memory");
+    CHECK(vgx_get_memory_footprint(&d, &fp_hooked) == VGX_SUCCESS && fp_hooked.bytes == fp.bytes &&
+              fp_hooked.blocks == fp.blocks && pool.live == 0, "footprint with hooks");
+
+    pool.calls = 0;
+    pool.fail_at = 3;
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_VULKAN && c == NULL, "a failing hook");
+    CHECK(m.errors == 1 && strstr(m.last, "memory hook"), "%d errors, last '%s'", m.errors, m.last);
+    CHECK(pool.live == 0, "%d blocks kept after the failed create", pool.live);
+    m.errors = 0;
+    d.memory.free = NULL;
+    CHECK(vgx_context_create(&d, &c) == VGX_ERROR_INVALID_ARGUMENT && strstr(m.last, "memory"), "one hook");
+    m.errors = 0;
+    d.memory = (vgx_memory_hooks){0};
+
+    d.flags |= VGX_CONTEXT_WARP;
+    CHECK(vgx_get_memory_footprint(&d, &fp_warp) == VGX_SUCCESS && fp_warp.bytes > fp.bytes, "warp footprint");
+    setenv("VERGENCE_DISABLE", "tessellation", 1);
+    CHECK(vgx_get_memory_footprint(&d, &fp_notess) == VGX_SUCCESS && fp_notess.bytes == fp_warp.bytes,
+          "warp footprint without tessellation: %s", m.last);
+    unsetenv("VERGENCE_DISABLE");
+    printf("footprint at %ux%u: %llu bytes in %u blocks (%llu host-visible, %llu per configuration); with the "
+           "warp %llu, also without tessellation; the host's allocator gave the same and got all back\n", W, H,
+           (unsigned long long)fp.bytes, fp.blocks, (unsigned long long)fp.host_visible_bytes,
+           (unsigned long long)fp.configuration_bytes, (unsigned long long)fp_warp.bytes);
+    pool_destroy(&pool);
+    gpu_image_destroy(g, &img);
+    gpu_destroy(g);
+    return gpu_validation_messages() != 0;
+}
+#endif
+
 int main(int argc, char **argv)
 {
     static const vg_test_case cases[] = {
         {"version", version}, {"errors", errors}, {"maps", maps}, {"device_depth", device_depth},
         {"allocator", allocator}, {"threads", threads},
 #if VGX_HEADER_VERSION_MINOR >= 2 /* 0.2 */
-        {"requirements", requirements}, {"in_flight", in_flight},
+        {"requirements", requirements}, {"in_flight", in_flight}, {"memory", memory},
 #endif
     };
     return vg_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
