@@ -16,6 +16,7 @@
 #include "disparity/mid_window.h"
 #include "graph/graph.h"
 #include "warp/gpu/curve_gpu.h"
+#include "warp/gpu/eyes_gpu.h"
 
 #include "vgx_depth_comp.h"
 #include "shared.h"
@@ -23,11 +24,15 @@
 
 #define VGX_LIBRARY_VERSION VGX_MAKE_VERSION(VERGENCE_VERSION_MAJOR, VERGENCE_VERSION_MINOR, VERGENCE_VERSION_PATCH)
 
-#define VGX_INPUTS 8 /* frame depth, saliency, motion, ids; the atlas's four */
+#define VGX_INPUTS 9 /* frame depth, saliency, motion, ids; the atlas's four; the shaded colour (eyes) */
+#define VGX_COLOR 8
 
 /* The size of the vgx_context_desc a host built against header 0.1 passes:
  * the 0.1 members end where 0.2's begin (vergence.h, "How the ABI grows"). */
 #define VGX_CONTEXT_DESC_SIZE_0_1 offsetof(vgx_context_desc, frames_in_flight)
+#define VGX_DISPATCH_DESC_SIZE_0_1 offsetof(vgx_dispatch_desc, color)
+#define VGX_KNOWN_FLAGS (VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES | \
+                         VGX_CONTEXT_DEBUG_UTILS | VGX_CONTEXT_EYES)
 _Static_assert(sizeof(void *) != 8 || VGX_CONTEXT_DESC_SIZE_0_1 == 208, "the 0.1 vgx_context_desc is 208 bytes on LP64");
 _Static_assert(VGX_MAX_FRAMES_IN_FLIGHT <= RG_MAX_SLOTS, "a graph keeps timestamps for every frame in flight");
 
@@ -76,6 +81,12 @@ struct vgx_context {
     gpu_image linear;
     float depth_m[4];                 /* m10, m11, m14, m15 of the host's projection */
     bool device_depth;                /* the last dispatch's */
+
+    /* The stereo pair without tessellation (VGX_CONTEXT_EYES). */
+    eyes_gpu *eyes;
+    gpu_image eye[2];
+    rg_res r_eye[2];
+    bool v01;                         /* the host was built against header 0.1: its descs have 0.1's members */
 
     /* The warp (VGX_CONTEXT_WARP). */
     curve_gpu *curve;
@@ -202,8 +213,7 @@ vgx_result vgx_check_physical_device(VkPhysicalDevice physical_device, const cha
 vgx_result vgx_get_missing_requirements(VkPhysicalDevice physical_device, uint32_t context_flags,
                                         const char **missing, uint32_t capacity, uint32_t *missing_count)
 {
-    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES |
-                     VGX_CONTEXT_DEBUG_UTILS;
+    uint32_t known = VGX_KNOWN_FLAGS;
     if (!physical_device || !missing_count || (capacity && !missing) || (context_flags & ~known))
         return VGX_ERROR_INVALID_ARGUMENT;
     *missing_count = gpu_missing_features(physical_device, false, (context_flags & VGX_CONTEXT_WARP) != 0, missing,
@@ -260,8 +270,7 @@ static vg_status check_desc(const vgx_context_desc *d)
                  w->tess_error_px, w->max_tess_level, w->depth_epsilon, w->halton_radius_px);
         return VG_ERR_ARG;
     }
-    uint32_t known = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_KEYFRAMES |
-                     VGX_CONTEXT_DEBUG_UTILS;
+    uint32_t known = VGX_KNOWN_FLAGS;
     if (d->flags & ~known) {
         vg_error("vgx_context_desc.flags has unknown bits 0x%x", d->flags & ~known);
         return VG_ERR_ARG;
@@ -401,6 +410,15 @@ static vg_status create(vgx_context *c, const disparity_gpu_desc *tuning)
                                                               .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT},
                                    &c->curve_buf);
     }
+    static const char *const eye_names[2] = {"vgx left eye", "vgx right eye"};
+    for (int i = 0; i < 2 && st == VG_OK && (d->flags & VGX_CONTEXT_EYES); i++)
+        st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = eye_names[i], .format = VK_FORMAT_R8G8B8A8_UNORM,
+                                                        .width = d->width, .height = d->height,
+                                                        .usage = VK_IMAGE_USAGE_STORAGE_BIT |
+                                                                 VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT}, &c->eye[i]);
+    if (st == VG_OK && (d->flags & VGX_CONTEXT_EYES))
+        st = eyes_gpu_create(c->gpu, d->width, d->height, c->nearest, &c->eyes);
     for (int i = 0; i < (keyframes ? 2 : 1) && st == VG_OK && !(d->flags & VGX_CONTEXT_SALIENCY); i++)
         st = gpu_image_create(c->gpu, &(gpu_image_desc){.name = "vgx no saliency", .format = VK_FORMAT_R8G8B8A8_UNORM,
                                                         .width = i ? c->atlas_w : d->width,
@@ -444,6 +462,7 @@ static vgx_result context_create(const vgx_context_desc *desc, const disparity_g
     }
     if (st == VG_OK) {
         c->desc = d;
+        c->v01 = VGX_VERSION_MAJOR(d.header_version) == 0 && VGX_VERSION_MINOR(d.header_version) == 1;
         c->frames_in_flight = d.frames_in_flight ? d.frames_in_flight : 2;
         st = create(c, tuning);
         if (st != VG_OK) {
@@ -509,6 +528,9 @@ void vgx_context_destroy(vgx_context *c)
             vkDestroySampler(c->gpu->device, c->nearest, c->gpu->alloc);
         gpu_buffer_destroy(c->gpu, &c->curve_buf);
         curve_gpu_destroy(c->curve);
+        eyes_gpu_destroy(c->eyes);
+        for (int i = 0; i < 2; i++)
+            gpu_image_destroy(c->gpu, &c->eye[i]);
         disparity_gpu_destroy(c->d);
         gpu_destroy(c->gpu);
     }
@@ -650,7 +672,7 @@ static void constants_execute(const rg_context *ctx, void *user)
 /* The inputs in a fixed order: the frame's G-buffer, then the atlas's. */
 static const char *const input_names[VGX_INPUTS] = {
     "frame.depth", "frame.saliency", "frame.motion", "frame.ids",
-    "keyframes.depth", "keyframes.saliency", "keyframes.motion", "keyframes.ids",
+    "keyframes.depth", "keyframes.saliency", "keyframes.motion", "keyframes.ids", "color",
 };
 static const VkFormat input_formats[4] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM,
                                           VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT};
@@ -664,6 +686,7 @@ static void inputs_of(const vgx_dispatch_desc *d, vgx_image out[VGX_INPUTS])
         out[4 * i + 2] = gb[i]->motion;
         out[4 * i + 3] = gb[i]->ids;
     }
+    out[VGX_COLOR] = d->color;
 }
 
 /* Which inputs the context reads: the frame's depth always, saliency with
@@ -673,6 +696,8 @@ static bool input_used(const vgx_context *c, int i)
 {
     bool optimize = c->desc.flags & VGX_CONTEXT_OPTIMIZE, saliency = c->desc.flags & VGX_CONTEXT_SALIENCY;
     int kind = i % 4;
+    if (i == VGX_COLOR)
+        return c->desc.flags & VGX_CONTEXT_EYES;
     if (i >= 4 && !has_keyframes(c))
         return false;
     return kind == 0 || (kind == 1 ? saliency : i >= 4 || optimize);
@@ -732,9 +757,12 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
         bool blank = i % 4 == 1 && !(c->desc.flags & VGX_CONTEXT_SALIENCY) && (i < 4 || has_keyframes(c));
         if (!input_used(c, i) && !blank)
             continue;
-        uint32_t w = i < 4 ? c->desc.width : c->atlas_w, h = i < 4 ? c->desc.height : c->atlas_h;
+        bool frame = i < 4 || i == VGX_COLOR;
+        uint32_t w = frame ? c->desc.width : c->atlas_w, h = frame ? c->desc.height : c->atlas_h;
         rg_usage u = blank ? RG_STORAGE_READ : usage_of_layout(layouts[i]);
-        VkFormat format = i == 0 && device ? c->graph_depth_format : input_formats[i % 4];
+        VkFormat format = i == 0 && device ? c->graph_depth_format
+                          : i == VGX_COLOR  ? VK_FORMAT_R8G8B8A8_UNORM
+                                            : input_formats[i % 4];
         c->inputs[i] = rg_import_image(g, &(rg_image_desc){input_names[i], format, w, h, 1},
                                        &(rg_import_desc){u, u});
     }
@@ -772,6 +800,15 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
     /* The warp's global curve, of the map it reads. */
     if (c->curve)
         curve_gpu_add(c->curve, g, res->depth, *maps[warp_map], c->r_curve);
+    /* The eyes, moved by the same map. */
+    if (c->eyes) {
+        static const char *const eye_names[2] = {"vgx.eyes.left", "vgx.eyes.right"};
+        for (int i = 0; i < 2; i++)
+            c->r_eye[i] = rg_import_image(g, &(rg_image_desc){eye_names[i], VK_FORMAT_R8G8B8A8_UNORM, c->desc.width,
+                                                                c->desc.height, 1}, &out);
+        eyes_gpu_add(c->eyes, g, res->ubo, res->depth, *maps[warp_map], c->inputs[VGX_COLOR], c->r_eye[0],
+                     c->r_eye[1]);
+    }
     vg_status st = rg_compile(g);
     if (st == VG_OK)
         st = rg_realize(g, c->gpu);
@@ -786,6 +823,8 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
         rg_bind_buffer(g, c->r_warp_ubo, c->warp_ubo.buffer);
         rg_bind_buffer(g, c->r_curve, c->curve_buf.buffer);
     }
+    for (int i = 0; i < 2 && c->eyes; i++)
+        rg_bind_image(g, c->r_eye[i], c->eye[i].image, c->eye[i].view);
     disparity_gpu_bind(c->d, g);
     memcpy(c->layouts, layouts, sizeof c->layouts);
     c->graph_warp_map = warp_map;
@@ -796,33 +835,32 @@ static vg_status build_graph(vgx_context *c, const VkImageLayout layouts[VGX_INP
  * the layouts every later dispatch finds them in. */
 static void first_transitions(vgx_context *c, VkCommandBuffer cmd)
 {
-    for (int i = 0; i < 6; i++) {
-        const gpu_image *img = i < 3 ? &c->out[i] : i == 5 ? &c->linear : &c->blank[i - 3];
+    for (int i = 0; i < 8; i++) {
+        const gpu_image *img = i < 3 ? &c->out[i] : i == 5 ? &c->linear : i < 5 ? &c->blank[i - 3] : &c->eye[i - 6];
         if (img->image)
             gpu_cmd_enter_layout(cmd, img->image, VK_IMAGE_ASPECT_COLOR_BIT,
-                                 i < 3 || i == 5 ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL);
+                                 i == 3 || i == 4 ? VK_IMAGE_LAYOUT_GENERAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     }
 }
 
-static vg_status check_image(const char *gbuffer, const char *name, const vgx_image *img, bool device_depth)
+static vg_status check_image(const char *field, const vgx_image *img, bool device_depth)
 {
     if (!img->image || !img->view) {
-        vg_error("vgx_dispatch_desc.%s.%s: image or view is null", gbuffer, name);
+        vg_error("vgx_dispatch_desc.%s: image or view is null", field);
         return VG_ERR_ARG;
     }
     bool depth_layout = img->layout == VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL ||
                         img->layout == VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
     if (device_depth != depth_layout) {
-        vg_error("vgx_dispatch_desc.%s.%s.layout is %d; %s", gbuffer, name, (int)img->layout,
+        vg_error("vgx_dispatch_desc.%s.layout is %d; %s", field, (int)img->layout,
                  device_depth ? "a z-buffer (VGX_DEPTH_DEVICE) is read in DEPTH_READ_ONLY_OPTIMAL or "
                                 "DEPTH_ATTACHMENT_OPTIMAL"
                               : "only a z-buffer (VGX_DEPTH_DEVICE) is given in a depth layout");
         return VG_ERR_ARG;
     }
     if (usage_of_layout(img->layout) == RG_USAGE_NONE) {
-        vg_error("vgx_dispatch_desc.%s.%s.layout is %d; give GENERAL, SHADER_READ_ONLY_OPTIMAL, "
-                 "COLOR_ATTACHMENT_OPTIMAL, TRANSFER_SRC_OPTIMAL or TRANSFER_DST_OPTIMAL", gbuffer, name,
-                 (int)img->layout);
+        vg_error("vgx_dispatch_desc.%s.layout is %d; give GENERAL, SHADER_READ_ONLY_OPTIMAL, "
+                 "COLOR_ATTACHMENT_OPTIMAL, TRANSFER_SRC_OPTIMAL or TRANSFER_DST_OPTIMAL", field, (int)img->layout);
         return VG_ERR_ARG;
     }
     return VG_OK;
@@ -874,8 +912,7 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
     for (int i = 0; i < VGX_INPUTS; i++) {
         if (!input_used(c, i))
             continue;
-        vg_status st = check_image(i < 4 ? "frame" : "keyframes", strchr(input_names[i], '.') + 1, &in[i],
-                                   i == 0 && d->depth_kind == VGX_DEPTH_DEVICE);
+        vg_status st = check_image(input_names[i], &in[i], i == 0 && d->depth_kind == VGX_DEPTH_DEVICE);
         if (st != VG_OK)
             return st;
         layouts[i] = in[i].layout;
@@ -940,6 +977,11 @@ static vg_status dispatch(vgx_context *c, const vgx_dispatch_desc *d)
                      (int)d->warp_map);
             return VG_ERR_ARG;
         }
+    }
+    if (c->eyes && ((unsigned)d->warp_map > VGX_WARP_MAP_F || (warp_map == VGX_OUTPUT_F && !optimize))) {
+        vg_error("vgx_dispatch_desc.warp_map (%d): the eyes need a map the context makes (f needs "
+                 "VGX_CONTEXT_OPTIMIZE)", (int)d->warp_map);
+        return VG_ERR_ARG;
     }
     bool rebuild = memcmp(c->layouts, layouts, sizeof layouts) != 0 || warp_map != c->graph_warp_map ||
                    d->depth_kind != c->graph_depth_kind ||
@@ -1048,7 +1090,18 @@ vgx_result vgx_dispatch(vgx_context *c, const vgx_dispatch_desc *desc)
         return VGX_ERROR_INVALID_ARGUMENT;
     message_to m;
     vg_log_sink was = sink_begin(&m, c->desc.message, c->desc.message_user);
-    vg_status st = dispatch(c, desc);
+    /* A host built against 0.1 gives 0.1's members; the newer stay zero. */
+    vgx_dispatch_desc d = {0};
+    memcpy(&d, desc, c->v01 ? VGX_DISPATCH_DESC_SIZE_0_1 : sizeof d);
+    vg_status st = dispatch(c, &d);
     vg_log_set_sink(was);
     return result_of(st);
+}
+
+vgx_result vgx_get_eye(const vgx_context *c, uint32_t eye, vgx_image *out)
+{
+    if (!c || !out || eye > 1 || !c->eye[eye].image)
+        return VGX_ERROR_INVALID_ARGUMENT;
+    *out = (vgx_image){c->eye[eye].image, c->eye[eye].view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    return VGX_SUCCESS;
 }

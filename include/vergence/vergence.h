@@ -171,6 +171,10 @@ typedef enum vgx_preset {
 #define VGX_CONTEXT_DEBUG_UTILS 0x10u /* the host enabled VK_EXT_debug_utils on its instance: every Vulkan object
                                      the context makes carries a name ("vgx g", "mid.solve", ...) and each pass
                                      of vgx_dispatch a command-buffer label (RenderDoc, Nsight) */
+#define VGX_CONTEXT_EYES 0x20u    /* 0.2: the dispatch also makes the stereo pair itself, for a host whose materials
+                                     cannot take the warp's tessellation: its shaded centre view
+                                     (vgx_dispatch_desc.color) moved per pixel by the warp map's disparity, the
+                                     disocclusions filled from the background side (vgx_get_eye) */
 
 /* The warp's settings (include/vergence/warp.glsl; zero = the engine's). */
 typedef struct vgx_warp_settings {
@@ -379,6 +383,9 @@ typedef struct vgx_dispatch_desc {
     /* A profiler's view: record only passes first_pass .. first_pass + pass_count - 1 of the dispatch
      * (vgx_pass_name), in order, each call with the same desc; 0 passes = all of them. */
     uint32_t first_pass, pass_count;
+    /* 0.2: */
+    vgx_image color;                  /* VGX_CONTEXT_EYES: the frame's shaded centre view (SAMPLED usage, any colour
+                                         format), width x height; warp_map picks the disparity it is moved by */
 } vgx_dispatch_desc;
 
 /* Records the frame's passes into desc->command_buffer. */
@@ -431,6 +438,18 @@ VGX_API vgx_result vgx_get_warp(const vgx_context *context, vgx_warp *warp);
 /* The four bindings above for a VkDescriptorSetLayoutCreateInfo, for the
  * given shader stages (the tessellation stages, say). */
 VGX_API void vgx_warp_bindings(VkShaderStageFlags stages, VkDescriptorSetLayoutBinding bindings[4]);
+
+/* ------------------------------------------------------------------------- */
+/* The stereo pair without tessellation (VGX_CONTEXT_EYES, 0.2)              */
+/* ------------------------------------------------------------------------- */
+
+/* Eye 0 (left) or 1 (right), width x height R8G8B8A8_UNORM, owned by the
+ * context: after a dispatch in SHADER_READ_ONLY_OPTIMAL, written and
+ * visible as the outputs are (vgx_get_output). Colour as the host's
+ * `color`; alpha 1 where a surface of the centre view landed, 0.5 where a
+ * disocclusion was filled, 0 where nothing within 256 pixels of its row
+ * could fill it. */
+VGX_API vgx_result vgx_get_eye(const vgx_context *context, uint32_t eye, vgx_image *out);
 
 #ifdef __cplusplus
 }
