@@ -20,6 +20,7 @@ that way (optimize's "at pixel (5, 0)" is a[0, 5], on the top row), and a
     write_flo(path, flow)             (H, W, 2)
     encode_flo(flow)               -> the bytes write_flo writes
     read_png(path, channels=None)  -> uint8 (H, W, C), C = 1 grey, 3 RGB, 4 RGBA (8-bit PNGs only)
+    read_ppm(path)                 -> uint8 (H, W, 3) (binary 8-bit PPM, as the example host writes)
 
 A malformed file raises ValueError with the file's path in the message. The
 formats (docs/formats.md):
@@ -190,6 +191,22 @@ def read_png(path, channels=None):
     return np.ascontiguousarray(a, dtype=np.uint8)
 
 
+def read_ppm(path):
+    """A binary 8-bit PPM (P6) as uint8 (H, W, 3), top-down (the example host
+    writes its eyes so). ValueError naming the file for anything else."""
+    from PIL import Image, UnidentifiedImageError
+    try:
+        with Image.open(path) as im:
+            im.load()
+            fmt, mode = im.format, im.mode
+            a = np.asarray(im) if mode == "RGB" else None
+    except UnidentifiedImageError:
+        raise ValueError(f"{path}: not an image PIL reads") from None
+    if fmt != "PPM" or a is None:
+        raise ValueError(f"{path}: not an 8-bit RGB PPM ({fmt}, mode {mode})")
+    return np.ascontiguousarray(a, dtype=np.uint8)
+
+
 # ---------------------------------------------------------------------------
 # Self-check (CTest formats.python)
 # ---------------------------------------------------------------------------
@@ -295,6 +312,11 @@ def _self_check():
             check(False, "a PFM refused as a PNG")
         except ValueError as e:
             check(p in str(e), "a PFM refused as a PNG")
+        # PPM (P6), as the example host writes it.
+        ppm = os.path.join(tmp, "rgb.ppm")
+        open(ppm, "wb").write(b"P6\n3 2\n255\n" + rgb.tobytes())
+        check(np.array_equal(read_ppm(ppm), rgb), "PPM read as (H, W, 3), top row first")
+        refused(read_ppm, pp, "a PNG refused as a PPM")
 
     # Real files (../shared/assets; skipped where they are absent), their
     # orientation checked against the pictures they belong to: read top-down,

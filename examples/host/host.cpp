@@ -636,13 +636,16 @@ struct View {
 const VkDeviceSize VIEW_STRIDE = 256; // minUniformBufferOffsetAlignment is at most 256
 
 struct Push {
+    float color[4]; // shaded: the material's base colour
     float saliency;
     uint32_t id;
 };
 
-// The G-buffer formats, in the fragment shader's output order.
-const VkFormat GBUFFER_FORMATS[4] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                     VK_FORMAT_R32_UINT};
+// The G-buffer formats, in the fragment shader's output order: the four
+// vergence reads, then the shaded colour the SDK's eyes move.
+const VkFormat GBUFFER_FORMATS[5] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                     VK_FORMAT_R32_UINT, VK_FORMAT_R8G8B8A8_UNORM};
+const float SKY[4] = {0.78f, 0.86f, 0.95f, 1.0f}; // host_eye.frag's fog colour, the eyes' clear colour
 
 // This renderer's pipeline kit: one descriptor set, push constants, vec3
 // position streams, depth-tested colour attachments, dynamic viewport.
@@ -753,7 +756,7 @@ Pipeline create_gbuffer_pipeline(const Vk &vk, VkBuffer views)
     d.stages = {{VK_SHADER_STAGE_VERTEX_BIT, shader(vk, host_gbuffer_vert, sizeof host_gbuffer_vert)},
                 {VK_SHADER_STAGE_FRAGMENT_BIT, shader(vk, host_gbuffer_frag, sizeof host_gbuffer_frag)}};
     d.streams = 3, d.patches = false;
-    d.colors = GBUFFER_FORMATS, d.color_count = 4;
+    d.colors = GBUFFER_FORMATS, d.color_count = 5;
     d.bindings = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1,
                    VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
     d.push = {VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
@@ -817,9 +820,10 @@ void end_targets(VkCommandBuffer cmd, const std::vector<const Image *> &colors, 
                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, stage, access);
 }
 
-// A G-buffer of this renderer: the four images vergence reads and a z-buffer.
+// A G-buffer of this renderer: the four images vergence reads, the shaded
+// colour and a z-buffer.
 struct GBuffer {
-    Image images[4];
+    Image images[5];
     Image zbuffer;
     uint32_t width = 0, height = 0;
 };
@@ -828,7 +832,7 @@ GBuffer make_gbuffer(const Vk &vk, uint32_t w, uint32_t h)
 {
     GBuffer g;
     g.width = w, g.height = h;
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < 5; i++)
         g.images[i] = make_image(vk, GBUFFER_FORMATS[i], w, h,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
@@ -861,15 +865,18 @@ struct Render {
     VkRect2D scissor;
 };
 
-// Renders into g: clears it (depth at the far plane, the rest 0), draws each
+// Renders into g: clears it (depth at the far plane, the colour to the sky,
+// the rest 0), draws each
 // render in its scissor, and leaves the four images in GENERAL with their
 // writes available to compute shaders (what vgx_dispatch is told).
 void render_gbuffer(VkCommandBuffer cmd, const GBuffer &g, const Pipeline &p, const Scene &scene, VkBuffer vbuf,
                     VkBuffer ibuf, const std::vector<Render> &renders)
 {
     // The last frame's contents are not needed: vergence has read them.
-    std::vector<const Image *> colors = {&g.images[0], &g.images[1], &g.images[2], &g.images[3]};
-    begin_targets(cmd, colors, {{{(float)scene.zfar, 0, 0, 0}}, {}, {}, {}}, g.zbuffer, g.width, g.height);
+    std::vector<const Image *> colors = {&g.images[0], &g.images[1], &g.images[2], &g.images[3], &g.images[4]};
+    VkClearColorValue sky;
+    std::memcpy(sky.float32, SKY, sizeof SKY);
+    begin_targets(cmd, colors, {{{(float)scene.zfar, 0, 0, 0}}, {}, {}, {}, sky}, g.zbuffer, g.width, g.height);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
     vkCmdBindIndexBuffer(cmd, ibuf, 0, VK_INDEX_TYPE_UINT32);
     VkDeviceSize stream = (VkDeviceSize)scene.vertex_count * 12;
@@ -881,7 +888,7 @@ void render_gbuffer(VkCommandBuffer cmd, const GBuffer &g, const Pipeline &p, co
         VkDeviceSize offs[3] = {(3 * r.slot + 0) * stream, (3 * r.slot + 1) * stream, (3 * r.slot + 2) * stream};
         vkCmdBindVertexBuffers(cmd, 0, 3, bufs, offs);
         for (const Draw &d : scene.draws) {
-            Push push{d.saliency, d.id};
+            Push push{{d.color[0], d.color[1], d.color[2], d.color[3]}, d.saliency, d.id};
             vkCmdPushConstants(cmd, p.layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push, &push);
             vkCmdDrawIndexed(cmd, d.index_count, 1, d.first_index, 0, 0);
         }
@@ -999,7 +1006,9 @@ void render_eye(VkCommandBuffer cmd, const Eye &e, const Pipeline &p, const Scen
     std::vector<const Image *> colors = {&e.color, &e.centre_x};
     // Sky; no surface (a centre-view x may be negative: a point just left of
     // the centre view that the right eye shows).
-    begin_targets(cmd, colors, {{{0.78f, 0.86f, 0.95f, 1.0f}}, {{NO_SURFACE, 0, 0, 0}}}, e.zbuffer, w, h);
+    VkClearColorValue sky;
+    std::memcpy(sky.float32, SKY, sizeof SKY);
+    begin_targets(cmd, colors, {sky, {{NO_SURFACE, 0, 0, 0}}}, e.zbuffer, w, h);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.pipe);
     VkRect2D scissor{{0, 0}, {w, h}};
     vkCmdSetScissor(cmd, 0, 1, &scissor);
@@ -1140,7 +1149,9 @@ int main(int argc, char **argv)
     cd.height = H;
     cd.fps = fps;
     cd.look_ahead = causal ? VGX_LOOK_AHEAD_CAUSAL : VGX_LOOK_AHEAD_PREDICTED;
-    cd.flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP;
+    // The warp for this renderer's tessellated eyes, and the SDK's own eyes
+    // beside them (the pair a host without tessellation would show).
+    cd.flags = VGX_CONTEXT_SALIENCY | VGX_CONTEXT_OPTIMIZE | VGX_CONTEXT_WARP | VGX_CONTEXT_EYES;
     if (validate) // the instance has VK_EXT_debug_utils then: the SDK's objects and passes get names
         cd.flags |= VGX_CONTEXT_DEBUG_UTILS;
     cd.message = on_vgx_message;
@@ -1176,6 +1187,7 @@ int main(int argc, char **argv)
     VkDeviceSize map_bytes = (VkDeviceSize)W * H * 4;
     Buffer readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
     Buffer eye_readback = make_buffer(vk, 4 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT); // colour, x per eye
+    Buffer sdk_readback = make_buffer(vk, 2 * map_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT); // the SDK's eyes
     Pipeline pipe = create_gbuffer_pipeline(vk, views.buffer);
     VkSampler sampler; // the warp reads its maps with texelFetch: any sampler
     VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
@@ -1245,6 +1257,7 @@ int main(int argc, char **argv)
         dd.rig = rig;
         std::memcpy(dd.view_proj, ((const View *)views.mapped)->vp, sizeof dd.view_proj); // slot 0: the frame
         dd.background_depth_m = (float)scene.zfar;
+        dd.color = {frame_gb.images[4].image, frame_gb.images[4].view, VK_IMAGE_LAYOUT_GENERAL};
         vr = vgx_dispatch(ctx, &dd);
         if (vr != VGX_SUCCESS) {
             std::fprintf(stderr, "vergence_host: error: vgx_dispatch: %s\n", vgx_result_name(vr));
@@ -1265,6 +1278,22 @@ int main(int argc, char **argv)
                 vkCmdCopyImageToBuffer(cmd, src[k]->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, eye_readback.buffer, 1,
                                        &region);
             }
+        }
+
+        // 4b. The SDK's own eyes of that frame (VGX_CONTEXT_EYES), for the test to compare.
+        for (int e = 0; e < 2 && last; e++) {
+            vgx_image eye;
+            vgx_get_eye(ctx, (uint32_t)e, &eye);
+            barrier(cmd, eye.image, VK_IMAGE_ASPECT_COLOR_BIT, eye.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT);
+            VkBufferImageCopy region{};
+            region.bufferOffset = e * map_bytes;
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            region.imageExtent = {W, H, 1};
+            vkCmdCopyImageToBuffer(cmd, eye.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, sdk_readback.buffer, 1, &region);
+            barrier(cmd, eye.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, eye.layout,
+                    VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
         }
 
         // 5. Copies of depth, g, h and f (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
@@ -1326,6 +1355,17 @@ int main(int argc, char **argv)
                 std::fprintf(stderr, "vergence_host: error: %s%s: cannot write\n", out_dir.c_str(), name);
                 rc = 2;
             }
+            // The SDK's eye: its colour, and its alpha (1 a surface, 0.5 a filled disocclusion, 0 none).
+            const uint8_t *sdk = (const uint8_t *)sdk_readback.mapped + (size_t)e * map_bytes;
+            std::vector<float> alpha((size_t)W * H);
+            for (size_t p = 0; p < alpha.size(); p++)
+                alpha[p] = sdk[4 * p + 3] / 255.0f;
+            std::snprintf(name, sizeof name, "/frame_%04d_sdk_%s.ppm", i, side);
+            std::snprintf(xname, sizeof xname, "/frame_%04d_sdk_%s_alpha.pfm", i, side);
+            if (!write_ppm(out_dir + name, sdk, W, H) || !write_pfm(out_dir + xname, alpha.data(), W, H)) {
+                std::fprintf(stderr, "vergence_host: error: %s%s: cannot write\n", out_dir.c_str(), name);
+                rc = 2;
+            }
         }
     }
     double lo = info.range_lo_arcmin, hi = info.range_hi_arcmin;
@@ -1343,7 +1383,7 @@ int main(int argc, char **argv)
     vkDestroySampler(vk.device, sampler, nullptr);
     for (Eye &e : eyes)
         free_eye(vk, e);
-    for (Buffer *b : {&readback, &eye_readback, &views, &ibuf, &vbuf})
+    for (Buffer *b : {&readback, &eye_readback, &sdk_readback, &views, &ibuf, &vbuf})
         free_buffer(vk, *b);
     free_gbuffer(vk, atlas_gb);
     free_gbuffer(vk, frame_gb);

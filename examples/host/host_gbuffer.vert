@@ -12,6 +12,7 @@ layout(location = 2) in vec3 position_next;
 layout(location = 0) out float view_depth;
 layout(location = 1) out vec4 clip_prev;
 layout(location = 2) out vec4 clip_next;
+layout(location = 3) out vec3 world;
 
 void main()
 {
@@ -19,4 +20,5 @@ void main()
     clip_prev = v.vp_prev * vec4(position_prev, 1.0);
     clip_next = v.vp_next * vec4(position_next, 1.0);
     view_depth = -dot(v.view_z, vec4(position, 1.0));
+    world = position;
 }
