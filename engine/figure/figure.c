@@ -168,6 +168,12 @@ struct figure_video {
 
 figure_video *figure_video_open(const char *ffmpeg, const char *path, int w, int h, double fps)
 {
+    return figure_video_open_stereo(ffmpeg, path, w, h, fps, FIGURE_PACKING_NONE);
+}
+
+figure_video *figure_video_open_stereo(const char *ffmpeg, const char *path, int w, int h, double fps,
+                                       figure_packing packing)
+{
     if (!ffmpeg)
         return NULL;
     if (strchr(path, '\'') || strchr(ffmpeg, '\'') || strlen(path) >= 4096) {
@@ -178,12 +184,19 @@ figure_video *figure_video_open(const char *ffmpeg, const char *path, int w, int
     if (!v)
         return NULL;
     char cmd[9000];
+    size_t n = strlen(path);
+    bool mkv = n > 4 && !strcmp(path + n - 4, ".mkv");
+    const char *sei = packing == FIGURE_PACKING_SBS ? "-x264-params frame-packing=3 "
+                      : packing == FIGURE_PACKING_TB ? "-x264-params frame-packing=4 "
+                                                     : "";
+    const char *mode = !mkv || !packing                 ? ""
+                       : packing == FIGURE_PACKING_SBS ? "-metadata:s:v:0 stereo_mode=left_right "
+                                                       : "-metadata:s:v:0 stereo_mode=top_bottom ";
     /* H.264 in MP4 plays in every browser; even sizes for yuv420p. */
     snprintf(cmd, sizeof cmd,
              "'%s' -hide_banner -loglevel error -y -f rawvideo -pix_fmt rgb24 -s %dx%d -r %g -i - -an "
-             "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p "
-             "-movflags +faststart '%s'",
-             ffmpeg, w, h, fps, path);
+             "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p %s%s%s'%s'",
+             ffmpeg, w, h, fps, sei, mode, mkv ? "" : "-movflags +faststart ", path);
     v->pipe = popen(cmd, "w");
     if (!v->pipe) {
         vg_warn("%s: could not start ffmpeg; no video", path);

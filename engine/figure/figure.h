@@ -43,5 +43,19 @@ const char *figure_find_ffmpeg(char *buf, size_t cap);
  * complete, and adds it to core/io's write watch (a result's manifest). */
 typedef struct figure_video figure_video;
 figure_video *figure_video_open(const char *ffmpeg, const char *path, int w, int h, double fps);
+
+/* How a stereo video packs its two eyes into each frame, as the file says
+ * it for players: an H.264 frame-packing SEI in every stream (x264's
+ * frame-packing: 3 side by side, 4 top-bottom; ITU-T H.264 Table D-8) and,
+ * in a .mkv, the Matroska StereoMode of the track (left_right,
+ * top_bottom). Left first either way. */
+typedef enum figure_packing {
+    FIGURE_PACKING_NONE = 0,
+    FIGURE_PACKING_SBS,
+    FIGURE_PACKING_TB,
+} figure_packing;
+/* figure_video_open for a stereo video: MP4 or, when path ends in .mkv, Matroska. */
+figure_video *figure_video_open_stereo(const char *ffmpeg, const char *path, int w, int h, double fps,
+                                       figure_packing packing);
 void figure_video_frame(figure_video **v, const uint8_t *rgb);
 bool figure_video_close(figure_video *v);

@@ -33,11 +33,25 @@ typedef enum offline_view {
     OFFLINE_VIEW_LEFT,     /* stereo datasets: g of the left camera */
 } offline_view;
 
+/* How the new pair's video packs the two eyes (--image, ffmpeg). */
+typedef enum offline_stereo_layout {
+    OFFLINE_STEREO_FULL_SBS = 0, /* side by side, each eye whole (2W x H) */
+    OFFLINE_STEREO_HALF_SBS,     /* side by side, each eye at half width (W x H) */
+    OFFLINE_STEREO_FULL_TB,      /* top-bottom, each eye whole (W x 2H) */
+    OFFLINE_STEREO_HALF_TB,      /* top-bottom, each eye at half height (W x H) */
+} offline_stereo_layout;
+
 typedef enum offline_edge_norm {
     OFFLINE_EDGE_RANGE = 0, /* h normalised over the target range (paper 4.1 as DESIGN.md reads it) */
     OFFLINE_EDGE_ARCMIN,    /* arcmin per coarse sample */
     OFFLINE_EDGE_PIXEL,     /* arcmin per full-resolution pixel */
 } offline_edge_norm;
+
+/* The new pair's video file of a layout, named as VR and 3D players read
+ * it (the suffixes iw3 writes, nunif iw3/utils.py): "stereo_LRF_Full_SBS",
+ * "stereo_LR", "stereo_TBF_fulltb", "stereo_TB"; the extension is the
+ * caller's. */
+const char *offline_stereo_name(offline_stereo_layout layout);
 
 typedef struct offline_desc {
     /* printf-style patterns (disp_pattern.h); all but g and out optional.
@@ -66,6 +80,8 @@ typedef struct offline_desc {
     double px_zero;           /* pixel disparity shown on the screen plane (px units) */
     float occlusion_tolerance; /* 0 = MID_OCCLUSION_TOLERANCE */
     bool video;               /* g.mp4, h.mp4, f.mp4 when ffmpeg is installed */
+    offline_stereo_layout stereo_layout; /* the new pair's video (offline_stereo_name) */
+    bool stereo_mkv;          /* that video as Matroska too, its StereoMode set */
     /* The sensitivity study's choices (docs/method.md section 16): the
      * spatial weights' |dh| in the target range (default), in arcmin per
      * coarse sample or per pixel; velocities per second (default) or per

@@ -74,7 +74,7 @@ typedef struct offline_outputs {
     float *f_key;                       /* coarse samples of the written f at keyframes (n) */
     long h_outside_range, f_outside_range; /* full-resolution samples outside the range */
     figure_video *video[3];             /* g.mp4, h.mp4, f.mp4 (NULL: none) */
-    figure_video *pair_video;           /* stereo.mp4, the new pair side by side (NULL: none) */
+    figure_video *pair_video[2];        /* the new pair packed (offline_stereo_name): .mp4, .mkv (NULL: none) */
     uint8_t *rgb;                       /* one video frame of a map */
 } offline_outputs;
 

@@ -25,11 +25,24 @@ static const char *const k_maps[3] = {"g", "h", "f"};
 /* The output folder                                                         */
 /* ------------------------------------------------------------------------- */
 
+const char *offline_stereo_name(offline_stereo_layout layout)
+{
+    static const char *const names[4] = {"stereo_LRF_Full_SBS", "stereo_LR", "stereo_TBF_fulltb", "stereo_TB"};
+    return names[(unsigned)layout < 4 ? layout : 0];
+}
+
 /* What optimize writes into --out: f_NNNN.pfm, the x-t slices, the
  * previews, the videos, metrics.json. */
 static bool writes(const char *name)
 {
     size_t n = strlen(name);
+    for (int l = 0; l < 4; l++)
+        for (int k = 0; k < 2; k++) {
+            char x[64];
+            snprintf(x, sizeof x, "%s.%s", offline_stereo_name((offline_stereo_layout)l), k ? "mkv" : "mp4");
+            if (!strcmp(name, x))
+                return true;
+        }
     for (int m = 0; m < 3; m++) {
         char x[32];
         const char *forms[3] = {"xt_%s.png", "preview_%s.png", "%s.mp4"};
@@ -42,7 +55,7 @@ static bool writes(const char *name)
     bool png = n > 4 && !strcmp(name + n - 4, ".png");
     return (!strncmp(name, "f_", 2) && n > 6 && !strcmp(name + n - 4, ".pfm")) || !strcmp(name, "metrics.json") ||
            !strcmp(name, "preview_saliency.png") ||
-           (png && (!strncmp(name, "left_", 5) || !strncmp(name, "right_", 6))) || !strcmp(name, "stereo.mp4");
+           (png && (!strncmp(name, "left_", 5) || !strncmp(name, "right_", 6)));
 }
 
 /* Nothing optimize writes or removes may be an input. */
@@ -123,17 +136,69 @@ static void videos_open(const offline_seq *s, figure_video *v[3])
         vg_info("optimize: ffmpeg is not installed (Debian package ffmpeg): previews without videos");
 }
 
-/* The videos of g, h and f, and with --image the new pair's side by side. */
+/* The new pair's video frame: its size for the layout (a halved eye drops
+ * an odd last column or row). */
+static void pair_size(const offline_seq *s, int *w, int *h)
+{
+    switch (s->desc->stereo_layout) {
+    case OFFLINE_STEREO_HALF_SBS: *w = 2 * (s->width / 2), *h = s->height; break;
+    case OFFLINE_STEREO_FULL_TB: *w = s->width, *h = 2 * s->height; break;
+    case OFFLINE_STEREO_HALF_TB: *w = s->width, *h = 2 * (s->height / 2); break;
+    default: *w = 2 * s->width, *h = s->height; break;
+    }
+}
+
+/* Eye e (0 left) into its place of the pair's frame, averaged down where
+ * the layout halves it. */
+static void pair_place(const offline_seq *s, const uint8_t *eye, int e, uint8_t *frame)
+{
+    int w = s->width, h = s->height, fw, fh;
+    pair_size(s, &fw, &fh);
+    switch (s->desc->stereo_layout) {
+    case OFFLINE_STEREO_HALF_SBS:
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w / 2; x++)
+                for (int c = 0; c < 3; c++)
+                    frame[((size_t)y * fw + (size_t)e * (w / 2) + x) * 3 + c] =
+                        (uint8_t)((eye[((size_t)y * w + 2 * x) * 3 + c] + eye[((size_t)y * w + 2 * x + 1) * 3 + c] + 1) / 2);
+        break;
+    case OFFLINE_STEREO_FULL_TB:
+        memcpy(frame + (size_t)e * h * w * 3, eye, (size_t)w * h * 3);
+        break;
+    case OFFLINE_STEREO_HALF_TB:
+        for (int y = 0; y < h / 2; y++)
+            for (int x = 0; x < w * 3; x++)
+                frame[((size_t)e * (h / 2) + y) * w * 3 + x] =
+                    (uint8_t)((eye[(size_t)2 * y * w * 3 + x] + eye[((size_t)2 * y + 1) * w * 3 + x] + 1) / 2);
+        break;
+    default:
+        for (int y = 0; y < h; y++)
+            memcpy(frame + ((size_t)y * fw + (size_t)e * w) * 3, eye + (size_t)y * w * 3, (size_t)w * 3);
+        break;
+    }
+}
+
+/* The videos of g, h and f, and with --image the new pair's, packed as the
+ * layout says and signalled so (figure_video_open_stereo): MP4 and, with
+ * --mkv, Matroska. */
 vg_status offline_videos_open(const offline_seq *s, offline_outputs *o)
 {
     if (!(o->rgb = malloc((size_t)s->width * s->height * 3)))
         return VG_ERR_NOMEM;
     videos_open(s, o->video);
-    if (o->video[0] && s->has_image) { /* ffmpeg is there: the new pair side by side */
-        char ffmpeg[OFFLINE_PATH_CAP], path[OFFLINE_PATH_CAP];
-        if (figure_find_ffmpeg(ffmpeg, sizeof ffmpeg) &&
-            vg_path_join(path, sizeof path, s->desc->out_dir, "stereo.mp4") == VG_OK)
-            o->pair_video = figure_video_open(ffmpeg, path, 2 * s->width, s->height, s->fps);
+    if (o->video[0] && s->has_image) { /* ffmpeg is there */
+        char ffmpeg[OFFLINE_PATH_CAP], path[OFFLINE_PATH_CAP], name[64];
+        offline_stereo_layout l = s->desc->stereo_layout;
+        figure_packing packing = l == OFFLINE_STEREO_FULL_TB || l == OFFLINE_STEREO_HALF_TB ? FIGURE_PACKING_TB
+                                                                                          : FIGURE_PACKING_SBS;
+        int w, h;
+        pair_size(s, &w, &h);
+        for (int k = 0; k < (s->desc->stereo_mkv ? 2 : 1); k++) {
+            snprintf(name, sizeof name, "%s.%s", offline_stereo_name(l), k ? "mkv" : "mp4");
+            if (figure_find_ffmpeg(ffmpeg, sizeof ffmpeg) &&
+                vg_path_join(path, sizeof path, s->desc->out_dir, name) == VG_OK)
+                o->pair_video[k] = figure_video_open_stereo(ffmpeg, path, w, h, s->fps, packing);
+        }
     }
     return VG_OK;
 }
@@ -145,8 +210,10 @@ void offline_videos_close(offline_outputs *o)
         figure_video_close(o->video[m]);
         o->video[m] = NULL;
     }
-    figure_video_close(o->pair_video);
-    o->pair_video = NULL;
+    for (int k = 0; k < 2; k++) {
+        figure_video_close(o->pair_video[k]);
+        o->pair_video[k] = NULL;
+    }
     free(o->rgb);
     o->rgb = NULL;
 }
@@ -220,16 +287,17 @@ static void videos_frame(const offline_seq *s, figure_video *v[3], const float *
  * parallax of vergence a (x_right - x_left, pixels of this image across the
  * panel width) and the image at s on the baseline (0 the centre view, -1/2
  * the left), a pixel at x moves to x - s P(g) + e P(f), e = -1/2 left, +1/2
- * right. Writes left_NNNN.png, right_NNNN.png and a side-by-side video frame. */
+ * right. Writes left_NNNN.png, right_NNNN.png and a frame of the pair's videos. */
 static vg_status write_pair(offline_seq *s, int t, const float *g, const float *f, const float *z,
-                            figure_video **video)
+                            figure_video *video[2])
 {
     size_t np = (size_t)s->width * s->height;
-    uint8_t *src = NULL, *eye = malloc(np * 3), *hole = malloc(np), *sbs = *video ? malloc(2 * np * 3) : NULL;
+    bool packed = video[0] || video[1];
+    uint8_t *src = NULL, *eye = malloc(np * 3), *hole = malloc(np), *sbs = packed ? malloc(2 * np * 3) : NULL;
     float *shift = malloc(np * sizeof(float)), *zo = malloc(np * sizeof(float));
     double *pf = malloc(np * sizeof(double)), *pg = malloc(np * sizeof(double));
-    vg_status st = eye && hole && shift && zo && pf && pg && (sbs || !*video) ? offline_read_image(s, t, &src)
-                                                                             : VG_ERR_NOMEM;
+    vg_status st = eye && hole && shift && zo && pf && pg && (sbs || !packed) ? offline_read_image(s, t, &src)
+                                                                              : VG_ERR_NOMEM;
     double to_px = (double)s->width / s->display.width_m, at = image_left(s) ? -0.5 : 0.0;
     for (size_t i = 0; st == VG_OK && i < np; i++) { /* once for both eyes */
         pf[i] = stereo_parallax_from_vergence(&s->display, f[i]);
@@ -251,12 +319,11 @@ static vg_status write_pair(offline_seq *s, int t, const float *g, const float *
         st = vg_path_join(path, sizeof path, s->desc->out_dir, name);
         if (st == VG_OK)
             st = vg_png_write(path, s->width, s->height, 3, eye);
-        for (int y = 0; sbs && y < s->height; y++)
-            memcpy(sbs + ((size_t)y * 2 * s->width + (size_t)e * s->width) * 3, eye + (size_t)y * s->width * 3,
-                   (size_t)s->width * 3);
+        if (sbs)
+            pair_place(s, eye, e, sbs);
     }
-    if (st == VG_OK && sbs)
-        figure_video_frame(video, sbs);
+    for (int k = 0; k < 2 && st == VG_OK && sbs; k++)
+        figure_video_frame(&video[k], sbs);
     free(src); free(eye); free(hole); free(sbs); free(shift); free(zo); free(pf); free(pg);
     return st;
 }
@@ -277,7 +344,7 @@ vg_status offline_write_frame(offline_seq *s, int t, float *g, float *h, float *
         o->h_outside_range += !disp_metrics_in_range(h[i], (float)s->range_lo, (float)s->range_hi);
         o->f_outside_range += !disp_metrics_in_range(f[i], (float)s->range_lo, (float)s->range_hi);
     }
-    if (s->has_image && (st = write_pair(s, t, g, f, z, &o->pair_video)) != VG_OK)
+    if (s->has_image && (st = write_pair(s, t, g, f, z, o->pair_video)) != VG_OK)
         return st;
     for (size_t i = 0; i < np; i++)
         if (s->unknown[i])

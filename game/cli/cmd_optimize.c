@@ -20,12 +20,13 @@ static const char *const g_flow_to[] = {"frame", "keyframe", NULL};
 static const char *const g_views[] = {"auto", "centre", "left", NULL};
 static const char *const g_edge_norms[] = {"range", "arcmin", "pixel", NULL};
 static const char *const g_velocity_units[] = {"second", "keyframe", NULL};
+static const char *const g_stereo_layouts[] = {"full-sbs", "half-sbs", "full-tb", "half-tb", NULL};
 
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead, edge_norm,
-        velocity_unit;
-    bool no_video, uniform_saliency;
+        velocity_unit, stereo_layout;
+    bool no_video, uniform_saliency, mkv;
     double fps, range, px_zero, occlusion;
     display_cli display;
 } o;
@@ -34,14 +35,14 @@ static const vg_opt g_opts[] = {
     {.name = "--capture", .kind = VG_OPT_STRING, .dest = &o.capture, .metavar = "DIR", .help = "a folder from 'vergence capture': its g, h, depth, ids, flows to the keyframes, colour image (a new pair), frames, stride, fps, display and range (flags override)"},
     {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM (or KITTI/Sintel PNG) per frame, e.g. 'in/g_%04d.pfm' (required, or --capture)"},
     {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required with --g)"},
-    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), with --image left_/right_%04d.png and stereo.mp4, metrics.json (required)"},
+    {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), with --image left_/right_%04d.png and the pair's video (--stereo-layout), metrics.json (required)"},
     {.name = "--h", .kind = VG_OPT_STRING, .dest = &o.h, .metavar = "PATTERN", .help = "manipulated disparity h, PFM arcmin (instead of --operator)"},
     {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
     {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
     {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth, PFM metres (default: from g)"},
     {.name = "--flow-next", .kind = VG_OPT_STRING, .dest = &o.flow_next, .metavar = "PATTERN", .help = "per-frame .flo flow to the next frame"},
     {.name = "--flow-prev", .kind = VG_OPT_STRING, .dest = &o.flow_prev, .metavar = "PATTERN", .help = "per-frame .flo flow to the previous frame"},
-    {.name = "--image", .kind = VG_OPT_STRING, .dest = &o.image, .metavar = "PATTERN", .help = "8-bit RGB PNG of the view g belongs to: a new stereo pair from f, left_/right_%04d.png (and stereo.mp4)"},
+    {.name = "--image", .kind = VG_OPT_STRING, .dest = &o.image, .metavar = "PATTERN", .help = "8-bit RGB PNG of the view g belongs to: a new stereo pair from f, left_/right_%04d.png (and its video, --stereo-layout)"},
     {.name = "--image-view", .kind = VG_OPT_CHOICE, .dest = &o.view, .metavar = "V", .help = "where --image was taken: centre (the engine's) or left (datasets); auto: left for pixel disparities", .choices = g_views},
     {.name = "--flow-to", .kind = VG_OPT_CHOICE, .dest = &o.flow_to, .metavar = "TO", .help = "the flows go to the next/previous frame (default) or keyframe (as capture writes them)", .choices = g_flow_to},
     {.name = "--ids", .kind = VG_OPT_STRING, .dest = &o.ids, .metavar = "PATTERN", .help = "instance ids, 24-bit RGB PNG as capture writes them (links stay on one object)"},
@@ -64,6 +65,8 @@ static const vg_opt g_opts[] = {
     {.name = "--threads", .kind = VG_OPT_INT, .dest = &o.threads, .metavar = "N", .help = "worker threads (default: all cores)", .min = 0, .max = 1024},
     {.name = "--occlusion-tolerance", .kind = VG_OPT_FLOAT, .dest = &o.occlusion, .metavar = "R", .help = "relative depth difference of one surface (default 0.2)", .min = 0.001, .max = 10},
     {.name = "--no-video", .kind = VG_OPT_FLAG, .dest = &o.no_video, .help = "no g.mp4, h.mp4, f.mp4 even when ffmpeg is installed"},
+    {.name = "--stereo-layout", .kind = VG_OPT_CHOICE, .dest = &o.stereo_layout, .metavar = "L", .help = "with --image, the new pair's video: full-sbs (default, stereo_LRF_Full_SBS.mp4), half-sbs (stereo_LR.mp4), full-tb (stereo_TBF_fulltb.mp4) or half-tb (stereo_TB.mp4); H.264 frame-packing SEI in each", .choices = g_stereo_layouts},
+    {.name = "--mkv", .kind = VG_OPT_FLAG, .dest = &o.mkv, .help = "with --image, the pair's video as Matroska too, its StereoMode set"},
     DISPLAY_CLI_OPTIONS(o.display),
 };
 
@@ -209,6 +212,7 @@ static int run(int argc, char **argv)
         .iterations = o.iterations, .cg_iterations = o.cg, .threads = o.threads,
         .g_units = o.units == 1 ? DISP_G_PX : DISP_G_ARCMIN, .px_zero = o.px_zero,
         .occlusion_tolerance = (float)o.occlusion, .video = !o.no_video,
+        .stereo_layout = (offline_stereo_layout)o.stereo_layout, .stereo_mkv = o.mkv,
         .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL, .uniform_saliency = o.uniform_saliency,
         .edge_norm = (offline_edge_norm)o.edge_norm, .velocity_per_keyframe = o.velocity_unit == 1,
     };

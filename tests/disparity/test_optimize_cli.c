@@ -512,6 +512,67 @@ static int third_party(void)
     return check_failure(args, out, "frame_0002.flo", "same size");
 }
 
+/* The new pair's video as players read it (issue 43): each layout's file
+ * named as iw3 names it (the suffixes VR players detect), its frame the size
+ * the layout packs, and ffprobe finding the packing: the stereo_mode that
+ * FFmpeg's H.264 decoder reads from the frame-packing SEI of the MP4, and
+ * the Matroska track's StereoMode (stream side data "Stereo 3D"). */
+static int stereo_video(void)
+{
+    CHECK(prepare() == 0, "prepare");
+    CHECK(system("command -v ffprobe > /dev/null 2>&1") == 0, "ffprobe is missing (Debian package ffmpeg; tools/dev "
+          "installs it)");
+    char path[1400], args[16384], out[1200], cmd[3000], text[8192];
+    uint8_t rgb[W * H * 3];
+    for (int t = 0; t <= 20; t++) {
+        for (int i = 0; i < W * H; i++)
+            rgb[3 * i] = (uint8_t)(i % W), rgb[3 * i + 1] = (uint8_t)(2 * (i / W)), rgb[3 * i + 2] = (uint8_t)(10 * t);
+        snprintf(path, sizeof path, "%s/img_%04d.png", g_work, t);
+        CHECK(vg_png_write(path, W, H, 3, rgb) == VG_OK, "%s", path);
+    }
+    static const struct {
+        const char *layout, *file, *mode, *type;
+        int w, h;
+    } cases[4] = {
+        {"full-sbs", "stereo_LRF_Full_SBS", "left_right", "side by side", 2 * W, H},
+        {"half-sbs", "stereo_LR", "left_right", "side by side", W, H},
+        {"full-tb", "stereo_TBF_fulltb", "top_bottom", "top and bottom", W, 2 * H},
+        {"half-tb", "stereo_TB", "top_bottom", "top and bottom", W, H},
+    };
+    for (int c = 0; c < 4; c++) {
+        char name[64];
+        snprintf(name, sizeof name, "out_%s", cases[c].layout);
+        path_in(out, sizeof out, name);
+        snprintf(args, sizeof args,
+                 "--g '%s/g_%%04d.pfm' --depth '%s/z_%%04d.pfm' --flow-next '%s/fn_%%04d.flo' "
+                 "--flow-prev '%s/fp_%%04d.flo' --frames 0:20 --image '%s/img_%%04d.png' --stereo-layout %s --mkv "
+                 "--out '%s' --threads 2", g_work, g_work, g_work, g_work, g_work, cases[c].layout, out);
+        CHECK(run_vergence(args) == 0, "optimize failed:\n%s", g_stderr);
+        for (int k = 0; k < 2; k++) {
+            snprintf(path, sizeof path, "%s/%s.%s", out, cases[c].file, k ? "mkv" : "mp4");
+            CHECK(access(path, R_OK) == 0, "%s is missing", path);
+            snprintf(cmd, sizeof cmd, "ffprobe -v error -show_streams -show_frames -read_intervals '%%+#1' '%s'", path);
+            FILE *p = popen(cmd, "r");
+            CHECK(p, "ffprobe");
+            size_t n = fread(text, 1, sizeof text - 1, p);
+            text[n] = 0;
+            pclose(p);
+            char want_w[32], want_h[32], want_mode[64], want_type[64];
+            snprintf(want_w, sizeof want_w, "\nwidth=%d\n", cases[c].w);
+            snprintf(want_h, sizeof want_h, "\nheight=%d\n", cases[c].h);
+            snprintf(want_mode, sizeof want_mode, "stereo_mode=%s", cases[c].mode);
+            snprintf(want_type, sizeof want_type, "\ntype=%s\n", cases[c].type);
+            bool sized = strstr(text, want_w) && strstr(text, want_h), mode = strstr(text, want_mode) != NULL;
+            bool track = !k || strstr(text, want_type);
+            printf("%s.%s: %dx%d %s, ffprobe: %s%s\n", cases[c].file, k ? "mkv" : "mp4", cases[c].w, cases[c].h,
+                   sized ? "ok" : "WRONG", mode ? want_mode : "no stereo_mode",
+                   k ? (track ? ", the track's Stereo 3D side data" : ", no Stereo 3D side data") : "");
+            CHECK(sized && mode && track, "%s: ffprobe says\n%s", path, text);
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 2)
@@ -526,6 +587,7 @@ int main(int argc, char **argv)
         {"bad_inputs", bad_inputs},
         {"bad_patterns", bad_patterns},
         {"third_party", third_party},
+        {"stereo_video", stereo_video},
     };
     return vg_test_main(argc, argv, cases, VG_TEST_COUNT(cases));
 }
