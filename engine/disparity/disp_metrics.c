@@ -1,6 +1,7 @@
 #include "disp_metrics.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "core/json.h"
 
@@ -67,4 +68,61 @@ void disp_metrics_write_json(vg_json *j, const disp_metrics *m, double range_vio
     vg_json_num(j, "static_rms", m->static_rms);
     vg_json_num(j, "static_grad_rms", m->static_grad_rms);
     vg_json_int(j, "moving_samples", m->moving_measured);
+}
+
+/* ------------------------------------------------------------------------- */
+/* TEPE                                                                      */
+/* ------------------------------------------------------------------------- */
+
+vg_status disp_tepe_init(disp_tepe *t, size_t n, float same_surface)
+{
+    *t = (disp_tepe){.n = n, .same_surface = same_surface};
+    for (int k = 0; k < 2; k++) {
+        t->e[k] = malloc(n * sizeof(float));
+        t->z[k] = malloc(n * sizeof(float));
+        if (!t->e[k] || !t->z[k]) {
+            disp_tepe_free(t);
+            return VG_ERR_NOMEM;
+        }
+        for (size_t i = 0; i < n; i++)
+            t->e[k][i] = t->z[k][i] = NAN;
+    }
+    return VG_OK;
+}
+
+static bool same_surface(float a, float b, float tol)
+{
+    return isfinite(a) && isfinite(b) && fabsf(a - b) <= tol * fminf(a, b);
+}
+
+void disp_tepe_frame(disp_tepe *t, const float *x, const float *g, const float *z, const uint8_t *unknown)
+{
+    float *e1 = t->e[0], *z1 = t->z[0], *e2 = t->e[1], *z2 = t->z[1]; /* frames t-1 and t-2 */
+    for (size_t i = 0; i < t->n; i++) {
+        bool known = !(unknown && unknown[i]) && isfinite(g[i]) && isfinite(x[i]);
+        float e = known ? x[i] - g[i] : NAN, zi = known ? z[i] : NAN;
+        if (t->frames >= 1 && isfinite(e) && isfinite(e1[i]) && same_surface(zi, z1[i], t->same_surface)) {
+            t->sum_v += fabs((double)e - e1[i]);
+            t->count_v++;
+            if (t->frames >= 2 && isfinite(e2[i]) && same_surface(z1[i], z2[i], t->same_surface)) {
+                t->sum_a += fabs((double)e - 2.0 * e1[i] + e2[i]);
+                t->count_a++;
+            }
+        }
+        e2[i] = e1[i], z2[i] = z1[i];
+        e1[i] = e, z1[i] = zi;
+    }
+    t->frames++;
+}
+
+double disp_tepe_velocity(const disp_tepe *t) { return t->count_v ? t->sum_v / (double)t->count_v : NAN; }
+double disp_tepe_accel(const disp_tepe *t) { return t->count_a ? t->sum_a / (double)t->count_a : NAN; }
+
+void disp_tepe_free(disp_tepe *t)
+{
+    for (int k = 0; k < 2; k++) {
+        free(t->e[k]);
+        free(t->z[k]);
+    }
+    *t = (disp_tepe){0};
 }

@@ -13,6 +13,10 @@
  * Samples of unknown g (w->unknown) are left out of all four. */
 #pragma once
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/status.h"
 
 #include "mid_window.h"
 
@@ -34,6 +38,32 @@ void disp_metrics_window(const mid_window *w, const float *x, const disp_metrics
  * capture.json): the members of the object the caller opened. */
 struct vg_json;
 void disp_metrics_write_json(struct vg_json *j, const disp_metrics *m, double range_violation);
+
+/* The temporal end-point error of a field x against g at full resolution
+ * (TEPE, Karaev et al., "DynamicStereo", CVPR 2023): per pixel, how x's
+ * error e = x - g changes from one frame to the next, |e_t - e_(t-1)|, and
+ * its acceleration variant, |e_(t+1) - 2 e_t + e_(t-1)|, in arcmin,
+ * averaged over the pixels visible in every frame involved: g known there
+ * and the same surface (depths within `same_surface` of each other, as the
+ * solver's occlusion test). x = g gives 0; an x that moves in depth as g
+ * does, offset or not, gives 0 too. Fed frame by frame, in order. */
+typedef struct disp_tepe {
+    size_t n;                 /* pixels of a frame */
+    float same_surface;       /* relative depth difference of one surface */
+    float *e[2], *z[2];       /* the last two frames' error and depth (NaN where g is unknown) */
+    int frames;               /* frames fed */
+    double sum_v, sum_a;
+    long count_v, count_a;
+} disp_tepe;
+
+vg_status disp_tepe_init(disp_tepe *t, size_t n, float same_surface);
+/* Frame after frame: x, g and depth z (metres) of n pixels; unknown (NULL:
+ * none) marks pixels of unknown g. */
+void disp_tepe_frame(disp_tepe *t, const float *x, const float *g, const float *z, const uint8_t *unknown);
+/* The means so far (NAN before a pixel was measured), and its pixels. */
+double disp_tepe_velocity(const disp_tepe *t);
+double disp_tepe_accel(const disp_tepe *t);
+void disp_tepe_free(disp_tepe *t);
 
 /* In the target range [lo, hi] up to 1e-3 arcmin (float rounding of the clamp). */
 static inline bool disp_metrics_in_range(float x, float lo, float hi)

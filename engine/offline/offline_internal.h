@@ -27,6 +27,7 @@
 #include "disparity/disp_pattern.h"
 #include "disparity/disp_upsample.h"
 #include "disparity/mid_solver.h"
+#include "disparity/disp_metrics.h"
 #include "figure/figure.h"
 #include "offline.h"
 #include "stereo/stereo_display.h"
@@ -76,6 +77,8 @@ typedef struct offline_outputs {
     figure_video *video[3];             /* g.mp4, h.mp4, f.mp4 (NULL: none) */
     figure_video *pair_video[2];        /* the new pair packed (offline_stereo_name): .mp4, .mkv (NULL: none) */
     uint8_t *rgb;                       /* one video frame of a map */
+    disp_tepe tepe[2];                  /* h and f against g, fed every frame (TEPE) */
+    double tepe_v[2], tepe_a[2];        /* their means, kept when the frames are done */
 } offline_outputs;
 
 /* g in pixels: --g-units px, or a dataset's PNGs. */

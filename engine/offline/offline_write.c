@@ -185,6 +185,12 @@ vg_status offline_videos_open(const offline_seq *s, offline_outputs *o)
 {
     if (!(o->rgb = malloc((size_t)s->width * s->height * 3)))
         return VG_ERR_NOMEM;
+    float tol = s->desc->occlusion_tolerance > 0 ? s->desc->occlusion_tolerance : MID_OCCLUSION_TOLERANCE;
+    for (int k = 0; k < 2; k++) {
+        vg_status st = disp_tepe_init(&o->tepe[k], (size_t)s->width * s->height, tol);
+        if (st != VG_OK)
+            return st;
+    }
     videos_open(s, o->video);
     if (o->video[0] && s->has_image) { /* ffmpeg is there */
         char ffmpeg[OFFLINE_PATH_CAP], path[OFFLINE_PATH_CAP], name[64];
@@ -213,6 +219,9 @@ void offline_videos_close(offline_outputs *o)
     for (int k = 0; k < 2; k++) {
         figure_video_close(o->pair_video[k]);
         o->pair_video[k] = NULL;
+        o->tepe_v[k] = disp_tepe_velocity(&o->tepe[k]);
+        o->tepe_a[k] = disp_tepe_accel(&o->tepe[k]);
+        disp_tepe_free(&o->tepe[k]);
     }
     free(o->rgb);
     o->rgb = NULL;
@@ -346,6 +355,8 @@ vg_status offline_write_frame(offline_seq *s, int t, float *g, float *h, float *
     }
     if (s->has_image && (st = write_pair(s, t, g, f, z, o->pair_video)) != VG_OK)
         return st;
+    disp_tepe_frame(&o->tepe[0], h, g, z, s->unknown);
+    disp_tepe_frame(&o->tepe[1], f, g, z, s->unknown);
     for (size_t i = 0; i < np; i++)
         if (s->unknown[i])
             g[i] = h[i] = f[i] = INFINITY;
@@ -385,10 +396,17 @@ static vg_status write_slice(const offline_seq *s, int m, const float *v, float 
                        : st;
 }
 
-static void json_metrics(vg_json *j, const char *key, const disp_metrics *m, double range_violation)
+/* tepe: the field's TEPE and its acceleration variant at full resolution
+ * (NULL: not measured, the solver's keyframe samples). */
+static void json_metrics(vg_json *j, const char *key, const disp_metrics *m, double range_violation,
+                         const double tepe[2])
 {
     vg_json_object_begin(j, key);
     disp_metrics_write_json(j, m, range_violation);
+    if (tepe) {
+        vg_json_num(j, "tepe_arcmin", tepe[0]);
+        vg_json_num(j, "tepe_accel_arcmin", tepe[1]);
+    }
     vg_json_object_end(j);
 }
 
@@ -423,13 +441,13 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     const offline_desc *d = s->desc;
     vg_json j = {0};
     vg_json_object_begin(&j, NULL);
-    json_metrics(&j, "h", &mh, o->h_outside_range / np);
-    json_metrics(&j, "f", &mf, o->f_outside_range / np);
-    json_metrics(&j, "f_solver", &ms, ms.range_violation);
+    json_metrics(&j, "h", &mh, o->h_outside_range / np, (const double[2]){o->tepe_v[0], o->tepe_a[0]});
+    json_metrics(&j, "f", &mf, o->f_outside_range / np, (const double[2]){o->tepe_v[1], o->tepe_a[1]});
+    json_metrics(&j, "f_solver", &ms, ms.range_violation, NULL);
     if (s->f_ungated) { /* the causal window's f before its gate: what it would show without one */
         disp_metrics mu;
         disp_metrics_window(w, s->f_ungated, NULL, &mu);
-        json_metrics(&j, "f_ungated", &mu, mu.range_violation);
+        json_metrics(&j, "f_ungated", &mu, mu.range_violation, NULL);
         vg_json_num(&j, "ungated_mid_ratio",
                     mh.mid_distortion_jnd > 0 ? mu.mid_distortion_jnd / mh.mid_distortion_jnd : NAN);
     }

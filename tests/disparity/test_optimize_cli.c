@@ -177,7 +177,10 @@ static int operator_none_keeps_g(void)
     size_t size;
     CHECK(vg_file_read(path, &json, &size) == VG_OK, "metrics.json");
     double mf = json_number((char *)json, "f", "mid_distortion_jnd");
+    double tepe = json_number((char *)json, "f", "tepe_arcmin"), tepe_a = json_number((char *)json, "f", "tepe_accel_arcmin");
     free(json);
+    printf("operator none: f's TEPE against g %.4g arcmin, its acceleration variant %.4g\n", tepe, tepe_a);
+    CHECK(tepe >= 0 && tepe < 0.01 && tepe_a >= 0 && tepe_a < 0.01, "f = g, yet TEPE %.4g / %.4g", tepe, tepe_a);
     double worst = 0;
     for (int t = 0; t <= LAST; t += 10) {
         vg_imagef f, g;
@@ -217,6 +220,10 @@ static int synthetic_sequence(void)
     double mf = json_number((char *)json, "f", "mid_distortion_jnd");
     double rv = json_number((char *)json, "f", "range_violation");
     double srms = json_number((char *)json, "f", "static_rms");
+    double th = json_number((char *)json, "h", "tepe_arcmin"), tf = json_number((char *)json, "f", "tepe_arcmin");
+    double tha = json_number((char *)json, "h", "tepe_accel_arcmin"), tfa = json_number((char *)json, "f", "tepe_accel_arcmin");
+    printf("metrics.json: TEPE against g, h %.3f / f %.3f arcmin; acceleration h %.3f / f %.3f arcmin\n", th, tf, tha, tfa);
+    CHECK(th > 0 && tf > 0 && tha > 0 && tfa > 0 && isfinite(th + tf + tha + tfa), "TEPE missing or not positive");
     double lo = json_number((char *)json, "input", "range_lo"), hi = json_number((char *)json, "input", "range_hi");
     printf("metrics.json: MID distortion h %.3f -> f %.3f JND (%.1f %% less); f range violation %.4g; static RMS %.3f arcmin of %.0f\n",
            mh, mf, 100 * (1 - mf / mh), rv, srms, hi - lo);
