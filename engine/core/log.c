@@ -1,7 +1,10 @@
 #include "log.h"
 
 #include <stdio.h>
+#include <string.h>
 #include <unistd.h>
+
+#include "clock.h"
 
 static vg_log_level g_level = VG_LOG_INFO;
 static int g_errors;
@@ -92,14 +95,41 @@ void vg_log(vg_log_level level, const char *fmt, ...)
     fputc('\n', stderr);
 }
 
+/* The time left of a progress, from its pace so far: empty until a
+ * second has passed (a new label, or a count that starts again, restarts
+ * the clock). */
+static void time_left(const char *label, int done, int total, char *out, size_t cap)
+{
+    static char s_label[128];
+    static int s_done = -1;
+    static double s_t0;
+    double now = vg_now_ms();
+    if (strncmp(label, s_label, sizeof s_label - 1) || done < s_done || done == 0) {
+        snprintf(s_label, sizeof s_label, "%s", label);
+        s_t0 = now;
+    }
+    s_done = done;
+    out[0] = 0;
+    double elapsed = (now - s_t0) / 1000.0;
+    if (done <= 0 || done >= total || elapsed < 1.0)
+        return;
+    int left = (int)(elapsed * (total - done) / done + 0.5);
+    if (left >= 60)
+        snprintf(out, cap, ", %d:%02d left", left / 60, left % 60);
+    else
+        snprintf(out, cap, ", %d s left", left);
+}
+
 void vg_progress(const char *label, int done, int total)
 {
     if (g_level < VG_LOG_INFO || total <= 0 || g_silent)
         return;
+    char left[32];
+    time_left(label, done, total, left, sizeof left);
     if (isatty(STDERR_FILENO)) {
         int width = 30, filled = (int)((long)width * done / total);
-        fprintf(stderr, "\r%s [%.*s%*s] %d/%d", label, filled,
-                "##############################", width - filled, "", done, total);
+        fprintf(stderr, "\r%s [%.*s%*s] %d/%d%s\033[K", label, filled,
+                "##############################", width - filled, "", done, total, left);
         g_progress_open = done < total;
         if (!g_progress_open)
             fputc('\n', stderr);
@@ -107,7 +137,7 @@ void vg_progress(const char *label, int done, int total)
         /* Non-terminal: a line at 0 %, every 25 % and at the end. */
         int step = total >= 4 ? total / 4 : 1;
         if (done == 0 || done == total || done % step == 0)
-            fprintf(stderr, "%s %d/%d\n", label, done, total);
+            fprintf(stderr, "%s %d/%d%s\n", label, done, total, left);
     }
     fflush(stderr);
 }

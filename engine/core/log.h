@@ -37,5 +37,6 @@ vg_log_sink vg_log_set_sink(vg_log_sink sink);
 /* Number of error lines logged so far (lets callers avoid logging twice). */
 int vg_log_error_count(void);
 
-/* Progress of a long job: call with done in [0, total]; done == total ends the line. */
+/* Progress of a long job: call with done in [0, total]; done == total ends the
+ * line. Once a second has passed it says the time left at the pace so far. */
 void vg_progress(const char *label, int done, int total);
