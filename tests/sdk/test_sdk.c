@@ -133,6 +133,39 @@ static vgx_dispatch_desc depth_dispatch(VkCommandBuffer cmd, const gpu_image *de
     return dd;
 }
 
+/* The tests' depth: four vertical bands at k_bands metres. */
+static const double k_bands[4] = {2.0, 4.5, 9.0, 40.0};
+
+/* An image of w x h depths (R32_SFLOAT, storage and sampled: a host's
+ * linear depth), uploaded; depth NULL: the four bands. */
+static int depth_image(gpu *g, uint32_t w, uint32_t h, const float *depth, gpu_image *img)
+{
+    float *bands = NULL;
+    if (!depth) {
+        CHECK((bands = malloc((size_t)w * h * sizeof(float))) != NULL, "memory");
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                bands[y * w + x] = (float)k_bands[x * 4 / w];
+        depth = bands;
+    }
+    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = w,
+                                                .height = h, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
+                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                           img) == VG_OK, "depth image");
+    CHECK(gpu_image_upload(g, img, depth, (size_t)w * h * sizeof(float)) == VG_OK, "upload");
+    free(bands);
+    return 0;
+}
+
+/* The display and the test rig of depth_dispatch for images w pixels wide. */
+static void test_rig(uint32_t w, stereo_display *disp, stereo_camera *cam)
+{
+    stereo_display_init(disp, NULL);
+    stereo_camera_init(cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
+                                                  .image_width = (int)w}, disp);
+}
+
 static gpu *make_gpu(void)
 {
     gpu *g = NULL;
@@ -297,24 +330,13 @@ static int maps(void)
     vgx_context *c = NULL;
     CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
 
-    static float depth[W * H];
-    const double z[4] = {2.0, 4.5, 9.0, 40.0}; /* four vertical bands */
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++)
-            depth[y * W + x] = (float)z[x * 4 / W];
+    const double *z = k_bands;
     gpu_image img;
-    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
-                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
-                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
-                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                           &img) == VG_OK, "depth image");
-    CHECK(gpu_image_upload(g, &img, depth, sizeof depth) == VG_OK, "upload");
+    CHECK(depth_image(g, W, H, NULL, &img) == 0, "depth");
 
     stereo_display disp;
-    stereo_display_init(&disp, NULL);
     stereo_camera cam;
-    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
-                                                   .image_width = W}, &disp);
+    test_rig(W, &disp, &cam);
     vgx_context_info info;
     vgx_get_info(c, &info);
     double lo = info.range_lo_arcmin, hi = info.range_hi_arcmin;
@@ -393,10 +415,8 @@ static int device_depth(void)
     vgx_context *c = NULL;
     CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
     stereo_display disp;
-    stereo_display_init(&disp, NULL);
     stereo_camera cam;
-    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
-                                                   .image_width = W}, &disp);
+    test_rig(W, &disp, &cam);
     const double z[4] = {2.0, 4.5, 9.0, 40.0}, n = 0.1, far = 150.0;
     for (int reversed = 0; reversed < 2; reversed++) {
         /* Vulkan clip: x right, y down, the view looking down -z; depth 0..1 (or 1..0). */
@@ -610,18 +630,9 @@ static int in_flight(void)
     vgx_warp warp;
     CHECK(vgx_get_warp(c, &warp) == VGX_SUCCESS, "warp");
 
-    static float depth[W * H];
-    const double z[4] = {2.0, 4.5, 9.0, 40.0};
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++)
-            depth[y * W + x] = (float)z[x * 4 / W];
+    const double *z = k_bands;
     gpu_image img;
-    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
-                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
-                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
-                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                           &img) == VG_OK, "depth image");
-    CHECK(gpu_image_upload(g, &img, depth, sizeof depth) == VG_OK, "upload");
+    CHECK(depth_image(g, W, H, NULL, &img) == 0, "depth");
 
     /* One command buffer and fence per frame in flight, and a fourth for
      * the frame that would be one too many; a readback per frame. */
@@ -674,10 +685,8 @@ static int in_flight(void)
     CHECK(m.errors == 0, "%d errors: %s", m.errors, m.last);
 
     stereo_display disp;
-    stereo_display_init(&disp, NULL);
     stereo_camera cam;
-    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
-                                                   .image_width = W}, &disp);
+    test_rig(W, &disp, &cam);
     const float *last = readback[FLIGHT_FRAMES - 1].mapped, *h5 = readback[5].mapped, *h7 = readback[7].mapped;
     for (int band = 0; band < 4; band++) {
         int i = (H / 2) * W + band * (W / 4) + 3;
@@ -836,18 +845,8 @@ static int memory(void)
               vgx_get_memory_footprint(&d, NULL) == VGX_ERROR_INVALID_ARGUMENT, "null arguments");
     m.errors = 0;
 
-    static float depth[W * H];
-    const double z[4] = {2.0, 4.5, 9.0, 40.0};
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++)
-            depth[y * W + x] = (float)z[x * 4 / W];
     gpu_image img;
-    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
-                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
-                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
-                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                           &img) == VG_OK, "depth image");
-    CHECK(gpu_image_upload(g, &img, depth, sizeof depth) == VG_OK, "upload");
+    CHECK(depth_image(g, W, H, NULL, &img) == 0, "depth");
     static float h_driver[W * H], h_host[W * H];
     vgx_context *c = NULL;
     CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
@@ -923,17 +922,12 @@ static int eyes(void)
             px[0] = (uint8_t)x, px[1] = box ? 255 : 0, px[2] = 128, px[3] = 255;
         }
     gpu_image dimg, cimg;
-    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test depth", .format = VK_FORMAT_R32_SFLOAT, .width = W,
-                                                .height = H, .usage = VK_IMAGE_USAGE_STORAGE_BIT |
-                                                                      VK_IMAGE_USAGE_SAMPLED_BIT |
-                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
-                           &dimg) == VG_OK, "depth image");
+    CHECK(depth_image(g, W, H, depth, &dimg) == 0, "depth");
     CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test colour", .format = VK_FORMAT_R8G8B8A8_UNORM, .width = W,
                                                 .height = H, .usage = VK_IMAGE_USAGE_SAMPLED_BIT |
                                                                       VK_IMAGE_USAGE_TRANSFER_DST_BIT},
                            &cimg) == VG_OK, "colour image");
-    CHECK(gpu_image_upload(g, &dimg, depth, sizeof depth) == VG_OK && gpu_image_upload(g, &cimg, color, sizeof color) ==
-              VG_OK, "upload");
+    CHECK(gpu_image_upload(g, &cimg, color, sizeof color) == VG_OK, "upload");
     VkCommandBuffer cmd;
     CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
     vgx_dispatch_desc dd = depth_dispatch(cmd, &dimg, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
@@ -947,10 +941,8 @@ static int eyes(void)
     CHECK(vgx_get_eye(c, 2, &eye) == VGX_ERROR_INVALID_ARGUMENT, "eye 2");
 
     stereo_display disp;
-    stereo_display_init(&disp, NULL);
     stereo_camera cam;
-    stereo_camera_init(&cam, &(stereo_camera_desc){.interaxial_m = 0.25, .convergence_m = 6.0, .hfov_deg = 70,
-                                                   .image_width = W}, &disp);
+    test_rig(W, &disp, &cam);
     static float pixels[W * H]; /* RGBA8 read back as 4-byte texels */
     int surface = 0, filled = 0, empty = 0, wrong_fill = 0;
     double worst = 0, sum = 0;
