@@ -1,4 +1,5 @@
-/* vergence — glTF 2.0 loading through tinygltf, the project's only C++ file.
+/* vergence — glTF 2.0 loading through tinygltf, one of the project's two C++
+ * files (engine/flow/flow.cpp wraps OpenCV the same way).
  *
  * tinygltf (Debian's libtinygltf.so, 2.7.0) parses the JSON and reads the
  * buffers; everything it hands back is treated as untrusted: every index is

@@ -1,7 +1,7 @@
 /* vergence — scenes: glTF 2.0 loading and evaluation at any time t.
  *
  * scene_load() reads .gltf or .glb through tinygltf (wrapped in gltf.cpp, the
- * only C++ file of the project) and converts everything into the plain C
+ * module's only C++ file) and converts everything into the plain C
  * arrays below: every accessor is decoded to float or uint32 (normalised
  * integers, byte strides, sparse accessors applied), missing attributes are
  * filled (flat normals, zero texcoords, white colours), and non-indexed
