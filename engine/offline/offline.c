@@ -86,6 +86,10 @@ vg_status offline_run(const offline_desc *d)
     /* C: every frame upsampled and written; metrics.json last. */
     if ((st = offline_upsample(&s, w, f_sol, &o)) == VG_OK)
         st = offline_write_results(&s, w, f_sol, &o, &ss);
+    if (st == VG_OK && s.flow == OFFLINE_FLOW_COMPUTED)
+        vg_info("optimize: %ld flow pairs computed (both ways) in %.0f ms; %.1f %% of their pixels failed the "
+                "forward-backward check (filled from their neighbours)", s.flow_computed, s.flow_ms,
+                s.flow_computed ? 100.0 * s.flow_occluded / (2.0 * s.flow_computed * s.width * s.height) : 0.0);
 done:
     free(f_sol);
     free(s.f_ungated);
@@ -94,6 +98,7 @@ done:
     free(s.saliency_scratch);
     free(s.unknown);
     free(s.keyframe_numbers);
+    offline_flow_free(&s);
     mid_window_destroy(w);
     disp_operator_destroy(s.op);
     vg_pool_destroy(s.pool);

@@ -5,8 +5,9 @@
  *   A. read every input once: sizes, channels, values (one clear error naming
  *      the file); the range of g for the operator's domain;
  *   B. h per frame (the operator, or --h files); coarse keyframe samples of
- *      g, h, depth; keyframe flows composed from the per-frame flows by
- *      tracking the coarse samples through them; then the window solve;
+ *      g, h, depth; keyframe flows composed from the per-frame flows (.flo
+ *      files, or computed from consecutive --image frames) by tracking the
+ *      coarse samples through them; then the window solve;
  *   C. per frame: temporal and spatial upsampling of f/h, f written as PFM,
  *      and as colour previews for people (engine/figure): the middle frame
  *      of g, h and f as PNG with a legend, a video of each with ffmpeg;
@@ -20,6 +21,7 @@
 #include "core/status.h"
 #include "disparity/disp_operator.h"
 #include "disparity/mid_solver.h"
+#include "flow/flow.h"
 #include "stereo/stereo_display.h"
 
 typedef enum disp_g_units {
@@ -53,6 +55,16 @@ typedef enum offline_edge_norm {
  * caller's. */
 const char *offline_stereo_name(offline_stereo_layout layout);
 
+/* Where the per-frame flows come from (--flow). */
+typedef enum offline_flow {
+    OFFLINE_FLOW_AUTO = 0, /* the .flo files when named, else computed when --image is, else none */
+    OFFLINE_FLOW_GIVEN,    /* --flow-next / --flow-prev (.flo) */
+    OFFLINE_FLOW_COMPUTED, /* DIS optical flow between consecutive --image frames (engine/flow); a
+                              pixel failing the forward-backward check takes its row's nearest
+                              consistent flow (offline_read.c) */
+    OFFLINE_FLOW_NONE,     /* a static camera and scene: zero flow */
+} offline_flow;
+
 typedef struct offline_desc {
     /* printf-style patterns (disp_pattern.h); all but g and out optional.
      * ids: instance ids as capture writes them (24-bit RGB PNG, R the low
@@ -60,6 +72,8 @@ typedef struct offline_desc {
     const char *g, *h, *depth, *flow_next, *flow_prev, *saliency, *ids;
     const char *image;        /* 8-bit RGB PNG per frame, the view g belongs to: a new stereo pair from f */
     offline_view image_view;  /* where that view is */
+    offline_flow flow;        /* where the flows come from */
+    flow_preset flow_preset;  /* of computed flows */
     bool flow_to_keyframe;    /* flows go to the previous / next keyframe (as capture writes them),
                                  not to the previous / next frame; first is a keyframe */
     const char *out_dir;

@@ -67,6 +67,19 @@ typedef struct offline_seq {
     float *f_ungated;          /* ... and its f before the gate (the solve's own; mid_causal_desc.ungated) */
     bool compute_saliency; /* no --saliency, --h or --uniform-saliency: the engine's computed saliency */
     float *saliency_scratch; /* 3 planes: depth and flow of one frame (computed saliency) */
+    /* The flows in use (desc.flow resolved: never AUTO). Computed ones are
+     * held for the last few pairs of frames (offline_read.c): pair p is the
+     * flow of frame p to p + 1 (fwd) and of p + 1 to p (bwd), filled from
+     * the nearest consistent pixel where the forward-backward check fails. */
+    offline_flow flow;
+    int flow_slots;          /* pairs held */
+    int *flow_pair;          /* each slot's first frame, -1: empty */
+    unsigned long *flow_used; /* each slot's last use (the least recent is replaced) */
+    float **flow_fwd, **flow_bwd;
+    unsigned long flow_clock;
+    long flow_computed;      /* pairs computed (a pair may be computed again in pass C) */
+    double flow_occluded;    /* of the computed flows' pixels (both directions), how many failed the check */
+    double flow_ms;          /* spent computing */
 } offline_seq;
 
 /* What pass C leaves for metrics.json, and the videos it writes into. */
@@ -96,6 +109,8 @@ vg_status offline_read_g(offline_seq *s, int t, float *out);
 vg_status offline_read_h(offline_seq *s, int t, float *out);
 vg_status offline_read_depth(offline_seq *s, int t, const float *g, float *z);
 vg_status offline_read_flow(offline_seq *s, int t, bool next, float *out);
+void offline_flow_free(offline_seq *s);
+const char *offline_flow_name(offline_flow f);
 vg_status offline_read_saliency(offline_seq *s, int t, float *out);
 vg_status offline_read_ids(offline_seq *s, int t, float *out);
 vg_status offline_read_image(offline_seq *s, int t, uint8_t **out);

@@ -480,6 +480,7 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     vg_json_int(&j, "coarse_height", s->grid.ny);
     vg_json_str(&j, "operator", s->has_h ? "given" : disp_operator_kind_name(d->op));
     vg_json_str(&j, "saliency", s->has_saliency ? "file" : s->compute_saliency ? "computed" : "uniform");
+    vg_json_str(&j, "flow", offline_flow_name(s->flow));
     vg_json_str(&j, "g_units", offline_g_in_px(s) ? "px" : "arcmin");
     vg_json_str(&j, "g_file", s->g_dataset_png ? s->g_dataset_png : "PFM");
     vg_json_num(&j, "g_min", s->g_min);
@@ -487,6 +488,18 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     vg_json_num(&j, "range_lo", s->range_lo);
     vg_json_num(&j, "range_hi", s->range_hi);
     vg_json_object_end(&j);
+    if (s->flow == OFFLINE_FLOW_COMPUTED) { /* how the flows were made (input.flow "computed") */
+        vg_json_object_begin(&j, "flow");
+        vg_json_str(&j, "method", "DIS optical flow (OpenCV); pixels failing the forward-backward check "
+                                  "take their row's nearest consistent flow");
+        vg_json_str(&j, "preset", flow_preset_name(d->flow_preset));
+        vg_json_str(&j, "from", "--image");
+        vg_json_int(&j, "pairs_computed", (int)s->flow_computed);
+        vg_json_num(&j, "inconsistent_fraction",
+                    s->flow_computed ? s->flow_occluded / (2.0 * s->flow_computed * s->width * s->height) : 0.0);
+        vg_json_num(&j, "ms", s->flow_ms);
+        vg_json_object_end(&j);
+    }
     if (s->has_image) {
         vg_json_object_begin(&j, "stereo_pair");
         vg_json_str(&j, "image_view", image_left(s) ? "left" : "centre");

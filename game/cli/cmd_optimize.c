@@ -21,11 +21,13 @@ static const char *const g_views[] = {"auto", "centre", "left", NULL};
 static const char *const g_edge_norms[] = {"range", "arcmin", "pixel", NULL};
 static const char *const g_velocity_units[] = {"second", "keyframe", NULL};
 static const char *const g_stereo_layouts[] = {"full-sbs", "half-sbs", "full-tb", "half-tb", NULL};
+static const char *const g_flow_sources[] = {"auto", "given", "computed", "none", NULL}; /* offline_flow's order */
+static const char *const g_flow_presets[] = {"fine", "medium", "fast", "ultrafast", NULL}; /* flow_preset's order */
 
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead, edge_norm,
-        velocity_unit, stereo_layout;
+        velocity_unit, stereo_layout, flow, flow_preset;
     bool no_video, uniform_saliency, mkv;
     double fps, range, px_zero, occlusion;
     display_cli display;
@@ -44,6 +46,8 @@ static const vg_opt g_opts[] = {
     {.name = "--flow-prev", .kind = VG_OPT_STRING, .dest = &o.flow_prev, .metavar = "PATTERN", .help = "per-frame .flo flow to the previous frame"},
     {.name = "--image", .kind = VG_OPT_STRING, .dest = &o.image, .metavar = "PATTERN", .help = "8-bit RGB PNG of the view g belongs to: a new stereo pair from f, left_/right_%04d.png (and its video, --stereo-layout)"},
     {.name = "--image-view", .kind = VG_OPT_CHOICE, .dest = &o.view, .metavar = "V", .help = "where --image was taken: centre (the engine's) or left (datasets); auto: left for pixel disparities", .choices = g_views},
+    {.name = "--flow", .kind = VG_OPT_CHOICE, .dest = &o.flow, .metavar = "FROM", .help = "where the per-frame flows come from: given (--flow-next/--flow-prev, or the capture's), computed (DIS optical flow between consecutive --image frames, checked forward against backward), none (a static scene); auto (default): given if named, else computed if --image, else none", .choices = g_flow_sources},
+    {.name = "--flow-preset", .kind = VG_OPT_CHOICE, .dest = &o.flow_preset, .metavar = "P", .help = "with --flow computed: fine (default: DIS's medium down to full resolution), or DIS's own medium, fast or ultrafast (faster, coarser)", .choices = g_flow_presets},
     {.name = "--flow-to", .kind = VG_OPT_CHOICE, .dest = &o.flow_to, .metavar = "TO", .help = "the flows go to the next/previous frame (default) or keyframe (as capture writes them)", .choices = g_flow_to},
     {.name = "--ids", .kind = VG_OPT_STRING, .dest = &o.ids, .metavar = "PATTERN", .help = "instance ids, 24-bit RGB PNG as capture writes them (links stay on one object)"},
     {.name = "--saliency", .kind = VG_OPT_STRING, .dest = &o.saliency, .metavar = "PATTERN", .help = "8-bit grey PNG saliency for the operator (default: computed from --image, the flows and depth)"},
@@ -125,6 +129,9 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
     if (st != VG_OK)
         return st;
     const vg_jvalue *r = doc.root;
+    /* The capture's flows (to its keyframes) unless others, or none, are asked for. */
+    bool capture_flows = o.flow_to < 0 && !o.flow_next && !o.flow_prev && !o.stride &&
+                         (o.flow == OFFLINE_FLOW_AUTO || o.flow == OFFLINE_FLOW_GIVEN);
     int count = (int)vg_jnum(r, "frames", 0), first_index = (int)vg_jnum(r, "first_frame", 0);
     int stride = (int)vg_jnum(r, "keyframe_stride", 0);
     if (count < 1 || stride < 1 || first_index < 0) {
@@ -144,7 +151,7 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
         o.frames = frames_buf;
         if (first > 0 || last < count - 1)
             vg_info("optimize: --capture %s: frames %d:%d, from its first keyframe to its last", o.capture, first, last);
-    } else if (o.flow_to < 0 && !o.flow_next && !o.flow_prev && !o.stride && atoi(o.frames) % stride != first % stride) {
+    } else if (capture_flows && atoi(o.frames) % stride != first % stride) {
         /* The capture's flows go to its keyframes: the range must start on one. */
         vg_error("optimize: --frames %s: with --capture %s the first frame must be a keyframe (%d + a multiple of %d)",
                  o.frames, o.capture, first, stride);
@@ -172,7 +179,7 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
         snprintf(name, sizeof name, "frame_%%04d_%s", names[k]);
         if ((st = vg_path_join(pat[k], 4096, o.capture, name)) != VG_OK)
             return st;
-        if (*dest[k])
+        if (*dest[k] || ((k == 3 || k == 4) && o.flow != OFFLINE_FLOW_AUTO && o.flow != OFFLINE_FLOW_GIVEN))
             continue;
         if (k == 6) { /* h when the capture computed it, else the operator (with the saliency) */
             snprintf(name, sizeof name, "frame_%04d_h.pfm", first);
@@ -188,7 +195,7 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
             return st;
         d->saliency = pat[7];
     }
-    if (o.flow_to < 0 && !o.flow_next && !o.flow_prev)
+    if (o.flow_to < 0 && !o.flow_next && !o.flow_prev && (o.flow == OFFLINE_FLOW_AUTO || o.flow == OFFLINE_FLOW_GIVEN))
         d->flow_to_keyframe = true;
     return VG_OK;
 }
@@ -215,6 +222,7 @@ static int run(int argc, char **argv)
         .stereo_layout = (offline_stereo_layout)o.stereo_layout, .stereo_mkv = o.mkv,
         .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL, .uniform_saliency = o.uniform_saliency,
         .edge_norm = (offline_edge_norm)o.edge_norm, .velocity_per_keyframe = o.velocity_unit == 1,
+        .flow = (offline_flow)o.flow, .flow_preset = (flow_preset)o.flow_preset,
     };
     static char frames_buf[32], patterns[8][4096], display[4096];
     if (o.capture && o.g) {
@@ -263,8 +271,10 @@ const vg_cmd vg_cmd_optimize = {
                "with ffmpeg) and x-t slices; given the images (--image), a new stereo pair from f.\n"
                "Unknown g (inf, KITTI's 0) is left out of the costs and the metrics. --capture DIR\n"
                "takes a folder of 'vergence capture' whole. Patterns take one %d-style\n"
-               "conversion, as in ffmpeg. Missing flow means a static scene; a missing flow\n"
-               "direction is approximated by the other one negated.",
+               "conversion, as in ffmpeg. Without flow files the flows are computed from the\n"
+               "colour frames (--image; DIS optical flow, checked forward against backward),\n"
+               "and without those too the scene is taken as static (--flow chooses); a missing\n"
+               "flow direction is approximated by the other one negated.",
     .opts = g_opts,
     .opt_count = (int)(sizeof g_opts / sizeof g_opts[0]),
     .run = run,
