@@ -79,6 +79,14 @@ extern "C" const char *flow_preset_name(flow_preset p)
     }
 }
 
+extern "C" void flow_set_threads(int n)
+{
+    try {
+        cv::setNumThreads(n > 0 ? n : -1);
+    } catch (...) {
+    }
+}
+
 extern "C" vg_status flow_dis(const flow_image *a, const flow_image *b, flow_preset preset, const char *what,
                               float *fwd, float *bwd)
 {

@@ -53,6 +53,10 @@ typedef struct flow_image {
 vg_status flow_dis(const flow_image *a, const flow_image *b, flow_preset preset, const char *what, float *fwd,
                    float *bwd);
 
+/* OpenCV's worker threads for the flows that follow, process-wide (n <= 0:
+ * its default, every core). */
+void flow_set_threads(int n);
+
 /* The forward-backward consistency check of Sundaram, Brox and Keutzer
  * ("Dense point trajectories by GPU-accelerated large displacement optical
  * flow", ECCV 2010, Sec. 4.1, eq. 5): a pixel x is occluded (or its flow

@@ -102,16 +102,18 @@ vg_status offline_check_flows(offline_seq *s)
                  d->first + (s->frames - 1) / s->keyframe_stride * s->keyframe_stride);
         return VG_ERR_ARG;
     }
-    if (s->flow == OFFLINE_FLOW_NONE)
+    if (s->flow == OFFLINE_FLOW_NONE) {
         vg_warn("optimize: %s: assuming a static camera and scene (zero flow)%s",
                 d->flow == OFFLINE_FLOW_NONE ? "--flow none" : "no --flow-next, --flow-prev or --image",
                 d->flow == OFFLINE_FLOW_NONE ? "" : "; give --image to compute the flows from the colour frames");
-    else if (s->flow == OFFLINE_FLOW_COMPUTED)
+    } else if (s->flow == OFFLINE_FLOW_COMPUTED) {
+        flow_set_threads(d->threads); /* --threads holds for OpenCV's workers too */
         vg_info("optimize: flows computed from --image (DIS optical flow, preset %s, forward-backward checked)",
                 flow_preset_name(d->flow_preset));
-    else if (!s->has_flow_next || !s->has_flow_prev)
+    } else if (!s->has_flow_next || !s->has_flow_prev) {
         vg_info("optimize: approximating %s by the other flow negated",
                 s->has_flow_next ? "--flow-prev" : "--flow-next");
+    }
     return VG_OK;
 }
 
@@ -599,6 +601,11 @@ vg_status offline_validate(offline_seq *s)
                 "inf in f, grey in the previews", s->unknown_total);
     if (st == VG_OK && d->row >= s->height) {
         vg_error("optimize: --row %d: the frames have %d rows (0 to %d)", d->row, s->height, s->height - 1);
+        st = VG_ERR_ARG;
+    }
+    if (st == VG_OK && s->flow == OFFLINE_FLOW_COMPUTED && (s->width < FLOW_MIN_SIDE || s->height < FLOW_MIN_SIDE)) {
+        vg_error("optimize: --flow computed: the --image frames are %dx%d; the flow needs %d pixels a side (give the "
+                 "flows, or --flow none)", s->width, s->height, FLOW_MIN_SIDE);
         st = VG_ERR_ARG;
     }
     if (st == VG_OK)
