@@ -64,7 +64,7 @@ static vg_status computed_saliency(offline_seq *s, int t, const float *g, float 
                                       srgb_linear(rgb[3 * i + 2]), m[0], m[1], m[2])
                        : 0.0f;
         float speed = sqrtf(flow[2 * i] * flow[2 * i] + flow[2 * i + 1] * flow[2 * i + 1]) * per_interval;
-        if (!isfinite(speed)) /* a computed flow without a link: mostly background about to be covered */
+        if (!isfinite(speed)) /* computed: a row with no consistent pixel (flow_fill_occluded) */
             speed = 0.0f;
         out[i] = disp_saliency_computed(de, speed, z[i], zc);
     }
