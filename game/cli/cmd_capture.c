@@ -412,6 +412,10 @@ static vg_status capture(gpu *g, const scene *s, const vgx_curve_data *curve, vg
         if (st == VG_OK && i == o.frames / 2)
             st = write_previews(o.out, first + i, frame_get_outputs(f), d->width, d->height);
     }
+    const frame_outputs *fo = frame_get_outputs(f);
+    if (st == VG_OK && ball_ids && !(fo->g && fo->h && fo->f))
+        vg_info("capture: --throw: the ball flies, but its figures need the maps g, h and f, which this stereo "
+                "render does not make: capture.json has no \"ball\"");
     free(ball_ids);
     if (ball_fig.keys)
         ball_figures_finish(&ball_fig, d->keyframe_stride / d->fps, d->fps);

@@ -19,9 +19,11 @@ bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, do
         return false;
     if (!b->started)
         *b = (ball_figures){.min_pixels = -1, .min_samples = -1, .started = true};
+    const frame_outputs *o = frame_get_outputs(fr);
+    if (!o->ids || !o->g || !o->h || !o->f)
+        return false; /* a frame without the maps (no stereo render, two cameras showing g): nothing to measure */
     bool key = k % stride == 0 && b->keys < BALL_MEASURE_MAX_KEYS;
     bool in_turn = b->next_frame == k && b->frames < BALL_MEASURE_MAX_FRAMES;
-    const frame_outputs *o = frame_get_outputs(fr);
     frame_info info;
     frame_get_info(fr, &info);
     uint32_t w = fd->width, h = fd->height, s = info.grid_stride;

@@ -46,7 +46,8 @@ typedef struct ball_figures {
  * instance ids are `ids` (0-terminated; observer_node_ids). Keyframes count
  * in the keyframe figures; every frame, while they come in turn from the
  * launch, in the frame-rate figures. False when it was not added (not in
- * the flight, or the ball covers no pixel there). b starts zeroed. */
+ * the flight, the frame made no maps g, h and f, or the ball covers no
+ * pixel there). b starts zeroed. */
 bool ball_figures_add(ball_figures *b, const frame *fr, const game_throw *th, double t_launch, const uint32_t *ids);
 /* The MID distortions of what was added. */
 void ball_figures_finish(ball_figures *b, double keyframe_seconds, double fps);
