@@ -448,13 +448,17 @@ static vgx_result context_create(const vgx_context_desc *desc, const disparity_g
     vgx_context *c = NULL;
     /* The host's desc has the members of the header it was built with
      * (its header_version, the first member of every version); the newer
-     * ones stay zero: their defaults. */
+     * ones stay zero: their defaults. Of a header this library does not
+     * know (check_desc refuses it), nothing past header_version is read. */
     vgx_context_desc d = {0};
     if (!desc)
         vg_error("vgx_context_create: desc is null");
     else {
-        bool v01 = VGX_VERSION_MAJOR(desc->header_version) == 0 && VGX_VERSION_MINOR(desc->header_version) == 1;
-        memcpy(&d, desc, v01 ? VGX_CONTEXT_DESC_SIZE_0_1 : sizeof d);
+        uint32_t v = desc->header_version, lib = VGX_LIBRARY_VERSION;
+        bool known = VGX_VERSION_MAJOR(v) == VGX_VERSION_MAJOR(lib) && VGX_VERSION_MINOR(v) >= 1 &&
+                     VGX_VERSION_MINOR(v) <= VGX_VERSION_MINOR(lib);
+        bool v01 = known && VGX_VERSION_MAJOR(v) == 0 && VGX_VERSION_MINOR(v) == 1;
+        memcpy(&d, desc, !known ? sizeof d.header_version : v01 ? VGX_CONTEXT_DESC_SIZE_0_1 : sizeof d);
         if ((st = check_desc(&d)) == VG_OK) {
             c = calloc(1, sizeof *c);
             st = c ? VG_OK : VG_ERR_NOMEM;
