@@ -25,9 +25,9 @@ static void probe_execute(const rg_context *ctx, void *user)
     probe_gpu *p = user;
     const frame_ctx *fc = p->fc;
     VkDescriptorImageInfo img[3] = {
-        {fc->nearest_clamp, rg_ctx_view(ctx, p->ids), rg_ctx_layout(ctx, p->ids)},
-        {fc->nearest_clamp, rg_ctx_view(ctx, p->g), rg_ctx_layout(ctx, p->g)},
-        {fc->nearest_clamp, rg_ctx_view(ctx, p->shown), rg_ctx_layout(ctx, p->shown)},
+        rg_ctx_sampled_info(ctx, p->ids, fc->nearest_clamp),
+        rg_ctx_sampled_info(ctx, p->g, fc->nearest_clamp),
+        rg_ctx_sampled_info(ctx, p->shown, fc->nearest_clamp),
     };
     vg_probe_push push = {.width = fc->width, .height = fc->height, .groups_x = p->groups_x};
     memcpy(push.ids, p->probe_ids, sizeof push.ids);

@@ -186,5 +186,9 @@ VkImage rg_ctx_image(const rg_context *ctx, rg_res res);
 VkImageView rg_ctx_view(const rg_context *ctx, rg_res res);
 VkBuffer rg_ctx_buffer(const rg_context *ctx, rg_res res);
 VkImageLayout rg_ctx_layout(const rg_context *ctx, rg_res res); /* layout during this pass */
+/* A descriptor of the image during this pass: its view and layout (a
+ * storage image), and with a sampler (a combined image sampler). */
+VkDescriptorImageInfo rg_ctx_image_info(const rg_context *ctx, rg_res res);
+VkDescriptorImageInfo rg_ctx_sampled_info(const rg_context *ctx, rg_res res, VkSampler sampler);
 VkExtent2D rg_ctx_extent(const rg_context *ctx);              /* render area of a graphics pass */
 struct gpu *rg_ctx_gpu(const rg_context *ctx);

@@ -298,6 +298,16 @@ VkImageLayout rg_ctx_layout(const rg_context *ctx, rg_res res)
     return VK_IMAGE_LAYOUT_UNDEFINED;
 }
 
+VkDescriptorImageInfo rg_ctx_sampled_info(const rg_context *ctx, rg_res res, VkSampler sampler)
+{
+    return (VkDescriptorImageInfo){sampler, rg_ctx_view(ctx, res), rg_ctx_layout(ctx, res)};
+}
+
+VkDescriptorImageInfo rg_ctx_image_info(const rg_context *ctx, rg_res res)
+{
+    return rg_ctx_sampled_info(ctx, res, VK_NULL_HANDLE);
+}
+
 /* The executor owns the physical resources: they go first, then the graph. */
 void rg_destroy(rg_graph *g)
 {

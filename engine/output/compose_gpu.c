@@ -70,9 +70,9 @@ static void compose_execute(const rg_context *ctx, void *user)
     compose_gpu *c = user;
     const frame_resources *r = c->res;
     VkDescriptorImageInfo img[3] = {
-        {.imageView = rg_ctx_view(ctx, r->left), .imageLayout = rg_ctx_layout(ctx, r->left)},
-        {.imageView = rg_ctx_view(ctx, r->right), .imageLayout = rg_ctx_layout(ctx, r->right)},
-        {.imageView = rg_ctx_view(ctx, r->stereo), .imageLayout = rg_ctx_layout(ctx, r->stereo)},
+        rg_ctx_image_info(ctx, r->left),
+        rg_ctx_image_info(ctx, r->right),
+        rg_ctx_image_info(ctx, r->stereo),
     };
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     const compose_gpu_desc *d = &c->desc;

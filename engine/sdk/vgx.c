@@ -658,8 +658,8 @@ static rg_usage usage_of_layout(VkImageLayout layout)
 static void depth_execute(const rg_context *ctx, void *user)
 {
     vgx_context *c = user;
-    VkDescriptorImageInfo z = {c->nearest, rg_ctx_view(ctx, c->inputs[0]), rg_ctx_layout(ctx, c->inputs[0])};
-    VkDescriptorImageInfo l = {.imageView = rg_ctx_view(ctx, c->r_linear), .imageLayout = rg_ctx_layout(ctx, c->r_linear)};
+    VkDescriptorImageInfo z = rg_ctx_sampled_info(ctx, c->inputs[0], c->nearest);
+    VkDescriptorImageInfo l = rg_ctx_image_info(ctx, c->r_linear);
     gpu_binding b[2] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &z, VK_NULL_HANDLE, NULL}, GPU_STORAGE_IMAGE(&l)};
     gpu_compute_kit_bind_list(c->gpu, rg_ctx_cmd(ctx), &c->depth_kit, 0, b, 2, c->depth_m);
     vkCmdDispatch(rg_ctx_cmd(ctx), (c->desc.width + 7) / 8, (c->desc.height + 7) / 8, 1);

@@ -1033,6 +1033,23 @@ void render_eye(VkCommandBuffer cmd, const Eye &e, const Pipeline &p, const Scen
                 VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
+// Copies a w x h colour image into `buffer` at `offset`: out of `layout`
+// (whatever wrote it finished) and back into it afterwards.
+void copy_out(VkCommandBuffer cmd, VkImage image, VkImageLayout layout, VkBuffer buffer, VkDeviceSize offset,
+              uint32_t w, uint32_t h)
+{
+    barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+            VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+            VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferImageCopy region{};
+    region.bufferOffset = offset;
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {w, h, 1};
+    vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &region);
+    barrier(cmd, image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout,
+            VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+}
+
 // Writes a file whole or not at all: into path.tmp, then renamed.
 template <typename Body> bool write_file(const std::string &path, Body body)
 {
@@ -1284,16 +1301,7 @@ int main(int argc, char **argv)
         for (int e = 0; e < 2 && last; e++) {
             vgx_image eye;
             vgx_get_eye(ctx, (uint32_t)e, &eye);
-            barrier(cmd, eye.image, VK_IMAGE_ASPECT_COLOR_BIT, eye.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                    VK_ACCESS_2_TRANSFER_READ_BIT);
-            VkBufferImageCopy region{};
-            region.bufferOffset = e * map_bytes;
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {W, H, 1};
-            vkCmdCopyImageToBuffer(cmd, eye.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, sdk_readback.buffer, 1, &region);
-            barrier(cmd, eye.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, eye.layout,
-                    VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
+            copy_out(cmd, eye.image, eye.layout, sdk_readback.buffer, e * map_bytes, W, H);
         }
 
         // 5. Copies of depth, g, h and f (the maps leave the dispatch in SHADER_READ_ONLY_OPTIMAL).
@@ -1306,18 +1314,8 @@ int main(int argc, char **argv)
             vgx_get_output(ctx, outputs[k - 1], &out);
             copies[k] = out.image;
         }
-        for (int k = 0; k < 4; k++) {
-            barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, layouts[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                    VK_ACCESS_2_TRANSFER_READ_BIT);
-            VkBufferImageCopy region{};
-            region.bufferOffset = k * map_bytes;
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {W, H, 1};
-            vkCmdCopyImageToBuffer(cmd, copies[k], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
-            barrier(cmd, copies[k], VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layouts[k],
-                    VK_PIPELINE_STAGE_2_COPY_BIT, 0, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0);
-        }
+        for (int k = 0; k < 4; k++)
+            copy_out(cmd, copies[k], layouts[k], readback.buffer, k * map_bytes, W, H);
         VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
         host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
         host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;

@@ -181,11 +181,6 @@ static void clear_execute(const rg_context *ctx, void *user)
         vkCmdClearColorImage(cmd, rg_ctx_image(ctx, items[i].r), rg_ctx_layout(ctx, items[i].r), &items[i].v, 1, &all);
 }
 
-static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
-{
-    return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
-}
-
 static upsample_gpu_frame ups_frame(const alone *a)
 {
     return (upsample_gpu_frame){.width = a->w, .height = a->h, .stride = a->stride, .tau = 0.3f, .has1 = true,
@@ -196,8 +191,12 @@ static void time_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
     upsample_gpu_frame fr = ups_frame(a);
-    VkDescriptorImageInfo z = image_of(ctx, a->depth), m = image_of(ctx, a->motion), id = image_of(ctx, a->ids);
-    VkDescriptorImageInfo r = image_of(ctx, a->ratio), g = image_of(ctx, a->g), h = image_of(ctx, a->hmap);
+    VkDescriptorImageInfo z = rg_ctx_image_info(ctx, a->depth);
+    VkDescriptorImageInfo m = rg_ctx_image_info(ctx, a->motion);
+    VkDescriptorImageInfo id = rg_ctx_image_info(ctx, a->ids);
+    VkDescriptorImageInfo r = rg_ctx_image_info(ctx, a->ratio);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, a->g);
+    VkDescriptorImageInfo h = rg_ctx_image_info(ctx, a->hmap);
     upsample_gpu_record_time(a->ups, rg_ctx_cmd(ctx), &fr, &z, &m, &id, rg_ctx_buffer(ctx, a->r_store),
                              rg_ctx_buffer(ctx, a->r_pub), &g, &h, &r);
 }
@@ -206,21 +205,23 @@ static void space_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
     upsample_gpu_frame fr = ups_frame(a);
-    VkDescriptorImageInfo h = image_of(ctx, a->hmap), f = image_of(ctx, a->fmap), r = image_of(ctx, a->ratio);
+    VkDescriptorImageInfo h = rg_ctx_image_info(ctx, a->hmap);
+    VkDescriptorImageInfo f = rg_ctx_image_info(ctx, a->fmap);
+    VkDescriptorImageInfo r = rg_ctx_image_info(ctx, a->ratio);
     upsample_gpu_record_space(a->ups, rg_ctx_cmd(ctx), &fr, &h, rg_ctx_buffer(ctx, a->r_pub), &r, &f);
 }
 
 static void fit_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
-    VkDescriptorImageInfo g = image_of(ctx, a->g), c = image_of(ctx, a->color);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, a->g), c = rg_ctx_image_info(ctx, a->color);
     operator_gpu_record_fit(a->op, rg_ctx_cmd(ctx), &g, &c, a->w, a->h);
 }
 
 static void map_execute(const rg_context *ctx, void *user)
 {
     alone *a = user;
-    VkDescriptorImageInfo g = image_of(ctx, a->g), h = image_of(ctx, a->hmap);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, a->g), h = rg_ctx_image_info(ctx, a->hmap);
     operator_gpu_record_map(a->op, rg_ctx_cmd(ctx), &g, &h, a->w, a->h);
 }
 

@@ -59,22 +59,17 @@ typedef struct op_test {
     uint32_t w, hgt;
 } op_test;
 
-static VkDescriptorImageInfo image_info(const rg_context *ctx, rg_res r)
-{
-    return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
-}
-
 static void op_fit_execute(const rg_context *ctx, void *user)
 {
     op_test *t = user;
-    VkDescriptorImageInfo g = image_info(ctx, t->g), c = image_info(ctx, t->color);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, t->g), c = rg_ctx_image_info(ctx, t->color);
     operator_gpu_record_fit(t->o, rg_ctx_cmd(ctx), &g, &c, t->w, t->hgt);
 }
 
 static void op_map_execute(const rg_context *ctx, void *user)
 {
     op_test *t = user;
-    VkDescriptorImageInfo g = image_info(ctx, t->g), h = image_info(ctx, t->h);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, t->g), h = rg_ctx_image_info(ctx, t->h);
     operator_gpu_record_map(t->o, rg_ctx_cmd(ctx), &g, &h, t->w, t->hgt);
 }
 
@@ -160,8 +155,12 @@ typedef struct up_test {
 static void up_time_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
-    VkDescriptorImageInfo d = image_info(ctx, t->depth), m = image_info(ctx, t->motion), id = image_info(ctx, t->ids);
-    VkDescriptorImageInfo r = image_info(ctx, t->ratio), g = image_info(ctx, t->g), h = image_info(ctx, t->h);
+    VkDescriptorImageInfo d = rg_ctx_image_info(ctx, t->depth);
+    VkDescriptorImageInfo m = rg_ctx_image_info(ctx, t->motion);
+    VkDescriptorImageInfo id = rg_ctx_image_info(ctx, t->ids);
+    VkDescriptorImageInfo r = rg_ctx_image_info(ctx, t->ratio);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, t->g);
+    VkDescriptorImageInfo h = rg_ctx_image_info(ctx, t->h);
     upsample_gpu_record_time(t->u, rg_ctx_cmd(ctx), &t->fr, &d, &m, &id, rg_ctx_buffer(ctx, t->store),
                              rg_ctx_buffer(ctx, t->published), &g, &h, &r);
 }
@@ -169,7 +168,9 @@ static void up_time_execute(const rg_context *ctx, void *user)
 static void up_space_execute(const rg_context *ctx, void *user)
 {
     up_test *t = user;
-    VkDescriptorImageInfo h = image_info(ctx, t->h), f = image_info(ctx, t->f), r = image_info(ctx, t->ratio);
+    VkDescriptorImageInfo h = rg_ctx_image_info(ctx, t->h);
+    VkDescriptorImageInfo f = rg_ctx_image_info(ctx, t->f);
+    VkDescriptorImageInfo r = rg_ctx_image_info(ctx, t->ratio);
     upsample_gpu_record_space(t->u, rg_ctx_cmd(ctx), &t->fr, &h, rg_ctx_buffer(ctx, t->published), &r, &f);
 }
 
@@ -393,7 +394,7 @@ static void curve_execute(const rg_context *ctx, void *user, int which)
 {
     curve_test *t = user;
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
-    VkDescriptorImageInfo depth = image_info(ctx, t->depth), target = image_info(ctx, t->target);
+    VkDescriptorImageInfo depth = rg_ctx_image_info(ctx, t->depth), target = rg_ctx_image_info(ctx, t->target);
     VkDescriptorBufferInfo b[4] = {{rg_ctx_buffer(ctx, t->curve), 0, VK_WHOLE_SIZE}, {rg_ctx_buffer(ctx, t->count), 0, VK_WHOLE_SIZE},
                                    {rg_ctx_buffer(ctx, t->sum), 0, VK_WHOLE_SIZE}, {rg_ctx_buffer(ctx, t->offset), 0, VK_WHOLE_SIZE}};
     VkWriteDescriptorSet w[6];

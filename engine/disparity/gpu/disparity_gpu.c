@@ -79,15 +79,10 @@ static uint32_t ring_slot(const disparity_gpu *d, long kf)
 /* Passes                                                                    */
 /* ------------------------------------------------------------------------- */
 
-static VkDescriptorImageInfo image_of(const rg_context *ctx, rg_res r)
-{
-    return (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, r), .imageLayout = rg_ctx_layout(ctx, r)};
-}
-
 static void original_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo src = image_of(ctx, d->res->depth), dst = image_of(ctx, d->res->g);
+    VkDescriptorImageInfo src = rg_ctx_image_info(ctx, d->res->depth), dst = rg_ctx_image_info(ctx, d->res->g);
     original_gpu_record(d->gpu, &d->original, rg_ctx_cmd(ctx), rg_ctx_buffer(ctx, d->res->ubo), &src, &dst,
                         d->desc.width, d->desc.height);
 }
@@ -95,23 +90,23 @@ static void original_execute(const rg_context *ctx, void *user)
 static void fit_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo g = image_of(ctx, d->res->g), c = image_of(ctx, d->res->color);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, d->res->g), c = rg_ctx_image_info(ctx, d->res->color);
     operator_gpu_record_fit(d->op, rg_ctx_cmd(ctx), &g, &c, d->desc.width, d->desc.height);
 }
 
 static void map_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo g = image_of(ctx, d->res->g), h = image_of(ctx, d->res->h);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, d->res->g), h = rg_ctx_image_info(ctx, d->res->h);
     operator_gpu_record_map(d->op, rg_ctx_cmd(ctx), &g, &h, d->desc.width, d->desc.height);
 }
 
 static operator_gpu_tiles tiles_of(disparity_gpu *d, const rg_context *ctx, VkDescriptorImageInfo *img)
 {
-    img[0] = image_of(ctx, d->atlas.depth);
-    img[1] = image_of(ctx, d->atlas.color);
-    img[2] = image_of(ctx, d->atlas.motion);
-    img[3] = image_of(ctx, d->atlas.ids);
+    img[0] = rg_ctx_image_info(ctx, d->atlas.depth);
+    img[1] = rg_ctx_image_info(ctx, d->atlas.color);
+    img[2] = rg_ctx_image_info(ctx, d->atlas.motion);
+    img[3] = rg_ctx_image_info(ctx, d->atlas.ids);
     return (operator_gpu_tiles){.ubo = rg_ctx_buffer(ctx, d->res->ubo), .depth = &img[0], .color = &img[1],
                           .motion = &img[2], .ids = &img[3], .tiles = (uint32_t)d->tiles, .tile_w = d->nx, .tile_h = d->ny,
                           .store = rg_ctx_buffer(ctx, d->r_store), .store_first = ring_slot(d, d->tiles_first),
@@ -158,9 +153,9 @@ static void solve_execute(const rg_context *ctx, void *user)
 static void time_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo z = image_of(ctx, d->res->depth), m = image_of(ctx, d->res->motion);
-    VkDescriptorImageInfo ids = image_of(ctx, d->res->ids), ratio = image_of(ctx, d->ratio);
-    VkDescriptorImageInfo g = image_of(ctx, d->res->g), h = image_of(ctx, d->res->h);
+    VkDescriptorImageInfo z = rg_ctx_image_info(ctx, d->res->depth), m = rg_ctx_image_info(ctx, d->res->motion);
+    VkDescriptorImageInfo ids = rg_ctx_image_info(ctx, d->res->ids), ratio = rg_ctx_image_info(ctx, d->ratio);
+    VkDescriptorImageInfo g = rg_ctx_image_info(ctx, d->res->g), h = rg_ctx_image_info(ctx, d->res->h);
     upsample_gpu_record_time(d->ups, rg_ctx_cmd(ctx), &d->up, &z, &m, &ids, rg_ctx_buffer(ctx, d->r_store),
                              rg_ctx_buffer(ctx, d->r_published), &g, &h, &ratio);
 }
@@ -168,7 +163,9 @@ static void time_execute(const rg_context *ctx, void *user)
 static void space_execute(const rg_context *ctx, void *user)
 {
     disparity_gpu *d = user;
-    VkDescriptorImageInfo h = image_of(ctx, d->res->h), f = image_of(ctx, d->res->f), ratio = image_of(ctx, d->ratio);
+    VkDescriptorImageInfo h = rg_ctx_image_info(ctx, d->res->h);
+    VkDescriptorImageInfo f = rg_ctx_image_info(ctx, d->res->f);
+    VkDescriptorImageInfo ratio = rg_ctx_image_info(ctx, d->ratio);
     upsample_gpu_record_space(d->ups, rg_ctx_cmd(ctx), &d->up, &h, rg_ctx_buffer(ctx, d->r_published), &ratio, &f);
 }
 

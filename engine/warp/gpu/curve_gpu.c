@@ -71,8 +71,8 @@ void curve_gpu_set_background(curve_gpu *c, float depth) { c->background = depth
 static void bind(const curve_gpu *c, const rg_context *ctx, uint32_t kernel)
 {
     bool images = kernel != K_RESOLVE; /* the resolve pass reads no images */
-    VkDescriptorImageInfo depth = {.imageView = rg_ctx_view(ctx, c->depth), .imageLayout = rg_ctx_layout(ctx, c->depth)};
-    VkDescriptorImageInfo target = {.imageView = rg_ctx_view(ctx, c->target), .imageLayout = rg_ctx_layout(ctx, c->target)};
+    VkDescriptorImageInfo depth = rg_ctx_image_info(ctx, c->depth);
+    VkDescriptorImageInfo target = rg_ctx_image_info(ctx, c->target);
     VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, c->curve), 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo count = {rg_ctx_buffer(ctx, c->tiles_count), 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo sum = {rg_ctx_buffer(ctx, c->tiles_sum), 0, VK_WHOLE_SIZE};

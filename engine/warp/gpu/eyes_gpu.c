@@ -74,13 +74,11 @@ static void step_execute(const rg_context *ctx, void *user)
 {
     const struct eyes_step *step = user;
     const eyes_gpu *e = step->eyes;
-    VkDescriptorImageInfo depth = {.imageView = rg_ctx_view(ctx, e->depth), .imageLayout = rg_ctx_layout(ctx, e->depth)};
-    VkDescriptorImageInfo target = {.imageView = rg_ctx_view(ctx, e->target),
-                                    .imageLayout = rg_ctx_layout(ctx, e->target)};
-    VkDescriptorImageInfo color = {e->sampler, rg_ctx_view(ctx, e->color), rg_ctx_layout(ctx, e->color)};
-    VkDescriptorImageInfo left = {.imageView = rg_ctx_view(ctx, e->left), .imageLayout = rg_ctx_layout(ctx, e->left)};
-    VkDescriptorImageInfo right = {.imageView = rg_ctx_view(ctx, e->right),
-                                   .imageLayout = rg_ctx_layout(ctx, e->right)};
+    VkDescriptorImageInfo depth = rg_ctx_image_info(ctx, e->depth);
+    VkDescriptorImageInfo target = rg_ctx_image_info(ctx, e->target);
+    VkDescriptorImageInfo color = rg_ctx_sampled_info(ctx, e->color, e->sampler);
+    VkDescriptorImageInfo left = rg_ctx_image_info(ctx, e->left);
+    VkDescriptorImageInfo right = rg_ctx_image_info(ctx, e->right);
     gpu_binding b[7] = {
         GPU_UNIFORM_BUFFER(rg_ctx_buffer(ctx, e->ubo)),
         GPU_STORAGE_IMAGE(&depth),

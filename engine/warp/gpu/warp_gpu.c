@@ -97,8 +97,8 @@ static void bind_classify(warp_gpu *w, const rg_context *ctx, uint32_t kernel, u
     const frame_ctx *fc = w->fc;
     const frame_resources *r = w->res;
     VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
-    VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
-    VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
+    VkDescriptorImageInfo depth = rg_ctx_sampled_info(ctx, r->depth, fc->nearest_clamp);
+    VkDescriptorImageInfo target = rg_ctx_sampled_info(ctx, w->target, fc->nearest_clamp);
     enum { NB = 17 };
     VkDescriptorBufferInfo bufs[NB] = {
         {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE},
@@ -258,11 +258,11 @@ static void push_eye(const warp_gpu *w, const rg_context *ctx, eye_kind kind)
     const frame_ctx *fc = w->fc;
     const frame_resources *r = w->res;
     VkDescriptorBufferInfo ubo = {fc->ubo[fc->slot].buffer, 0, sizeof(vg_frame_ubo)};
-    VkDescriptorImageInfo shadow = {fc->shadow_sampler, rg_ctx_view(ctx, r->shadow), rg_ctx_layout(ctx, r->shadow)};
-    VkDescriptorImageInfo depth = {fc->nearest_clamp, rg_ctx_view(ctx, r->depth), rg_ctx_layout(ctx, r->depth)};
-    VkDescriptorImageInfo target = {fc->nearest_clamp, rg_ctx_view(ctx, w->target), rg_ctx_layout(ctx, w->target)};
-    VkDescriptorImageInfo color = {fc->nearest_clamp, rg_ctx_view(ctx, r->color), rg_ctx_layout(ctx, r->color)};
-    VkDescriptorImageInfo ids = {fc->nearest_clamp, rg_ctx_view(ctx, r->ids), rg_ctx_layout(ctx, r->ids)};
+    VkDescriptorImageInfo shadow = rg_ctx_sampled_info(ctx, r->shadow, fc->shadow_sampler);
+    VkDescriptorImageInfo depth = rg_ctx_sampled_info(ctx, r->depth, fc->nearest_clamp);
+    VkDescriptorImageInfo target = rg_ctx_sampled_info(ctx, w->target, fc->nearest_clamp);
+    VkDescriptorImageInfo color = rg_ctx_sampled_info(ctx, r->color, fc->nearest_clamp);
+    VkDescriptorImageInfo ids = rg_ctx_sampled_info(ctx, r->ids, fc->nearest_clamp);
     VkDescriptorBufferInfo curve = {rg_ctx_buffer(ctx, r->curve), 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo levels = {kind == EYE_WARP ? rg_ctx_buffer(ctx, w->tess_levels) : VK_NULL_HANDLE, 0,
                                      VK_WHOLE_SIZE};
@@ -347,8 +347,7 @@ static void fill_bind(const rg_context *ctx, const struct fill_step *step)
     VkDescriptorImageInfo info[3];
     gpu_binding b[5];
     for (uint32_t i = 0; i < 3; i++) {
-        info[i] = (VkDescriptorImageInfo){.imageView = rg_ctx_view(ctx, images[i]),
-                                          .imageLayout = rg_ctx_layout(ctx, images[i])};
+        info[i] = rg_ctx_image_info(ctx, images[i]);
         b[i] = GPU_STORAGE_IMAGE(&info[i]);
     }
     b[3] = GPU_STORAGE_BUFFER(w->fill_header.buffer);
