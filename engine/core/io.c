@@ -12,9 +12,6 @@
 #include "fault.h"
 #include "log.h"
 
-/* Images larger than this are rejected as garbled headers, not allocated. */
-#define VG_MAX_PIXELS (1 << 28)
-
 /* ------------------------------------------------------------------------- */
 /* Images                                                                    */
 /* ------------------------------------------------------------------------- */

@@ -11,6 +11,9 @@
 
 #include "status.h"
 
+/* Images larger than this are rejected as garbled headers, not allocated. */
+#define VG_MAX_PIXELS (1 << 28)
+
 typedef struct vg_imagef {
     int width, height, channels; /* channels: 1 or 3 (PFM), 2 (flow) */
     float *data;                 /* width * height * channels floats, top row first */
@@ -77,3 +80,15 @@ vg_status vg_png_write(const char *path, int width, int height, int comp, const 
 /* The same into memory (*png freed with free()), with stb's defaults pinned. */
 vg_status vg_png_encode(int width, int height, int comp, const uint8_t *pixels, uint8_t **png, size_t *size);
 vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels);
+
+/* A PNG decoded from memory by libpng. Set comp (1 to 4 channels) and bits (8
+ * or 16, host byte order) to what you want; comp 0 reads the header only.
+ * The file's own channels and bits are reported beside. */
+typedef struct vg_png_image {
+    int comp, bits;          /* asked for */
+    int width, height;       /* read */
+    int file_comp, file_bits; /* the file's channels (palette: 3, or 4 with tRNS) and bit depth */
+    void *pixels;            /* width * height * comp samples, freed with free() */
+} vg_png_image;
+/* false with the reason in why (no log line: the caller names the file). */
+bool vg_png_decode(const uint8_t *data, size_t size, vg_png_image *img, char *why, size_t cap);

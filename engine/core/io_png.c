@@ -9,7 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <stb_image.h>
+#include <png.h>
+#include <setjmp.h>
 #include <stb_image_write.h>
 
 #include "log.h"
@@ -90,6 +91,124 @@ static double channel_correlation(const uint8_t *c, size_t count, int a, int b)
     return va > 0 && vb > 0 ? (sab - sa * sb / (double)count) / sqrt(va * vb) : 0.0;
 }
 
+/* ------------------------------------------------------------------------- */
+/* Decoding through libpng                                                    */
+/* ------------------------------------------------------------------------- */
+
+/* libpng, not stb, decodes: stb 2.27 (Debian 12) reads zero bits past the end
+ * of a truncated IDAT stream and inflates them until its buffer reaches 2 GiB
+ * (a 200-byte file found by fuzz.disparity_png); libpng stops at the data's
+ * end with an error, checks each chunk's CRC, and bounds what a header may
+ * claim (png_set_user_limits). */
+typedef struct png_job {
+    const uint8_t *next;
+    size_t left;
+    char why[160];
+} png_job;
+
+static void png_job_read(png_structp png, png_bytep out, size_t n)
+{
+    png_job *job = png_get_io_ptr(png);
+    if (n > job->left)
+        png_error(png, "the file ends inside a chunk");
+    memcpy(out, job->next, n);
+    job->next += n;
+    job->left -= n;
+}
+
+static void png_job_error(png_structp png, png_const_charp msg)
+{
+    png_job *job = png_get_error_ptr(png);
+    snprintf(job->why, sizeof job->why, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+static void png_job_warning(png_structp png, png_const_charp msg)
+{
+    (void)png, (void)msg; /* ancillary trouble (a bad sRGB chunk) does not stop a decode */
+}
+
+bool vg_png_decode(const uint8_t *data, size_t size, vg_png_image *img, char *why, size_t cap)
+{
+    /* img->comp and img->bits are the request; 0 asks for the header only. */
+    int comp = img->comp, bits = img->bits;
+    png_job job = {.next = data, .left = size};
+    img->pixels = NULL;
+    if (size < 8 || png_sig_cmp(data, 0, 8)) {
+        snprintf(why, cap, "not a PNG file (its first 8 bytes are not PNG's signature)");
+        return false;
+    }
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_job_error, png_job_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    if (!info) {
+        png_destroy_read_struct(&png, NULL, NULL);
+        snprintf(why, cap, "out of memory");
+        return false;
+    }
+    uint8_t *volatile pixels = NULL;
+    png_bytep *volatile rows = NULL;
+    if (setjmp(png_jmpbuf(png))) {
+        free(pixels);
+        free(rows);
+        png_destroy_read_struct(&png, &info, NULL);
+        snprintf(why, cap, "%s", job.why);
+        return false;
+    }
+    png_set_read_fn(png, &job, png_job_read);
+    png_set_user_limits(png, 1u << 20, 1u << 20);
+    png_set_chunk_malloc_max(png, 1u << 24);
+    png_read_info(png, info);
+    int type = png_get_color_type(png, info), depth = png_get_bit_depth(png, info);
+    img->width = (int)png_get_image_width(png, info);
+    img->height = (int)png_get_image_height(png, info);
+    img->file_bits = depth;
+    img->file_comp = png_get_channels(png, info);
+    if (type == PNG_COLOR_TYPE_PALETTE)
+        img->file_comp = png_get_valid(png, info, PNG_INFO_tRNS) ? 4 : 3;
+    if ((double)img->width * img->height > VG_MAX_PIXELS)
+        png_error(png, "more pixels than vergence reads (2^28)");
+    if (comp == 0) {
+        png_destroy_read_struct(&png, &info, NULL);
+        return true;
+    }
+    /* To `comp` channels of `bits`: palette and low-bit grey expanded,
+     * colour made grey (libpng's Rec. 709 weights) or grey made colour,
+     * alpha dropped or added opaque, as stb's req_comp did. */
+    png_set_expand(png);
+    if (depth == 16 && bits == 8)
+        png_set_strip_16(png);
+    if (depth < 16 && bits == 16)
+        png_set_expand_16(png);
+    if (bits == 16)
+        png_set_swap(png);
+    bool colour = type & PNG_COLOR_MASK_COLOR;
+    bool alpha = (type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS);
+    if (colour && comp <= 2)
+        png_set_rgb_to_gray_fixed(png, 1, -1, -1);
+    if (!colour && comp >= 3)
+        png_set_gray_to_rgb(png);
+    if (alpha && (comp == 1 || comp == 3))
+        png_set_strip_alpha(png);
+    if (!alpha && (comp == 2 || comp == 4))
+        png_set_add_alpha(png, bits == 16 ? 0xffff : 0xff, PNG_FILLER_AFTER);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    size_t row = (size_t)img->width * (size_t)comp * (size_t)(bits / 8);
+    if (png_get_rowbytes(png, info) != row)
+        png_error(png, "libpng's rows are not the size asked for");
+    pixels = malloc(row * (size_t)img->height);
+    rows = malloc(sizeof(png_bytep) * (size_t)img->height);
+    if (!pixels || !rows)
+        png_error(png, "out of memory");
+    for (int y = 0; y < img->height; y++)
+        rows[y] = pixels + row * (size_t)y;
+    png_read_image(png, rows);
+    free(rows);
+    png_destroy_read_struct(&png, &info, NULL);
+    img->pixels = pixels;
+    return true;
+}
+
 vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **encoding)
 {
     uint8_t *buf;
@@ -108,24 +227,28 @@ vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t si
 {
     vg_status st;
     *out = (vg_imagef){0};
-    int w = 0, h = 0, n = 0;
-    bool ok = size <= 0x7fffffff && stbi_info_from_memory(buf, (int)size, &w, &h, &n);
-    bool deep = ok && stbi_is_16_bit_from_memory(buf, (int)size);
-    void *px = NULL;
-    if (ok && deep && n == 1)
-        px = stbi_load_16_from_memory(buf, (int)size, &w, &h, &n, 1);
-    else if (ok && !deep && n >= 3)
-        px = stbi_load_from_memory(buf, (int)size, &w, &h, &n, 3);
-    if (!px) {
-        if (ok)
-            vg_error("%s: a disparity PNG is KITTI's 16-bit grey or Sintel's 8-bit RGB; this one is %d-bit with %d "
-                     "channel(s)", path, deep ? 16 : 8, n);
-        else
-            vg_error("%s: cannot decode image: %s", path, stbi_failure_reason());
+    char why[200];
+    vg_png_image img = {0};
+    if (!vg_png_decode(buf, size, &img, why, sizeof why)) {
+        vg_error("%s: cannot decode PNG: %s", path, why);
         return VG_ERR_FORMAT;
     }
+    bool deep = img.file_bits == 16;
+    if (!(deep && img.file_comp == 1) && !(!deep && img.file_comp >= 3)) {
+        vg_error("%s: a disparity PNG is KITTI's 16-bit grey or Sintel's 8-bit RGB; this one is %d-bit with %d "
+                 "channel(s)", path, img.file_bits, img.file_comp);
+        return VG_ERR_FORMAT;
+    }
+    img.comp = deep ? 1 : 3;
+    img.bits = deep ? 16 : 8;
+    if (!vg_png_decode(buf, size, &img, why, sizeof why)) {
+        vg_error("%s: cannot decode PNG: %s", path, why);
+        return VG_ERR_FORMAT;
+    }
+    int w = img.width, h = img.height;
+    void *px = img.pixels;
     if ((st = vg_imagef_alloc(out, w, h, 1)) != VG_OK) {
-        stbi_image_free(px);
+        free(px);
         return st;
     }
     size_t count = (size_t)w * h;
@@ -144,7 +267,7 @@ vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t si
             vg_error("%s: looks like a colour picture, not a Sintel disparity PNG: its R, G and B rise together "
                      "(correlation R-G %.2f, G-B %.2f) where Sintel's G and B hold the fraction bits of the disparity",
                      path, rg, gb);
-            stbi_image_free(px);
+            free(px);
             vg_imagef_free(out);
             return VG_ERR_FORMAT;
         }
@@ -152,7 +275,7 @@ vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t si
             out->data[i] = 4.0f * c[3 * i] + c[3 * i + 1] / 64.0f + c[3 * i + 2] / 16384.0f;
         *encoding = "Sintel";
     }
-    stbi_image_free(px);
+    free(px);
     return VG_OK;
 }
 
@@ -164,12 +287,16 @@ vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8
     vg_status st = vg_file_read(path, &buf, &size);
     if (st != VG_OK)
         return st;
-    int n;
-    *pixels = size <= 0x7fffffff ? stbi_load_from_memory(buf, (int)size, width, height, &n, comp) : NULL;
+    char why[200];
+    vg_png_image img = {.comp = comp, .bits = 8};
+    bool ok = vg_png_decode(buf, size, &img, why, sizeof why);
     free(buf);
-    if (!*pixels) {
-        vg_error("%s: cannot decode image: %s", path, stbi_failure_reason());
+    if (!ok) {
+        vg_error("%s: cannot decode PNG: %s", path, why);
         return VG_ERR_FORMAT;
     }
+    *width = img.width;
+    *height = img.height;
+    *pixels = img.pixels;
     return VG_OK;
 }

@@ -5,13 +5,14 @@
  * tinygltf 2.7.0 trusts a GLB's chunk lengths (a BIN chunk may end 8 bytes
  * past the file), copies JSON extras recursively (deep nesting overflows the
  * stack), and lets stb allocate whatever an image header claims; these
- * functions keep such inputs away from it. */
+ * functions keep such inputs away from it (and PNG textures away from stb). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <stb_image.h>
 
+#include "core/io.h"
 #include "core/json_read.h"
 #include "core/log.h"
 #include "scene_internal.h"
@@ -121,7 +122,26 @@ bool scene_texture_decode(const uint8_t *bytes, size_t size, scene_texture *out,
         snprintf(why, cap, "no image data");
         return false;
     }
-    /* Dimensions first, so a lying header never reaches the allocator. */
+    /* PNG through core's libpng decoder (stb inflates a truncated stream
+     * to 2 GiB); JPEG through stb, its dimensions first so that a lying
+     * header never reaches the allocator. */
+    if (size >= 8 && !memcmp(bytes, "\x89PNG\r\n\x1a\n", 8)) {
+        vg_png_image img = {.comp = 0};
+        if (!vg_png_decode(bytes, size, &img, why, cap))
+            return false;
+        if ((long long)img.width * img.height > SCENE_MAX_TEXTURE_PIXELS) {
+            snprintf(why, cap, "%dx%d pixels is outside 1..%d pixels", img.width, img.height, SCENE_MAX_TEXTURE_PIXELS);
+            return false;
+        }
+        img.comp = 4;
+        img.bits = 8;
+        if (!vg_png_decode(bytes, size, &img, why, cap))
+            return false;
+        out->rgba = img.pixels;
+        out->width = img.width;
+        out->height = img.height;
+        return true;
+    }
     if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &comp)) {
         snprintf(why, cap, "stb cannot decode it (%s)", stbi_failure_reason());
         return false;
@@ -130,8 +150,7 @@ bool scene_texture_decode(const uint8_t *bytes, size_t size, scene_texture *out,
         snprintf(why, cap, "%dx%d pixels is outside 1..%d pixels", w, h, SCENE_MAX_TEXTURE_PIXELS);
         return false;
     }
-    /* 16-bit PNGs come back as 8 bits per channel; grey, grey+alpha and RGB
-     * are expanded to RGBA (req_comp 4). */
+    /* Grey and RGB are expanded to RGBA (req_comp 4). */
     uint8_t *px = stbi_load_from_memory(bytes, (int)size, &w, &h, &comp, 4);
     if (!px) {
         snprintf(why, cap, "stb cannot decode it (%s)", stbi_failure_reason());

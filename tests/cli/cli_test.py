@@ -625,8 +625,9 @@ def case_display():
 # optimize on other people's data (issue 19)
 # ---------------------------------------------------------------------------
 
-def write_png(path, rows, bits, channels):
-    """A minimal PNG (no filter), 8-bit RGB or 16-bit grey, written here."""
+def write_png(path, rows, bits, channels, cut=1.0):
+    """A minimal PNG (no filter), 8-bit RGB or 16-bit grey, written here; cut < 1
+    keeps that part of the compressed stream, in a chunk with a valid CRC."""
     import zlib
     h, w = len(rows), len(rows[0]) // channels
     fmt = ">%dH" % (w * channels) if bits == 16 else "%dB" % (w * channels)
@@ -635,7 +636,7 @@ def write_png(path, rows, bits, channels):
     def chunk(kind, data):
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
     ihdr = struct.pack(">IIBBBBB", w, h, bits, 0 if channels == 1 else 2, 0, 0, 0)
-    write(path, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw)) +
+    write(path, b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw)[:int(len(zlib.compress(raw)) * cut)]) +
           chunk(b"IEND", b""))
 
 
@@ -692,6 +693,16 @@ def case_optimize_data():
             sys.exit(f"FAIL: {name} PNGs read as {m}")
         if name == "KITTI" and "4 pixels of unknown g" not in p.stderr:
             sys.exit(f"FAIL: KITTI's 0 is not unknown: {p.stderr}")
+    # A frame whose compressed pixels stop half way (CRCs valid): one error
+    # line naming it, no metrics (stb inflated such streams toward 2 GiB).
+    write_png(os.path.join(tmp, "k_0002.png"), kitti, 16, 1, cut=0.5)
+    p = run(["optimize", "--g", os.path.join(tmp, "k_%04d.png"), "--frames", f"0:{frames - 1}", "--out",
+             os.path.join(tmp, "cut")], expect_ok=False)
+    errors = [l for l in p.stderr.splitlines() if "error" in l]
+    print(f"a KITTI frame cut half way -> exit {p.returncode}: {errors}")
+    if p.returncode == 0 or len(errors) != 1 or "k_0002.png" not in errors[0] or \
+            os.path.exists(os.path.join(tmp, "cut", "metrics.json")):
+        sys.exit("FAIL: a truncated PNG was not refused with one line")
     # The pixel / arcmin warnings, both ways.
     p = run(["optimize", "--g", os.path.join("..", "shared", "assets", "stereo", "flyingthings3d_pair_from_RAFT-3D",
                                              "disp%d.pfm"), "--frames", "1:2", "--out", os.path.join(tmp, "ft")],
