@@ -79,6 +79,54 @@ vg_status vg_png_write(const char *path, int width, int height, int comp, const 
     return st;
 }
 
+/* libpng writes into memory through this, then core/io renames it into place. */
+static void png_sink_write_png(png_structp png, png_bytep data, size_t size)
+{
+    png_sink_write(png_get_io_ptr(png), data, (int)size);
+}
+
+static void png_sink_flush(png_structp png)
+{
+    (void)png;
+}
+
+vg_status vg_png_write_grey16(const char *path, int width, int height, const uint16_t *grey)
+{
+    png_sink sink = {0};
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    uint8_t *volatile row = NULL;
+    vg_status st = VG_ERR_NOMEM;
+    if (!info || width <= 0 || height <= 0 || (size_t)width * height > VG_MAX_PIXELS)
+        goto done;
+    if (setjmp(png_jmpbuf(png)))
+        goto done;
+    png_set_write_fn(png, &sink, png_sink_write_png, png_sink_flush);
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    if (!(row = malloc((size_t)width * 2)))
+        goto done;
+    for (int y = 0; y < height; y++) {
+        for (int x = 0; x < width; x++) { /* PNG samples are big-endian */
+            uint16_t v = grey[(size_t)y * width + x];
+            row[2 * x] = (uint8_t)(v >> 8), row[2 * x + 1] = (uint8_t)v;
+        }
+        png_write_row(png, row);
+    }
+    png_write_end(png, NULL);
+    st = sink.failed ? VG_ERR_NOMEM : VG_OK;
+done:
+    free(row);
+    png_destroy_write_struct(&png, &info);
+    if (st == VG_OK)
+        st = vg_file_write_atomic(path, sink.data, sink.size);
+    else
+        vg_error("%s: PNG encoding of a %dx%d 16-bit image failed; not written", path, width, height);
+    free(sink.data);
+    return st;
+}
+
 /* Pearson correlation of two channels of 8-bit RGB pixels (0 when one is constant). */
 static double channel_correlation(const uint8_t *c, size_t count, int a, int b)
 {

@@ -115,6 +115,11 @@ void disp_tepe_frame(disp_tepe *t, const float *x, const float *g, const float *
     t->frames++;
 }
 
+void disp_tepe_restart(disp_tepe *t)
+{
+    t->frames = 0;
+}
+
 double disp_tepe_velocity(const disp_tepe *t) { return t->count_v ? t->sum_v / (double)t->count_v : NAN; }
 double disp_tepe_accel(const disp_tepe *t) { return t->count_a ? t->sum_a / (double)t->count_a : NAN; }
 

@@ -60,6 +60,8 @@ vg_status disp_tepe_init(disp_tepe *t, size_t n, float same_surface);
 /* Frame after frame: x, g and depth z (metres) of n pixels; unknown (NULL:
  * none) marks pixels of unknown g. */
 void disp_tepe_frame(disp_tepe *t, const float *x, const float *g, const float *z, const uint8_t *unknown);
+/* A new shot: the next frame has no earlier one to differ from. */
+void disp_tepe_restart(disp_tepe *t);
 /* The means so far (NAN before a pixel was measured), and its pixels. */
 double disp_tepe_velocity(const disp_tepe *t);
 double disp_tepe_accel(const disp_tepe *t);

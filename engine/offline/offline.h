@@ -65,17 +65,37 @@ typedef enum offline_flow {
     OFFLINE_FLOW_NONE,     /* a static camera and scene: zero flow */
 } offline_flow;
 
+/* Scene cuts (offline_cuts.c): found in the colour frames, none, or named. */
+typedef enum offline_cuts {
+    OFFLINE_CUTS_AUTO = 0, /* the colour histograms of consecutive --image / --video frames */
+    OFFLINE_CUTS_NONE,     /* one shot */
+    OFFLINE_CUTS_GIVEN,    /* cut_frames */
+} offline_cuts;
+
 typedef struct offline_desc {
-    /* printf-style patterns (disp_pattern.h); all but g and out optional.
+    /* printf-style patterns (disp_pattern.h); all but out optional, and g
+     * or depth needed.
      * ids: instance ids as capture writes them (24-bit RGB PNG, R the low
      * byte; 0 = background), for the links' same-surface test. */
     const char *g, *h, *depth, *flow_next, *flow_prev, *saliency, *ids;
     const char *image;        /* 8-bit RGB PNG per frame, the view g belongs to: a new stereo pair from f */
+    const char *video_in;     /* instead of image: a colour video (any file ffmpeg reads), its frames
+                                 first..last (counted from 0) decoded to PNGs in a temporary folder */
+    /* Depth files (PFM, or 16-bit grey PNG whose 0 is unknown) hold
+     * value * depth_scale metres, or with depth_inverse 1 / (value *
+     * depth_scale) metres (inverse depth, as monocular estimators write
+     * it). depth_scale 0 = 1; a PNG needs it given. Without g, g is the
+     * vergence the display gives depth through the rig (stereo_camera). */
+    double depth_scale;
+    bool depth_inverse;
+    stereo_camera_desc rig;
     offline_view image_view;  /* where that view is */
     offline_flow flow;        /* where the flows come from */
     flow_preset flow_preset;  /* of computed flows */
     bool flow_to_keyframe;    /* flows go to the previous / next keyframe (as capture writes them),
                                  not to the previous / next frame; first is a keyframe */
+    bool flow_to_frame;       /* computed flows from frame to frame, chained to the keyframes (the
+                                 default computes each frame's flow to its keyframes directly) */
     const char *out_dir;
     int first, last;          /* inclusive frame numbers */
     int keyframe_stride;      /* frames between keyframes, 0 = 10 (paper 4.4) */
@@ -105,6 +125,11 @@ typedef struct offline_desc {
     bool uniform_saliency;    /* without --saliency: every pixel weighs alike, not the computed saliency */
     bool causal;              /* the engine's sliding window with its future predicted from the past
                                  (mid_causal.h), not one window over the whole sequence */
+    offline_cuts scene_cuts;  /* where the window restarts */
+    const int *cut_frames;    /* GIVEN: the first frame of each new shot, increasing */
+    int cut_count;
+    double cut_threshold;     /* AUTO: histogram distance above which frames are cut apart, 0 = OFFLINE_CUT_THRESHOLD */
 } offline_desc;
 
 vg_status offline_run(const offline_desc *desc);
+const char *offline_cuts_name(offline_cuts c);

@@ -39,10 +39,14 @@
 typedef struct offline_seq {
     const offline_desc *desc;
     /* The frames' file names (printf-style, disp_pattern.h), one per input;
-     * has_* says which of the optional ones were given (g always is). */
+     * has_* says which of the optional ones were given (g, or depth). */
     disp_pattern g_pattern, h_pattern, depth_pattern, flow_next_pattern, flow_prev_pattern, saliency_pattern,
         ids_pattern, image_pattern;
     bool has_h, has_depth, has_flow_next, has_flow_prev, has_saliency, has_ids, has_image;
+    bool g_from_depth;    /* no --g: g is the display's vergence of the depth through the rig */
+    stereo_camera rig;
+    char video_dir[OFFLINE_PATH_CAP]; /* --video's frames, decoded (removed at the end); "" = none */
+    char video_pattern[OFFLINE_PATH_CAP + 16]; /* ... and their names, the image pattern */
     int width, height;    /* of every frame, from the first g */
     int frames;           /* desc->last - desc->first + 1 */
     int keyframe_stride;  /* frames between keyframes */
@@ -68,18 +72,27 @@ typedef struct offline_seq {
     bool compute_saliency; /* no --saliency, --h or --uniform-saliency: the engine's computed saliency */
     float *saliency_scratch; /* 3 planes: depth and flow of one frame (computed saliency) */
     /* The flows in use (desc.flow resolved: never AUTO). Computed ones are
-     * held for the last few pairs of frames (offline_read.c): pair p is the
-     * flow of frame p to p + 1 (fwd) and of p + 1 to p (bwd), filled from
-     * the nearest consistent pixel where the forward-backward check fails. */
+     * held for the last few pairs of frames (offline_read.c): pair (a, b) is
+     * the flow of frame a to b (fwd) and of b to a (bwd), filled from the
+     * nearest consistent pixel where the forward-backward check fails. */
     offline_flow flow;
+    bool flow_direct;        /* each frame's flows go straight to its previous and next keyframe (given
+                                with --flow-to keyframe; computed unless --flow-to frame), not to the
+                                neighbouring frames */
     int flow_slots;          /* pairs held */
-    int *flow_pair;          /* each slot's first frame, -1: empty */
+    int *flow_pair, *flow_pair_b; /* each slot's frames (first < second), -1: empty */
     unsigned long *flow_used; /* each slot's last use (the least recent is replaced) */
     float **flow_fwd, **flow_bwd;
     unsigned long flow_clock;
     long flow_computed;      /* pairs computed (a pair may be computed again in pass C) */
     double flow_occluded;    /* of the computed flows' pixels (both directions), how many failed the check */
     double flow_ms;          /* spent computing */
+    /* Scene cuts (offline_cuts.c): the first frame of each new shot. */
+    int *cut_frames;
+    float *cut_distance;     /* each one's histogram distance (NaN: named, not found) */
+    int cuts, cut_cap;
+    double *cut_hist;        /* pass A: the last two frames' colour histograms */
+    double cut_within_max;   /* the largest distance of frames left in one shot */
 } offline_seq;
 
 /* What pass C leaves for metrics.json, and the videos it writes into. */
@@ -97,7 +110,7 @@ typedef struct offline_outputs {
 /* g in pixels: --g-units px, or a dataset's PNGs. */
 static inline bool offline_g_in_px(const offline_seq *s)
 {
-    return s->desc->g_units == DISP_G_PX || s->g_dataset_png;
+    return !s->g_from_depth && (s->desc->g_units == DISP_G_PX || s->g_dataset_png);
 }
 
 /* offline_read.c: the inputs. */
@@ -109,11 +122,30 @@ vg_status offline_read_g(offline_seq *s, int t, float *out);
 vg_status offline_read_h(offline_seq *s, int t, float *out);
 vg_status offline_read_depth(offline_seq *s, int t, const float *g, float *z);
 vg_status offline_read_flow(offline_seq *s, int t, bool next, float *out);
+/* The frame the flow of frame t goes to: t +- 1, or with s->flow_direct
+ * the nearest keyframe after (next) or before it. */
+int offline_flow_target(const offline_seq *s, int t, bool next);
 void offline_flow_free(offline_seq *s);
 const char *offline_flow_name(offline_flow f);
 vg_status offline_read_saliency(offline_seq *s, int t, float *out);
 vg_status offline_read_ids(offline_seq *s, int t, float *out);
 vg_status offline_read_image(offline_seq *s, int t, uint8_t **out);
+
+/* offline_cuts.c: cuts named or found in pass A (begin, feed each frame's
+ * colours in order, end); keyframes restart at each. */
+#define OFFLINE_CUT_THRESHOLD 0.3
+vg_status offline_cuts_begin(offline_seq *s);
+vg_status offline_cuts_feed(offline_seq *s, int t, const uint8_t *rgb);
+void offline_cuts_end(offline_seq *s);
+void offline_cuts_free(offline_seq *s);
+bool offline_is_cut(const offline_seq *s, int t);
+int offline_keyframes(const offline_seq *s, int *numbers);
+
+/* offline_video.c: --video's frames decoded by ffmpeg into s->video_dir
+ * (made by prepare, removed by remove) as frame_%d.png. */
+vg_status offline_video_prepare(offline_seq *s);
+vg_status offline_video_decode(offline_seq *s);
+void offline_video_remove(offline_seq *s);
 
 /* offline_solve.c: the method. */
 vg_status offline_operator_create(offline_seq *s);

@@ -26,7 +26,7 @@ vg_status offline_patterns_parse(offline_seq *s)
 {
     const offline_desc *d = s->desc;
     struct { const char *text, *opt; disp_pattern *p; bool *has; } list[] = {
-        {d->g, "--g", &s->g_pattern, NULL},
+        {d->g, "--g", &s->g_pattern, NULL}, /* or from --depth */
         {d->h, "--h", &s->h_pattern, &s->has_h},
         {d->depth, "--depth", &s->depth_pattern, &s->has_depth},
         {d->flow_next, "--flow-next", &s->flow_next_pattern, &s->has_flow_next},
@@ -34,7 +34,16 @@ vg_status offline_patterns_parse(offline_seq *s)
         {d->saliency, "--saliency", &s->saliency_pattern, &s->has_saliency},
         {d->ids, "--ids", &s->ids_pattern, &s->has_ids},
         {d->image, "--image", &s->image_pattern, &s->has_image},
+        {NULL, "--video", &s->image_pattern, &s->has_image},
     };
+    if (d->video_in) {
+        vg_status st = offline_video_prepare(s);
+        if (st != VG_OK)
+            return st;
+        snprintf(s->video_pattern, sizeof s->video_pattern, "%s/frame_%%d.png", s->video_dir);
+        list[sizeof list / sizeof list[0] - 1].text = s->video_pattern;
+    }
+    s->g_from_depth = !d->g && d->depth;
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         if (!list[i].text)
             continue;
@@ -87,16 +96,19 @@ vg_status offline_check_flows(offline_seq *s)
                  "with --image");
         return VG_ERR_ARG;
     }
-    if (s->flow != OFFLINE_FLOW_GIVEN && d->flow_to_keyframe) {
-        vg_error("optimize: --flow-to keyframe: %s flows go from frame to frame", offline_flow_name(s->flow));
+    if (s->flow == OFFLINE_FLOW_NONE && (d->flow_to_keyframe || d->flow_to_frame)) {
+        vg_error("optimize: --flow-to with --flow none: there are no flows");
         return VG_ERR_ARG;
     }
-    if (d->flow_to_keyframe && (!s->has_flow_next || !s->has_flow_prev)) {
+    /* Computed flows go straight to the keyframes: chained frame to frame,
+     * the error of each step (a compressed video's noise) adds up. */
+    s->flow_direct = d->flow_to_keyframe || (s->flow == OFFLINE_FLOW_COMPUTED && !d->flow_to_frame);
+    if (s->flow == OFFLINE_FLOW_GIVEN && d->flow_to_keyframe && (!s->has_flow_next || !s->has_flow_prev)) {
         vg_error("optimize: flows to the keyframes need both --flow-next and --flow-prev (one is not the other "
                  "negated across a keyframe interval)");
         return VG_ERR_ARG;
     }
-    if (d->flow_to_keyframe && (s->frames - 1) % s->keyframe_stride) {
+    if (s->flow == OFFLINE_FLOW_GIVEN && d->flow_to_keyframe && (s->frames - 1) % s->keyframe_stride) {
         vg_error("optimize: flows to the keyframes: --frames %d:%d must end on a keyframe (%d + a multiple of "
                  "--keyframe-stride %d, e.g. %d:%d)", d->first, d->last, d->first, s->keyframe_stride, d->first,
                  d->first + (s->frames - 1) / s->keyframe_stride * s->keyframe_stride);
@@ -108,8 +120,9 @@ vg_status offline_check_flows(offline_seq *s)
                 d->flow == OFFLINE_FLOW_NONE ? "" : "; give --image to compute the flows from the colour frames");
     } else if (s->flow == OFFLINE_FLOW_COMPUTED) {
         flow_set_threads(d->threads); /* --threads holds for OpenCV's workers too */
-        vg_info("optimize: flows computed from --image (DIS optical flow, preset %s, forward-backward checked)",
-                flow_preset_name(d->flow_preset));
+        vg_info("optimize: flows computed from the colour frames (DIS optical flow, preset %s, forward-backward "
+                "checked), from each frame %s", flow_preset_name(d->flow_preset),
+                s->flow_direct ? "to its keyframes" : "to the next and previous frame");
     } else if (!s->has_flow_next || !s->has_flow_prev) {
         vg_info("optimize: approximating %s by the other flow negated",
                 s->has_flow_next ? "--flow-prev" : "--flow-next");
@@ -127,6 +140,67 @@ static bool is_png(const char *path)
     return n > 4 && !strcasecmp(path + n - 4, ".png");
 }
 
+/* A depth file's values in metres (offline_desc.depth_scale, depth_inverse):
+ * a 16-bit grey PNG (0: unknown, +inf) or a PFM. Each depth must lie in
+ * front of the camera (> 0; +inf is unknown or infinitely far). */
+static vg_status read_depth(offline_seq *s, const char *path, vg_imagef *img)
+{
+    const offline_desc *d = s->desc;
+    double scale = d->depth_scale > 0 ? d->depth_scale : 1.0;
+    bool png = is_png(path);
+    vg_status st;
+    if (png && !(d->depth_scale > 0)) {
+        vg_error("%s: a PNG holds depth in integer units: give --depth-scale (metres per unit, e.g. 0.001 for "
+                 "millimetres; with --depth-inverse, 1/metres per unit)", path);
+        return VG_ERR_ARG;
+    }
+    if (png) {
+        uint8_t *buf;
+        size_t size;
+        if ((st = vg_file_read(path, &buf, &size)) != VG_OK)
+            return st;
+        char why[200];
+        vg_png_image png_img = {.comp = 0};
+        bool ok = vg_png_decode(buf, size, &png_img, why, sizeof why);
+        if (ok && (png_img.file_comp != 1 || png_img.file_bits != 16)) {
+            vg_error("%s: depth PNGs are 16-bit grey; this one is %d-bit with %d channel(s)", path,
+                     png_img.file_bits, png_img.file_comp);
+            free(buf);
+            return VG_ERR_FORMAT;
+        }
+        png_img.comp = 1;
+        png_img.bits = 16;
+        ok = ok && vg_png_decode(buf, size, &png_img, why, sizeof why);
+        free(buf);
+        if (!ok) {
+            vg_error("%s: cannot decode PNG: %s", path, why);
+            return VG_ERR_FORMAT;
+        }
+        if ((st = vg_imagef_alloc(img, png_img.width, png_img.height, 1)) != VG_OK) {
+            free(png_img.pixels);
+            return st;
+        }
+        const uint16_t *v = png_img.pixels;
+        for (int i = 0; i < img->width * img->height; i++)
+            img->data[i] = v[i] ? (float)v[i] : INFINITY;
+        free(png_img.pixels);
+    } else if ((st = vg_pfm_read(path, img)) != VG_OK)
+        return st;
+    for (int i = 0; img->channels == 1 && i < img->width * img->height; i++) {
+        float v = img->data[i];
+        if (isinf(v) && v > 0)
+            continue;
+        if (!(v > 0) || !isfinite(v)) {
+            vg_error("%s: depth %g at pixel (%d, %d): depths must be > 0 (%s)", path, v, i % img->width,
+                     i / img->width, d->depth_inverse ? "inverse depth, 1/metres" : "metres in front of the camera");
+            vg_imagef_free(img);
+            return VG_ERR_FORMAT;
+        }
+        img->data[i] = (float)(d->depth_inverse ? 1.0 / (v * scale) : v * scale);
+    }
+    return VG_OK;
+}
+
 /* Reads one frame of a single- or two-channel sequence and checks its size
  * against the first g frame: every frame of every input must match. */
 static vg_status read_frame(offline_seq *s, const disp_pattern *p, int t, int channels, const char *what,
@@ -139,6 +213,7 @@ static vg_status read_frame(offline_seq *s, const disp_pattern *p, int t, int ch
     const char *encoding = NULL;
     st = channels == 2                        ? vg_flo_read(path, img)
          : p == &s->g_pattern && is_png(path) ? vg_disparity_png_read(path, img, &encoding)
+         : p == &s->depth_pattern             ? read_depth(s, path, img)
                                               : vg_pfm_read(path, img);
     if (st != VG_OK)
         return st;
@@ -232,9 +307,14 @@ static int fill_unknown(offline_seq *s, float *v)
 vg_status offline_read_g(offline_seq *s, int t, float *out)
 {
     vg_imagef img = {0};
-    vg_status st = read_frame(s, &s->g_pattern, t, 1, "g", &img, true);
+    const disp_pattern *src = s->g_from_depth ? &s->depth_pattern : &s->g_pattern;
+    vg_status st = read_frame(s, src, t, 1, s->g_from_depth ? "depth" : "g", &img, true);
     if (st != VG_OK)
         return st;
+    /* Without --g: the vergence the display gives the depth through the rig. */
+    for (int i = 0; s->g_from_depth && i < img.width * img.height; i++)
+        if (!isinf(img.data[i]))
+            img.data[i] = (float)stereo_camera_vergence(&s->rig, &s->display, img.data[i]);
     if (!s->width) {
         s->width = img.width;
         s->height = img.height;
@@ -246,7 +326,7 @@ vg_status offline_read_g(offline_seq *s, int t, float *out)
     int n = s->width * s->height, bad = 0, unknown = fill_unknown(s, img.data);
     if (unknown < 0) {
         char path[OFFLINE_PATH_CAP];
-        offline_frame_path(&s->g_pattern, t, path);
+        offline_frame_path(src, t, path);
         vg_error("%s: g is unknown (inf) at every pixel", path);
         vg_imagef_free(&img);
         return VG_ERR_FORMAT;
@@ -273,7 +353,7 @@ vg_status offline_read_g(offline_seq *s, int t, float *out)
         bool px = offline_g_in_px(s);
         if (!s->unknown[i] && (px ? fabs(v) > s->width : v >= OFFLINE_VERGENCE_MAX)) {
             char path[OFFLINE_PATH_CAP];
-            offline_frame_path(&s->g_pattern, t, path);
+            offline_frame_path(src, t, path);
             if (px)
                 vg_error("%s: g is %g pixels at pixel (%d, %d), more than the frame's width (%d): not a disparity of "
                          "these frames%s", path, v, i % s->width, i / s->width, s->width,
@@ -299,7 +379,7 @@ vg_status offline_read_g(offline_seq *s, int t, float *out)
     }
     if (bad) {
         char path[OFFLINE_PATH_CAP];
-        offline_frame_path(&s->g_pattern, t, path);
+        offline_frame_path(src, t, path);
         vg_warn("%s: %d pixels beyond infinity for this display (vergence <= 0), clamped to 0.5 arcmin", path, bad);
     }
     vg_imagef_free(&img);
@@ -311,16 +391,16 @@ vg_status offline_read_g(offline_seq *s, int t, float *out)
 static vg_status read_plane(offline_seq *s, const disp_pattern *p, int t, const char *what, float *out)
 {
     vg_imagef img = {0};
-    vg_status st = read_frame(s, p, t, 1, what, &img, false);
-    /* A depth is a distance in front of the camera. */
-    for (int i = 0; st == VG_OK && p == &s->depth_pattern && i < img.width * img.height; i++)
-        if (!(img.data[i] > 0)) {
-            char path[OFFLINE_PATH_CAP];
-            offline_frame_path(p, t, path);
-            vg_error("%s: depth %g at pixel (%d, %d): depths must be > 0 (metres in front of the camera)", path,
-                     img.data[i], i % img.width, i / img.width);
-            st = VG_ERR_FORMAT;
-        }
+    bool depth = p == &s->depth_pattern;
+    vg_status st = read_frame(s, p, t, 1, what, &img, depth);
+    /* Unknown depth (+inf, a PNG's 0) is taken as the background: twice
+     * the frame's farthest known depth, for the occlusion tests' ratios. */
+    float far = 0;
+    for (int i = 0; st == VG_OK && depth && i < img.width * img.height; i++)
+        far = isinf(img.data[i]) ? far : fmaxf(far, img.data[i]);
+    for (int i = 0; st == VG_OK && depth && i < img.width * img.height; i++)
+        if (isinf(img.data[i]))
+            img.data[i] = far > 0 ? 2 * far : 1e3f;
     /* h is vergence, as g. */
     for (int i = 0; st == VG_OK && p == &s->h_pattern && i < img.width * img.height; i++)
         if (!(img.data[i] > 0 && img.data[i] < OFFLINE_VERGENCE_MAX)) {
@@ -421,28 +501,31 @@ void offline_flow_free(offline_seq *s)
     free(s->flow_fwd);
     free(s->flow_bwd);
     free(s->flow_pair);
+    free(s->flow_pair_b);
     free(s->flow_used);
     s->flow_fwd = s->flow_bwd = NULL;
-    s->flow_pair = NULL;
+    s->flow_pair = s->flow_pair_b = NULL;
     s->flow_used = NULL;
     s->flow_slots = 0;
 }
 
-/* The slots: the pairs of one keyframe interval and one more, so that pass
- * B computes each pair once and pass C once again (1 GiB at most). */
+/* The slots: the pairs of one keyframe interval and one more (direct: each
+ * frame's two, 2 stride + 1), so that pass B computes each pair once and
+ * pass C once again (1 GiB at most). */
 static vg_status flow_slots_alloc(offline_seq *s)
 {
     size_t bytes = (size_t)s->width * s->height * 2 * sizeof(float);
-    int slots = s->keyframe_stride + 1;
-    if (slots > s->frames - 1)
+    int slots = s->flow_direct ? 2 * s->keyframe_stride + 1 : s->keyframe_stride + 1;
+    if (!s->flow_direct && slots > s->frames - 1)
         slots = s->frames - 1 > 0 ? s->frames - 1 : 1;
     while (slots > 2 && 2.0 * bytes * slots > FLOW_CACHE_BYTES)
         slots--;
     s->flow_fwd = calloc((size_t)slots, sizeof *s->flow_fwd);
     s->flow_bwd = calloc((size_t)slots, sizeof *s->flow_bwd);
     s->flow_pair = malloc((size_t)slots * sizeof *s->flow_pair);
+    s->flow_pair_b = malloc((size_t)slots * sizeof *s->flow_pair_b);
     s->flow_used = calloc((size_t)slots, sizeof *s->flow_used);
-    if (!s->flow_fwd || !s->flow_bwd || !s->flow_pair || !s->flow_used)
+    if (!s->flow_fwd || !s->flow_bwd || !s->flow_pair || !s->flow_pair_b || !s->flow_used)
         return VG_ERR_NOMEM;
     s->flow_slots = slots;
     for (int k = 0; k < slots; k++) {
@@ -453,8 +536,8 @@ static vg_status flow_slots_alloc(offline_seq *s)
     return VG_OK;
 }
 
-/* Flows of pair p (frames p and p + 1) into slot k: DIS both ways on the
- * --image frames; where the forward-backward check fails (occluded, or the
+/* Flows of the pair (a, b), a < b, into slot k: DIS both ways on the
+ * colour frames; where the forward-backward check fails (occluded, or the
  * flow wrong) a pixel takes the flow of the nearest consistent pixel of
  * its row, and the window's own occlusion tests (ids, depth, the round
  * trip: mid_window.c) decide its links. NaN there instead (no link: the
@@ -462,20 +545,20 @@ static vg_status flow_slots_alloc(offline_seq *s)
  * frames to the keyframe) cut the tracks of a small moving object: on a
  * balloon capture f's MID distortion was 7.25 JND against 5.06 filled and
  * 4.92 with the exact flows (docs/formats.md). */
-static vg_status flow_compute(offline_seq *s, int p, int k)
+static vg_status flow_compute(offline_seq *s, int a_frame, int b_frame, int k)
 {
     size_t np = (size_t)s->width * s->height;
     uint8_t *a = NULL, *b = NULL, *occ = malloc(2 * np);
     float *fwd = s->flow_fwd[k], *bwd = s->flow_bwd[k];
     vg_status st = occ ? VG_OK : VG_ERR_NOMEM;
-    s->flow_pair[k] = -1;
+    s->flow_pair[k] = s->flow_pair_b[k] = -1;
     if (st == VG_OK)
-        st = offline_read_image(s, p, &a);
+        st = offline_read_image(s, a_frame, &a);
     if (st == VG_OK)
-        st = offline_read_image(s, p + 1, &b);
+        st = offline_read_image(s, b_frame, &b);
     double t0 = vg_now_ms();
     char what[64];
-    snprintf(what, sizeof what, "--image frames %d and %d", p, p + 1);
+    snprintf(what, sizeof what, "colour frames %d and %d", a_frame, b_frame);
     if (st == VG_OK)
         st = flow_dis(&(flow_image){a, s->width, s->height, 3}, &(flow_image){b, s->width, s->height, 3},
                       s->desc->flow_preset, what, fwd, bwd);
@@ -484,7 +567,8 @@ static vg_status flow_compute(offline_seq *s, int p, int k)
         s->flow_occluded += (double)flow_occlusions(bwd, fwd, s->width, s->height, occ + np);
         flow_fill_occluded(fwd, occ, s->width, s->height);
         flow_fill_occluded(bwd, occ + np, s->width, s->height);
-        s->flow_pair[k] = p;
+        s->flow_pair[k] = a_frame;
+        s->flow_pair_b[k] = b_frame;
         s->flow_computed++;
         s->flow_ms += vg_now_ms() - t0;
     }
@@ -494,14 +578,30 @@ static vg_status flow_compute(offline_seq *s, int p, int k)
     return st;
 }
 
-/* Computed flow of frame t to t + 1 (next) or t - 1 (prev). */
+int offline_flow_target(const offline_seq *s, int t, bool next)
+{
+    if (!s->flow_direct || !s->keyframe_numbers)
+        return next ? t + 1 : t - 1;
+    const int *key = s->keyframe_numbers;
+    if (next) {
+        for (int k = 0; k < s->keyframes; k++)
+            if (key[k] > t)
+                return key[k];
+        return t + 1; /* past the last keyframe: none */
+    }
+    for (int k = s->keyframes - 1; k >= 0; k--)
+        if (key[k] < t)
+            return key[k];
+    return t - 1;
+}
+
+/* Computed flow of frame t to the frame offline_flow_target names. */
 static vg_status computed_flow(offline_seq *s, int t, bool next, float *out)
 {
     const offline_desc *d = s->desc;
-    int p = next ? t : t - 1;
-    if (p < d->first || p + 1 > d->last) {
-        vg_error("optimize: no flow of frame %d to frame %d: --frames is %d:%d", t, next ? t + 1 : t - 1, d->first,
-                 d->last);
+    int u = offline_flow_target(s, t, next), a = next ? t : u, b = next ? u : t;
+    if (a < d->first || b > d->last) {
+        vg_error("optimize: no flow of frame %d to frame %d: --frames is %d:%d", t, u, d->first, d->last);
         return VG_ERR_ARG;
     }
     vg_status st = s->flow_slots ? VG_OK : flow_slots_alloc(s);
@@ -509,12 +609,12 @@ static vg_status computed_flow(offline_seq *s, int t, bool next, float *out)
         return st;
     int k = -1, lru = 0;
     for (int i = 0; i < s->flow_slots && k < 0; i++) {
-        if (s->flow_pair[i] == p)
+        if (s->flow_pair[i] == a && s->flow_pair_b[i] == b)
             k = i;
         else if (s->flow_used[i] < s->flow_used[lru])
             lru = i;
     }
-    if (k < 0 && (st = flow_compute(s, p, k = lru)) != VG_OK)
+    if (k < 0 && (st = flow_compute(s, a, b, k = lru)) != VG_OK)
         return st;
     s->flow_used[k] = ++s->flow_clock;
     if (out)
@@ -575,7 +675,7 @@ static void warn_units(const offline_seq *s)
 vg_status offline_validate(offline_seq *s)
 {
     const offline_desc *d = s->desc;
-    vg_status st = VG_OK;
+    vg_status st = offline_cuts_begin(s);
     for (int t = d->first; t <= d->last && st == VG_OK; t++) {
         vg_progress("optimize: checking inputs", t - d->first, s->frames);
         st = offline_read_g(s, t, NULL);
@@ -591,9 +691,15 @@ vg_status offline_validate(offline_seq *s)
             st = offline_read_saliency(s, t, NULL);
         if (st == VG_OK && s->has_ids)
             st = offline_read_ids(s, t, NULL);
-        if (st == VG_OK && s->has_image)
-            st = offline_read_image(s, t, NULL);
+        if (st == VG_OK && s->has_image) {
+            uint8_t *rgb = NULL;
+            st = offline_read_image(s, t, s->cut_hist ? &rgb : NULL);
+            if (st == VG_OK)
+                st = offline_cuts_feed(s, t, rgb);
+            free(rgb);
+        }
     }
+    offline_cuts_end(s);
     if (st == VG_OK)
         vg_progress("optimize: checking inputs", s->frames, s->frames);
     if (st == VG_OK && s->unknown_total)
@@ -612,12 +718,13 @@ vg_status offline_validate(offline_seq *s)
         warn_units(s);
     /* Motion in depth is measured by its acceleration: the change of velocity
      * between keyframes, so three keyframes at least. */
+    s->keyframes = offline_keyframes(s, NULL);
     if (st == VG_OK && s->keyframes < 3) {
         int stride = s->keyframe_stride;
         vg_error("optimize: --frames %d:%d is %d frame(s): %d keyframe(s) at --keyframe-stride %d, and the "
                  "acceleration in depth needs 3 (give %d frames or more, or a smaller --keyframe-stride)",
                  d->first, d->last, s->frames, s->keyframes, stride,
-                 d->flow_to_keyframe ? 2 * stride + 1 : stride > 1 ? stride + 2 : 3);
+                 s->flow == OFFLINE_FLOW_GIVEN && d->flow_to_keyframe ? 2 * stride + 1 : stride > 1 ? stride + 2 : 3);
         st = VG_ERR_ARG;
     }
     return st;

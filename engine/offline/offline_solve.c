@@ -31,9 +31,10 @@ static vg_status computed_saliency(offline_seq *s, int t, const float *g, float 
     size_t np = (size_t)s->width * s->height;
     float *z = s->saliency_scratch, *flow = s->saliency_scratch + np;
     uint8_t *rgb = NULL;
+    bool next = t < d->last && !offline_is_cut(s, t + 1); /* the last frame of a shot: its flow to the previous */
     vg_status st = offline_read_depth(s, t, g, z);
-    if (st == VG_OK) /* the last frame has no next one: its flow to the previous */
-        st = offline_read_flow(s, t, t < d->last, flow);
+    if (st == VG_OK)
+        st = offline_read_flow(s, t, next, flow);
     if (st == VG_OK && s->has_image)
         st = offline_read_image(s, t, &rgb);
     if (st != VG_OK)
@@ -52,9 +53,8 @@ static vg_status computed_saliency(offline_seq *s, int t, const float *g, float 
     for (int k = 0; k < 3; k++)
         m[k] = known ? (float)(mean[k] / known) : 0.0f;
     /* Flows to the keyframe span the frames to it; frame flows one. */
-    int stride = s->keyframe_stride, phase = (t - d->first) % stride;
-    int to_key = t < d->last ? stride - phase : (phase ? phase : stride);
-    float per_interval = (float)stride / (float)(d->flow_to_keyframe ? to_key : 1) / (float)s->width;
+    int span = abs(offline_flow_target(s, t, next) - t);
+    float per_interval = (float)s->keyframe_stride / (float)(span > 0 ? span : 1) / (float)s->width;
     for (size_t i = 0; i < np; i++) {
         if (!isfinite(g[i]) || !(z[i] > 0)) {
             out[i] = 0.0f;
@@ -118,7 +118,7 @@ static vg_status keyframe_flow(offline_seq *s, int a, int b, float *flow_c, floa
     int nc = s->grid.nx * s->grid.ny;
     disp_grid_positions(&s->grid, pos);
     /* Flows to the keyframes hold the whole interval in one step. */
-    for (int t = a; t != b; t = s->desc->flow_to_keyframe ? b : t + (b > a ? 1 : -1)) {
+    for (int t = a; t != b; t = s->flow_direct ? b : t + (b > a ? 1 : -1)) {
         vg_status st = offline_read_flow(s, t, b > a, scratch);
         if (st != VG_OK)
             return st;
@@ -145,6 +145,8 @@ static vg_status pass_keyframes(offline_seq *s, mid_window *w, float *g, float *
     for (int k = 0; k < s->keyframes; k++) {
         vg_progress("optimize: keyframes", k, s->keyframes);
         int t0 = key[k], t_end = k + 1 < s->keyframes ? key[k + 1] : t0 + 1;
+        if (offline_is_cut(s, t0)) /* a new shot: no state from the last */
+            disp_operator_reset(s->op);
         for (int t = t0; t < t_end; t++) {
             if (t != t0 && !every_frame)
                 continue;
@@ -172,7 +174,12 @@ static vg_status pass_keyframes(offline_seq *s, mid_window *w, float *g, float *
                                                    disp_grid_px(&s->grid, q % s->grid.nx)];
             }
         }
-        if (k + 1 < s->keyframes) {
+        if (k + 1 < s->keyframes && offline_is_cut(s, key[k + 1])) {
+            /* Across a cut every sample is lost: no term links the shots. */
+            w->dt[k] = (float)((key[k + 1] - t0) / s->fps);
+            for (int q = 0; q < 2 * w->ns; q++)
+                w->flow_fwd[(size_t)2 * k * w->ns + q] = w->flow_bwd[(size_t)2 * (k + 1) * w->ns + q] = 1e6f;
+        } else if (k + 1 < s->keyframes) {
             w->dt[k] = (float)((key[k + 1] - t0) / s->fps);
             vg_status st = keyframe_flow(s, t0, key[k + 1], w->flow_fwd + (size_t)2 * k * w->ns, scratch, pos);
             if (st == VG_OK)
@@ -318,6 +325,8 @@ vg_status offline_upsample(offline_seq *s, const mid_window *w, const float *f_s
                                  of_h ? NULL : w->h + ko + nc};
         bool has1 = k + 1 < s->keyframes;
         float span = has1 && w->inv_dt_f[k] > 0 ? 1.0f / w->inv_dt_f[k] : 0.0f;
+        if (offline_is_cut(s, t0))
+            disp_operator_reset(s->op);
         for (int t = t0; t < t_end && st == VG_OK; t++) {
             vg_progress("optimize: writing", t - d->first, s->frames);
             st = offline_read_g(s, t, g);
@@ -336,7 +345,7 @@ vg_status offline_upsample(offline_seq *s, const mid_window *w, const float *f_s
                 disp_grid_sample(&s->grid, f, 1, idc);
             }
             /* Where frame t's coarse samples are in the two keyframes. */
-            bool direct = d->flow_to_keyframe;
+            bool direct = s->flow_direct;
             disp_grid_positions(&s->grid, pos0);
             for (int m = t; m > t0; m = direct ? t0 : m - 1)
                 disp_flow_advect(prev + (size_t)(m - t0) * nf2, s->width, s->height, pos0, nc);

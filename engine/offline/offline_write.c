@@ -64,7 +64,7 @@ vg_status offline_check_out_dir(offline_seq *s)
     const offline_desc *d = s->desc;
     vg_inputs in = {0};
     struct { const disp_pattern *p; bool has; const char *label; } seqs[] = {
-        {&s->g_pattern, true, "--g"},
+        {&s->g_pattern, !s->g_from_depth, "--g"},
         {&s->h_pattern, s->has_h, "--h"},
         {&s->depth_pattern, s->has_depth, "--depth"},
         {&s->flow_next_pattern, s->has_flow_next, "--flow-next"},
@@ -355,6 +355,8 @@ vg_status offline_write_frame(offline_seq *s, int t, float *g, float *h, float *
     }
     if (s->has_image && (st = write_pair(s, t, g, f, z, o->pair_video)) != VG_OK)
         return st;
+    for (int k = 0; k < 2 && offline_is_cut(s, t); k++) /* the change across a cut is no motion */
+        disp_tepe_restart(&o->tepe[k]);
     disp_tepe_frame(&o->tepe[0], h, g, z, s->unknown);
     disp_tepe_frame(&o->tepe[1], f, g, z, s->unknown);
     for (size_t i = 0; i < np; i++)
@@ -500,6 +502,20 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
         vg_json_num(&j, "ms", s->flow_ms);
         vg_json_object_end(&j);
     }
+    vg_json_object_begin(&j, "scene_cuts");
+    vg_json_str(&j, "mode", offline_cuts_name(d->scene_cuts));
+    if (d->scene_cuts == OFFLINE_CUTS_AUTO) {
+        vg_json_str(&j, "measure", s->has_image ? "joint RGB histogram, 4 bins a channel, half the L1 distance of "
+                                                  "consecutive frames'" : "none (no colour frames)");
+        vg_json_num(&j, "threshold", d->cut_threshold > 0 ? d->cut_threshold : OFFLINE_CUT_THRESHOLD);
+        vg_json_num(&j, "largest_within_shots", s->cut_within_max);
+    }
+    vg_json_array_begin(&j, "frames");
+    for (int i = 0; i < s->cuts; i++)
+        vg_json_int(&j, NULL, s->cut_frames[i]);
+    vg_json_array_end(&j);
+    vg_json_nums(&j, "distances", s->cut_distance, s->cuts);
+    vg_json_object_end(&j);
     if (s->has_image) {
         vg_json_object_begin(&j, "stereo_pair");
         vg_json_str(&j, "image_view", image_left(s) ? "left" : "centre");

@@ -25,30 +25,37 @@ static const char *const g_flow_sources[] = {"auto", "given", "computed", "none"
 static const char *const g_flow_presets[] = {"fine", "medium", "fast", "ultrafast", NULL}; /* flow_preset's order */
 
 static struct {
-    const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture;
+    const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture,
+        *video, *rig, *cuts;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead, edge_norm,
         velocity_unit, stereo_layout, flow, flow_preset;
-    bool no_video, uniform_saliency, mkv;
-    double fps, range, px_zero, occlusion;
+    bool no_video, uniform_saliency, mkv, depth_inverse;
+    double fps, range, px_zero, occlusion, depth_scale, cut_threshold;
     display_cli display;
 } o;
 
 static const vg_opt g_opts[] = {
     {.name = "--capture", .kind = VG_OPT_STRING, .dest = &o.capture, .metavar = "DIR", .help = "a folder from 'vergence capture': its g, h, depth, ids, flows to the keyframes, colour image (a new pair), frames, stride, fps, display and range (flags override)"},
-    {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM (or KITTI/Sintel PNG) per frame, e.g. 'in/g_%04d.pfm' (required, or --capture)"},
+    {.name = "--g", .kind = VG_OPT_STRING, .dest = &o.g, .metavar = "PATTERN", .help = "original disparity g, PFM (or KITTI/Sintel PNG) per frame, e.g. 'in/g_%04d.pfm' (or g from --depth, or --capture)"},
     {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required with --g)"},
     {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), with --image left_/right_%04d.png and the pair's video (--stereo-layout), metrics.json (required)"},
     {.name = "--h", .kind = VG_OPT_STRING, .dest = &o.h, .metavar = "PATTERN", .help = "manipulated disparity h, PFM arcmin (instead of --operator)"},
     {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
     {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
-    {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth, PFM metres (default: from g)"},
+    {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth per frame, PFM metres or 16-bit grey PNG (0 = unknown) with --depth-scale; without --g, g is the display's vergence of it through --rig (default: depth from g)"},
+    {.name = "--depth-scale", .kind = VG_OPT_FLOAT, .dest = &o.depth_scale, .metavar = "S", .help = "metres per depth unit (0.001: millimetres; needed for PNG depth; default 1)", .min = 1e-9, .max = 1e9},
+    {.name = "--depth-inverse", .kind = VG_OPT_FLAG, .dest = &o.depth_inverse, .help = "depth files hold inverse depth (as monocular estimators write it): metres = 1 / (value * --depth-scale)"},
+    {.name = "--rig", .kind = VG_OPT_STRING, .dest = &o.rig, .metavar = "B,C,FOV", .help = "g from --depth: interaxial B and convergence C in metres, horizontal field of view in degrees (default 0,0,0: the display's eye separation, viewing distance and angle, ortho-stereo)"},
     {.name = "--flow-next", .kind = VG_OPT_STRING, .dest = &o.flow_next, .metavar = "PATTERN", .help = "per-frame .flo flow to the next frame"},
     {.name = "--flow-prev", .kind = VG_OPT_STRING, .dest = &o.flow_prev, .metavar = "PATTERN", .help = "per-frame .flo flow to the previous frame"},
     {.name = "--image", .kind = VG_OPT_STRING, .dest = &o.image, .metavar = "PATTERN", .help = "8-bit RGB PNG of the view g belongs to: a new stereo pair from f, left_/right_%04d.png (and its video, --stereo-layout)"},
+    {.name = "--video", .kind = VG_OPT_STRING, .dest = &o.video, .metavar = "FILE", .help = "instead of --image: a colour video (any file ffmpeg reads), its frames --frames A:B counted from 0"},
+    {.name = "--scene-cuts", .kind = VG_OPT_STRING, .dest = &o.cuts, .metavar = "HOW", .help = "where the window restarts: auto (default: found in the colour frames of --image or --video), none, or the first frames of new shots, N,N,..."},
+    {.name = "--cut-threshold", .kind = VG_OPT_FLOAT, .dest = &o.cut_threshold, .metavar = "D", .help = "with --scene-cuts auto: the colour histogram distance of consecutive frames (0 to 1) above which they are cut apart (default 0.3)", .min = 0.01, .max = 1},
     {.name = "--image-view", .kind = VG_OPT_CHOICE, .dest = &o.view, .metavar = "V", .help = "where --image was taken: centre (the engine's) or left (datasets); auto: left for pixel disparities", .choices = g_views},
     {.name = "--flow", .kind = VG_OPT_CHOICE, .dest = &o.flow, .metavar = "FROM", .help = "where the per-frame flows come from: given (--flow-next/--flow-prev, or the capture's), computed (DIS optical flow between consecutive --image frames, checked forward against backward), none (a static scene); auto (default): given if named, else computed if --image, else none", .choices = g_flow_sources},
     {.name = "--flow-preset", .kind = VG_OPT_CHOICE, .dest = &o.flow_preset, .metavar = "P", .help = "with --flow computed: fine (default: DIS's medium down to full resolution), or DIS's own medium, fast or ultrafast (faster, coarser)", .choices = g_flow_presets},
-    {.name = "--flow-to", .kind = VG_OPT_CHOICE, .dest = &o.flow_to, .metavar = "TO", .help = "the flows go to the next/previous frame (default) or keyframe (as capture writes them)", .choices = g_flow_to},
+    {.name = "--flow-to", .kind = VG_OPT_CHOICE, .dest = &o.flow_to, .metavar = "TO", .help = "given flows go to the next/previous frame (default) or keyframe (as capture writes them); computed flows go to the keyframes (default) or, chained, frame to frame", .choices = g_flow_to},
     {.name = "--ids", .kind = VG_OPT_STRING, .dest = &o.ids, .metavar = "PATTERN", .help = "instance ids, 24-bit RGB PNG as capture writes them (links stay on one object)"},
     {.name = "--saliency", .kind = VG_OPT_STRING, .dest = &o.saliency, .metavar = "PATTERN", .help = "8-bit grey PNG saliency for the operator (default: computed from --image, the flows and depth)"},
     {.name = "--uniform-saliency", .kind = VG_OPT_FLAG, .dest = &o.uniform_saliency, .help = "without --saliency: every pixel weighs alike (no computed saliency)"},
@@ -200,6 +207,44 @@ static vg_status from_capture(offline_desc *d, char *frames_buf, size_t cap, cha
     return VG_OK;
 }
 
+/* --rig B,C,FOV: each >= 0 (0 = the display's). */
+static bool parse_rig(const char *text, stereo_camera_desc *rig)
+{
+    double v[3];
+    char tail;
+    if (sscanf(text, "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3)
+        return false;
+    for (int i = 0; i < 3; i++)
+        if (!(v[i] >= 0 && v[i] < 1e6))
+            return false;
+    *rig = (stereo_camera_desc){.interaxial_m = v[0], .convergence_m = v[1], .hfov_deg = v[2]};
+    return v[2] < 180;
+}
+
+/* --scene-cuts auto | none | N,N,... (at most 4096 cuts). */
+static bool parse_cuts(const char *text, offline_desc *d, int *frames, int cap)
+{
+    if (!strcmp(text, "auto") || !strcmp(text, "none")) {
+        d->scene_cuts = !strcmp(text, "auto") ? OFFLINE_CUTS_AUTO : OFFLINE_CUTS_NONE;
+        return true;
+    }
+    int n = 0;
+    for (const char *p = text; *p;) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || v < 0 || v > 100000000 || n == cap || (*end && *end != ','))
+            return false;
+        frames[n++] = (int)v;
+        p = *end ? end + 1 : end;
+        if (*end && !*p)
+            return false;
+    }
+    d->scene_cuts = OFFLINE_CUTS_GIVEN;
+    d->cut_frames = frames;
+    d->cut_count = n;
+    return n > 0;
+}
+
 static int run(int argc, char **argv)
 {
     memset(&o, 0, sizeof o);
@@ -212,7 +257,7 @@ static int run(int argc, char **argv)
         return help ? 0 : fail(st);
     offline_desc d = {
         .g = o.g, .h = o.h, .depth = o.depth, .flow_next = o.flow_next, .flow_prev = o.flow_prev,
-        .saliency = o.saliency, .ids = o.ids, .image = o.image, .image_view = (offline_view)o.view, .flow_to_keyframe = o.flow_to == 1,
+        .saliency = o.saliency, .ids = o.ids, .image = o.image, .image_view = (offline_view)o.view, .flow_to_keyframe = o.flow_to == 1, .flow_to_frame = o.flow_to == 0,
         .out_dir = o.out, .keyframe_stride = o.stride, .coarse = o.coarse,
         .fps = o.fps, .row = o.row, .preset = (disp_operator_preset)o.preset, .target_range = o.range,
         .solver = o.solver == 1 ? MID_SOLVER_DESCENT : MID_SOLVER_GAUSS_NEWTON,
@@ -223,6 +268,7 @@ static int run(int argc, char **argv)
         .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL, .uniform_saliency = o.uniform_saliency,
         .edge_norm = (offline_edge_norm)o.edge_norm, .velocity_per_keyframe = o.velocity_unit == 1,
         .flow = (offline_flow)o.flow, .flow_preset = (flow_preset)o.flow_preset,
+        .video_in = o.video, .depth_scale = o.depth_scale, .depth_inverse = o.depth_inverse,
     };
     static char frames_buf[32], patterns[8][4096], display[4096];
     if (o.capture && o.g) {
@@ -234,8 +280,33 @@ static int run(int argc, char **argv)
     if ((st = display_cli_load(&o.display)) != VG_OK)
         return fail(st);
     d.display = display_cli_desc(&o.display);
-    if ((!o.capture && vg_cli_require(&vg_cmd_optimize, "--g", o.g) != VG_OK) ||
-        vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
+    if (!o.capture && !o.g && !o.depth) {
+        vg_error("optimize: --g PATTERN (or --depth PATTERN, g from depth) is required (see 'vergence optimize --help')");
+        return fail(VG_ERR_ARG);
+    }
+    if (o.rig && !parse_rig(o.rig, &d.rig)) {
+        vg_error("optimize: --rig '%s' is not B,C,FOV: interaxial and convergence in metres, field of view in "
+                 "degrees below 180, each >= 0 (0: the display's)", o.rig);
+        return fail(VG_ERR_ARG);
+    }
+    if (o.rig && (o.g || o.capture)) {
+        vg_error("optimize: --rig makes g from --depth: it is not used with --g or --capture");
+        return fail(VG_ERR_ARG);
+    }
+    static int cut_frames[4096];
+    if (o.cuts && !parse_cuts(o.cuts, &d, cut_frames, 4096)) {
+        vg_error("optimize: --scene-cuts '%s' is not auto, none or frame numbers N,N,... (the first frame of each "
+                 "new shot)", o.cuts);
+        return fail(VG_ERR_ARG);
+    }
+    d.cut_threshold = o.cut_threshold;
+    if (o.capture && !o.cuts) /* one shot, and its flows go to its keyframes */
+        d.scene_cuts = OFFLINE_CUTS_NONE;
+    if (o.video && o.capture) {
+        vg_error("optimize: --video with --capture: the capture has its colour frames");
+        return fail(VG_ERR_ARG);
+    }
+    if (vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||
         vg_cli_require(&vg_cmd_optimize, "--out", o.out) != VG_OK)
         return fail(VG_ERR_ARG);
     if (!parse_frames(o.frames, &d.first, &d.last)) {
@@ -263,6 +334,7 @@ const vg_cmd vg_cmd_optimize = {
     .name = "optimize",
     .summary = "optimise disparity videos for motion in depth (Kellnhofer et al. Sec. 4)",
     .usage = "vergence optimize --g PATTERN --frames A:B --out DIR [options]\n"
+             "       vergence optimize --depth PATTERN [--video FILE] --frames A:B --out DIR [options]\n"
              "       vergence optimize --capture DIR --out DIR [options]",
     .details = "Reads per-frame PFM vergence g (or dataset pixel disparity with --g-units px),\n"
                "makes h with an operator (or reads --h), solves the motion-in-depth optimisation\n"
