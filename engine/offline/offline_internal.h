@@ -64,7 +64,7 @@ typedef struct offline_seq {
     vg_manifest manifest; /* the result in out_dir: metrics.json lists its files */
     long unknown_total;   /* over the sequence, counted when checking the inputs */
     long pair_holes;      /* of the new pair before the fill, both eyes over the sequence */
-    const char *g_dataset_png; /* g from dataset PNGs: "KITTI" or "Sintel" (pixels), else NULL */
+    const char *g_dataset_png; /* g from dataset files: "KITTI" or "Sintel" PNGs, "Spring" HDF5 (pixels), else NULL */
     double g_raw_min, g_raw_max; /* known g as read, before any unit conversion */
     double g_raw_median;  /* of the first frame's known g, as read */
     int causal_past, causal_future, causal_windows; /* the causal window (desc.causal) */

@@ -15,6 +15,7 @@
 #include "core/io.h"
 #include "core/log.h"
 #include "core/stats.h"
+#include "footage/footage.h"
 
 #define FLOW_REACH 4 /* frame widths a flow vector may span (plausibility) */
 
@@ -140,6 +141,20 @@ static bool is_png(const char *path)
     return n > 4 && !strcasecmp(path + n - 4, ".png");
 }
 
+/* One float plane of a PFM, or of an OpenEXR or HDF5 file (engine/footage),
+ * whose NaN (Spring's unknown) reads as +inf, unknown, as Middlebury's. */
+static vg_status read_float_plane(const char *path, vg_imagef *img)
+{
+    bool exr = footage_is_exr(path), hdf5 = footage_is_hdf5(path);
+    if (!exr && !hdf5)
+        return vg_pfm_read(path, img);
+    vg_status st = exr ? footage_exr_read(path, NULL, img) : footage_hdf5_read(path, NULL, img);
+    for (int i = 0; st == VG_OK && i < img->width * img->height; i++)
+        if (isnan(img->data[i]))
+            img->data[i] = INFINITY;
+    return st;
+}
+
 /* A depth file's values in metres (offline_desc.depth_scale, depth_inverse):
  * a 16-bit grey PNG (0: unknown, +inf) or a PFM. Each depth must lie in
  * front of the camera (> 0; +inf is unknown or infinitely far). */
@@ -184,7 +199,7 @@ static vg_status read_depth(offline_seq *s, const char *path, vg_imagef *img)
         for (int i = 0; i < img->width * img->height; i++)
             img->data[i] = v[i] ? (float)v[i] : INFINITY;
         free(png_img.pixels);
-    } else if ((st = vg_pfm_read(path, img)) != VG_OK)
+    } else if ((st = read_float_plane(path, img)) != VG_OK)
         return st;
     for (int i = 0; img->channels == 1 && i < img->width * img->height; i++) {
         float v = img->data[i];
@@ -214,13 +229,15 @@ static vg_status read_frame(offline_seq *s, const disp_pattern *p, int t, int ch
     st = channels == 2                        ? vg_flo_read(path, img)
          : p == &s->g_pattern && is_png(path) ? vg_disparity_png_read(path, img, &encoding)
          : p == &s->depth_pattern             ? read_depth(s, path, img)
-                                              : vg_pfm_read(path, img);
+                                              : read_float_plane(path, img);
+    if (st == VG_OK && p == &s->g_pattern && footage_is_spring(path))
+        encoding = "Spring";
     if (st != VG_OK)
         return st;
     if (encoding && !s->g_dataset_png) {
         s->g_dataset_png = encoding;
-        vg_info("optimize: %s: %s disparity PNG, pixels (x_left - x_right)%s", path, encoding,
-                s->desc->g_units == DISP_G_PX ? "" : ": read as --g-units px");
+        vg_info("optimize: %s: %s disparity %s, pixels (x_left - x_right)%s", path, encoding,
+                strcmp(encoding, "Spring") ? "PNG" : "HDF5", s->desc->g_units == DISP_G_PX ? "" : ": read as --g-units px");
     }
     if (img->channels != channels) {
         vg_error("%s: %s has %d channels, expected %d", path, what, img->channels, channels);

@@ -16,6 +16,7 @@
 #include "core/io.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "footage/footage.h"
 #include "disparity/disp_metrics.h"
 #include "warp/image_warp.h"
 
@@ -484,7 +485,11 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     vg_json_str(&j, "saliency", s->has_saliency ? "file" : s->compute_saliency ? "computed" : "uniform");
     vg_json_str(&j, "flow", offline_flow_name(s->flow));
     vg_json_str(&j, "g_units", offline_g_in_px(s) ? "px" : "arcmin");
-    vg_json_str(&j, "g_file", s->g_dataset_png ? s->g_dataset_png : "PFM");
+    vg_json_str(&j, "g_file", s->g_from_depth                     ? "depth"
+                              : s->g_dataset_png                  ? s->g_dataset_png
+                              : footage_is_exr(s->g_pattern.text)  ? "OpenEXR"
+                              : footage_is_hdf5(s->g_pattern.text) ? "HDF5"
+                                                                   : "PFM");
     vg_json_num(&j, "g_min", s->g_min);
     vg_json_num(&j, "g_max", s->g_max);
     vg_json_num(&j, "range_lo", s->range_lo);
