@@ -29,12 +29,12 @@ static vg_status run(offline_seq *s)
     float *f_sol = NULL;
     offline_outputs o = {0};
     mid_solve_stats ss = {0};
-    if ((!d->g && !d->depth) || !d->out_dir) {
+    if ((!d->g && !d->depth && !d->depth_video) || !d->out_dir) {
         vg_error("optimize: --g (or --depth) and --out are required");
         return VG_ERR_ARG;
     }
-    if (d->video_in && d->image) {
-        vg_error("optimize: give --video or --image, not both");
+    if ((d->video_in && d->image) || (d->depth_video && d->depth)) {
+        vg_error("optimize: give %s, not both", d->video_in && d->image ? "--video or --image" : "--depth-video or --depth");
         return VG_ERR_ARG;
     }
     if (d->first < 0 || d->last < d->first) {
@@ -47,7 +47,8 @@ static vg_status run(offline_seq *s)
         return st;
     s->frames = d->last - d->first + 1;
     s->keyframe_stride = d->keyframe_stride > 0 ? d->keyframe_stride : 10;
-    if ((st = offline_check_flows(s)) != VG_OK || (d->video_in && (st = offline_video_decode(s)) != VG_OK))
+    if ((st = offline_check_flows(s)) != VG_OK ||
+        ((d->video_in || d->depth_video) && (st = offline_video_decode(s)) != VG_OK))
         return st;
     s->fps = d->fps > 0 ? d->fps : 60.0;
     stereo_display_init(&s->display, &d->display);

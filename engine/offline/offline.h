@@ -81,6 +81,8 @@ typedef struct offline_desc {
     const char *image;        /* 8-bit RGB PNG per frame, the view g belongs to: a new stereo pair from f */
     const char *video_in;     /* instead of image: a colour video (any file ffmpeg reads), its frames
                                  first..last (counted from 0) decoded to PNGs in a temporary folder */
+    const char *depth_video;  /* instead of depth: a grey video of depth, decoded to 16-bit PNGs (an 8-bit
+                                 video's v as v * 257), read with depth_scale and depth_inverse */
     /* Depth files (PFM, or 16-bit grey PNG whose 0 is unknown) hold
      * value * depth_scale metres, or with depth_inverse 1 / (value *
      * depth_scale) metres (inverse depth, as monocular estimators write

@@ -47,6 +47,7 @@ typedef struct offline_seq {
     stereo_camera rig;
     char video_dir[OFFLINE_PATH_CAP]; /* --video's frames, decoded (removed at the end); "" = none */
     char video_pattern[OFFLINE_PATH_CAP + 16]; /* ... and their names, the image pattern */
+    char depth_video_pattern[OFFLINE_PATH_CAP + 16]; /* --depth-video's, the depth pattern */
     int width, height;    /* of every frame, from the first g */
     int frames;           /* desc->last - desc->first + 1 */
     int keyframe_stride;  /* frames between keyframes */
@@ -141,8 +142,9 @@ void offline_cuts_free(offline_seq *s);
 bool offline_is_cut(const offline_seq *s, int t);
 int offline_keyframes(const offline_seq *s, int *numbers);
 
-/* offline_video.c: --video's frames decoded by ffmpeg into s->video_dir
- * (made by prepare, removed by remove) as frame_%d.png. */
+/* offline_video.c: --video's and --depth-video's frames decoded by ffmpeg
+ * into s->video_dir (made by prepare, removed by remove) as frame_%d.png
+ * and depth_%d.png. */
 vg_status offline_video_prepare(offline_seq *s);
 vg_status offline_video_decode(offline_seq *s);
 void offline_video_remove(offline_seq *s);

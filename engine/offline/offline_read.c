@@ -36,15 +36,19 @@ vg_status offline_patterns_parse(offline_seq *s)
         {d->ids, "--ids", &s->ids_pattern, &s->has_ids},
         {d->image, "--image", &s->image_pattern, &s->has_image},
         {NULL, "--video", &s->image_pattern, &s->has_image},
+        {NULL, "--depth-video", &s->depth_pattern, &s->has_depth},
     };
-    if (d->video_in) {
+    size_t n = sizeof list / sizeof list[0];
+    if (d->video_in || d->depth_video) {
         vg_status st = offline_video_prepare(s);
         if (st != VG_OK)
             return st;
         snprintf(s->video_pattern, sizeof s->video_pattern, "%s/frame_%%d.png", s->video_dir);
-        list[sizeof list / sizeof list[0] - 1].text = s->video_pattern;
+        snprintf(s->depth_video_pattern, sizeof s->depth_video_pattern, "%s/depth_%%d.png", s->video_dir);
+        list[n - 2].text = d->video_in ? s->video_pattern : NULL;
+        list[n - 1].text = d->depth_video ? s->depth_video_pattern : NULL;
     }
-    s->g_from_depth = !d->g && d->depth;
+    s->g_from_depth = !d->g && (d->depth || d->depth_video);
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         if (!list[i].text)
             continue;
@@ -165,8 +169,9 @@ static vg_status read_depth(offline_seq *s, const char *path, vg_imagef *img)
     bool png = is_png(path);
     vg_status st;
     if (png && !(d->depth_scale > 0)) {
-        vg_error("%s: a PNG holds depth in integer units: give --depth-scale (metres per unit, e.g. 0.001 for "
-                 "millimetres; with --depth-inverse, 1/metres per unit)", path);
+        vg_error("%s: a %s holds depth in integer units: give --depth-scale (metres per unit, e.g. 0.001 for "
+                 "millimetres; with --depth-inverse, 1/metres per unit)", d->depth_video ? d->depth_video : path,
+                 d->depth_video ? "video" : "PNG");
         return VG_ERR_ARG;
     }
     if (png) {

@@ -26,7 +26,7 @@ static const char *const g_flow_presets[] = {"fine", "medium", "fast", "ultrafas
 
 static struct {
     const char *g, *h, *op, *depth, *flow_next, *flow_prev, *saliency, *ids, *image, *out, *frames, *weights, *capture,
-        *video, *rig, *cuts;
+        *video, *rig, *cuts, *depth_video;
     int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead, edge_norm,
         velocity_unit, stereo_layout, flow, flow_preset;
     bool no_video, uniform_saliency, mkv, depth_inverse;
@@ -43,6 +43,7 @@ static const vg_opt g_opts[] = {
     {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
     {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
     {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth per frame, PFM metres or 16-bit grey PNG (0 = unknown) with --depth-scale; without --g, g is the display's vergence of it through --rig (default: depth from g)"},
+    {.name = "--depth-video", .kind = VG_OPT_STRING, .dest = &o.depth_video, .metavar = "FILE", .help = "instead of --depth: a grey video of depth (any file ffmpeg reads), read as 16-bit PNGs with --depth-scale (an 8-bit video's value v as 257 v)"},
     {.name = "--depth-scale", .kind = VG_OPT_FLOAT, .dest = &o.depth_scale, .metavar = "S", .help = "metres per depth unit (0.001: millimetres; needed for PNG depth; default 1)", .min = 1e-9, .max = 1e9},
     {.name = "--depth-inverse", .kind = VG_OPT_FLAG, .dest = &o.depth_inverse, .help = "depth files hold inverse depth (as monocular estimators write it): metres = 1 / (value * --depth-scale)"},
     {.name = "--rig", .kind = VG_OPT_STRING, .dest = &o.rig, .metavar = "B,C,FOV", .help = "g from --depth: interaxial B and convergence C in metres, horizontal field of view in degrees (default 0,0,0: the display's eye separation, viewing distance and angle, ortho-stereo)"},
@@ -268,7 +269,7 @@ static int run(int argc, char **argv)
         .causal = o.look_ahead == FRAME_LOOK_AHEAD_CAUSAL, .uniform_saliency = o.uniform_saliency,
         .edge_norm = (offline_edge_norm)o.edge_norm, .velocity_per_keyframe = o.velocity_unit == 1,
         .flow = (offline_flow)o.flow, .flow_preset = (flow_preset)o.flow_preset,
-        .video_in = o.video, .depth_scale = o.depth_scale, .depth_inverse = o.depth_inverse,
+        .video_in = o.video, .depth_video = o.depth_video, .depth_scale = o.depth_scale, .depth_inverse = o.depth_inverse,
     };
     static char frames_buf[32], patterns[8][4096], display[4096];
     if (o.capture && o.g) {
@@ -280,7 +281,7 @@ static int run(int argc, char **argv)
     if ((st = display_cli_load(&o.display)) != VG_OK)
         return fail(st);
     d.display = display_cli_desc(&o.display);
-    if (!o.capture && !o.g && !o.depth) {
+    if (!o.capture && !o.g && !o.depth && !o.depth_video) {
         vg_error("optimize: --g PATTERN (or --depth PATTERN, g from depth) is required (see 'vergence optimize --help')");
         return fail(VG_ERR_ARG);
     }
@@ -302,8 +303,9 @@ static int run(int argc, char **argv)
     d.cut_threshold = o.cut_threshold;
     if (o.capture && !o.cuts) /* one shot, and its flows go to its keyframes */
         d.scene_cuts = OFFLINE_CUTS_NONE;
-    if (o.video && o.capture) {
-        vg_error("optimize: --video with --capture: the capture has its colour frames");
+    if ((o.video || o.depth_video) && o.capture) {
+        vg_error("optimize: %s with --capture: the capture has its %s", o.video ? "--video" : "--depth-video",
+                 o.video ? "colour frames" : "depth");
         return fail(VG_ERR_ARG);
     }
     if (vg_cli_require(&vg_cmd_optimize, "--frames", o.frames) != VG_OK ||

@@ -574,6 +574,32 @@ static int footage_runs(void)
     snprintf(cmd, sizeof cmd,
              "ffprobe -v error -show_frames -read_intervals '%%+#1' '%s' 2>&1 | grep -q 'stereo_mode=left_right'", video);
     CHECK(system(cmd) == 0, "%s: ffprobe reports no side-by-side stereo mode", video);
+    /* The depth as a lossless grey video (FFV1, 16 bits) gives the same f. */
+    snprintf(cmd, sizeof cmd,
+             "ffmpeg -nostdin -v error -y -framerate 60 -i '%s/depth_%%04d.png' -c:v ffv1 -pix_fmt gray16le "
+             "'%s/depth.mkv'", dir, dir);
+    CHECK(run(cmd) == 0, "ffmpeg could not write the depth video");
+    char out_dv[1300];
+    snprintf(out_dv, sizeof out_dv, "%s/footage_depth_video", g_work);
+    snprintf(cmd, sizeof cmd,
+             "'%s' optimize --depth-video '%s/depth.mkv' --depth-scale %g --ids '%s/frame_%%04d_ids.png' "
+             "--saliency '%s/frame_%%04d_saliency.png' --frames 0:%d --keyframe-stride %d --threads 2 "
+             "--video '%s/colour.mp4' --no-video --out '%s'",
+             g_exe, dir, DEPTH_PNG_SCALE, dir, dir, CAP_FRAMES - 1, KEY_STRIDE, dir, out_dv);
+    CHECK(run(cmd) == 0, "optimize --depth-video failed");
+    for (int t = 0; t < CAP_FRAMES; t += 10) {
+        char a[1400], b[1400];
+        vg_imagef fa, fb;
+        snprintf(a, sizeof a, "%s/f_%04d.pfm", outs[1], t);
+        snprintf(b, sizeof b, "%s/f_%04d.pfm", out_dv, t);
+        CHECK(vg_pfm_read(a, &fa) == VG_OK && vg_pfm_read(b, &fb) == VG_OK, "f of frame %d", t);
+        bool same = fa.width == fb.width && fa.height == fb.height &&
+                    !memcmp(fa.data, fb.data, (size_t)fa.width * fa.height * sizeof(float));
+        vg_imagef_free(&fa);
+        vg_imagef_free(&fb);
+        CHECK(same, "frame %d: f with the depth as a video differs from f with the depth PNGs", t);
+    }
+    printf("the depth as an FFV1 gray16 video: f equal to the bit to the depth PNGs'\n");
     /* The decoded frames were temporary. */
     snprintf(cmd, sizeof cmd, "ls -d \"${TMPDIR:-/tmp}\"/vergence-video-* 2>/dev/null | grep -q .");
     CHECK(system(cmd) != 0, "optimize --video left its decoded frames behind");
