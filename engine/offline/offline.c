@@ -68,6 +68,8 @@ static vg_status run(offline_seq *s)
         st = VG_ERR_ARG;
         goto done;
     }
+    if (d->ema && !s->has_h)
+        offline_ema_ranges(s);
     /* B: h, the keyframe samples and flows, the window; then the solve. */
     if ((st = offline_operator_create(s)) != VG_OK || (st = offline_window_build(s, &w)) != VG_OK)
         goto done;
@@ -105,5 +107,7 @@ vg_status offline_run(const offline_desc *d)
     vg_status st = run(&s);
     offline_video_remove(&s);
     offline_cuts_free(&s);
+    free(s.ema_lo);
+    free(s.ema_hi);
     return st;
 }

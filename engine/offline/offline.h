@@ -105,6 +105,14 @@ typedef struct offline_desc {
     double fps;               /* 0 = 60 */
     int row;                  /* full-resolution row of the x-t slices, < 0 = the middle */
     disp_operator_kind op;    /* ignored when h is given */
+    /* The baseline the stereo converters use (nunif's iw3, depth_scaler.py
+     * WindowEMAScaler): h maps g linearly from a per-frame range to the
+     * target range, that range the minimum and maximum of g over the next
+     * ema_window frames (within the shot), smoothed by an exponential
+     * moving average of decay ema_decay. op is then LINEAR (its target range). */
+    bool ema;
+    double ema_decay;         /* 0 = 0.9 */
+    int ema_window;           /* frames, 0 = 30 */
     disp_operator_preset preset;
     double target_range;      /* half-width, arcmin, 0 = preset */
     mid_weights weights;      /* all zero = the paper's */

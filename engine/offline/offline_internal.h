@@ -88,6 +88,10 @@ typedef struct offline_seq {
     long flow_computed;      /* pairs computed (a pair may be computed again in pass C) */
     double flow_occluded;    /* of the computed flows' pixels (both directions), how many failed the check */
     double flow_ms;          /* spent computing */
+    /* desc.ema: each frame's range of known g (pass A), then smoothed
+     * (offline_ema_ranges) into the range h maps from. */
+    float *ema_lo, *ema_hi;
+    int ema_cap;
     /* Scene cuts (offline_cuts.c): the first frame of each new shot. */
     int *cut_frames;
     float *cut_distance;     /* each one's histogram distance (NaN: named, not found) */
@@ -151,6 +155,9 @@ void offline_video_remove(offline_seq *s);
 
 /* offline_solve.c: the method. */
 vg_status offline_operator_create(offline_seq *s);
+/* desc.ema: record frame t's range of g (pass A, in order); smooth them all. */
+vg_status offline_ema_record(offline_seq *s, int t, double lo, double hi);
+void offline_ema_ranges(offline_seq *s);
 vg_status offline_window_build(offline_seq *s, mid_window **w);
 vg_status offline_solve(offline_seq *s, mid_window *w, float *f_sol, mid_solve_stats *ss);
 vg_status offline_upsample(offline_seq *s, const mid_window *w, const float *f_sol, offline_outputs *o);

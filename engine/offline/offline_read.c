@@ -346,6 +346,7 @@ vg_status offline_read_g(offline_seq *s, int t, float *out)
         }
     }
     int n = s->width * s->height, bad = 0, unknown = fill_unknown(s, img.data);
+    double frame_lo = INFINITY, frame_hi = -INFINITY;
     if (unknown < 0) {
         char path[OFFLINE_PATH_CAP];
         offline_frame_path(src, t, path);
@@ -398,6 +399,12 @@ vg_status offline_read_g(offline_seq *s, int t, float *out)
             out[i] = (float)v;
         s->g_min = fmin(s->g_min, v);
         s->g_max = fmax(s->g_max, v);
+        if (!s->unknown[i])
+            frame_lo = fmin(frame_lo, v), frame_hi = fmax(frame_hi, v);
+    }
+    if (!out && s->desc->ema && (st = offline_ema_record(s, t, frame_lo, frame_hi)) != VG_OK) {
+        vg_imagef_free(&img);
+        return st;
     }
     if (bad) {
         char path[OFFLINE_PATH_CAP];

@@ -481,7 +481,13 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     vg_json_int(&j, "keyframes", s->keyframes);
     vg_json_int(&j, "coarse_width", s->grid.nx);
     vg_json_int(&j, "coarse_height", s->grid.ny);
-    vg_json_str(&j, "operator", s->has_h ? "given" : disp_operator_kind_name(d->op));
+    vg_json_str(&j, "operator", s->has_h ? "given" : d->ema ? "ema" : disp_operator_kind_name(d->op));
+    if (!s->has_h && d->ema) {
+        vg_json_num(&j, "ema_decay", d->ema_decay > 0 ? d->ema_decay : 0.9);
+        vg_json_int(&j, "ema_window", d->ema_window > 0 ? d->ema_window : 30);
+        vg_json_nums(&j, "ema_range_first", (const float[2]){s->ema_lo[0], s->ema_hi[0]}, 2);
+        vg_json_nums(&j, "ema_range_last", (const float[2]){s->ema_lo[s->frames - 1], s->ema_hi[s->frames - 1]}, 2);
+    }
     vg_json_str(&j, "saliency", s->has_saliency ? "file" : s->compute_saliency ? "computed" : "uniform");
     vg_json_str(&j, "flow", offline_flow_name(s->flow));
     vg_json_str(&j, "g_units", offline_g_in_px(s) ? "px" : "arcmin");

@@ -30,7 +30,8 @@ static struct {
     int stride, coarse, row, iterations, cg, threads, solver, preset, units, flow_to, view, look_ahead, edge_norm,
         velocity_unit, stereo_layout, flow, flow_preset;
     bool no_video, uniform_saliency, mkv, depth_inverse;
-    double fps, range, px_zero, occlusion, depth_scale, cut_threshold;
+    double fps, range, px_zero, occlusion, depth_scale, cut_threshold, ema_decay;
+    int ema_window;
     display_cli display;
 } o;
 
@@ -40,7 +41,9 @@ static const vg_opt g_opts[] = {
     {.name = "--frames", .kind = VG_OPT_STRING, .dest = &o.frames, .metavar = "A:B", .help = "first and last frame number, inclusive (required with --g)"},
     {.name = "--out", .kind = VG_OPT_STRING, .dest = &o.out, .metavar = "DIR", .help = "output folder: f_%04d.pfm, xt_{g,h,f}.png, preview_{g,h,f}.png, {g,h,f}.mp4 (with ffmpeg), with --image left_/right_%04d.png and the pair's video (--stereo-layout), metrics.json (required)"},
     {.name = "--h", .kind = VG_OPT_STRING, .dest = &o.h, .metavar = "PATTERN", .help = "manipulated disparity h, PFM arcmin (instead of --operator)"},
-    {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed"},
+    {.name = "--operator", .kind = VG_OPT_STRING, .dest = &o.op, .metavar = "NAME", .help = "h = M(g): none, linear, lang (default), lang-smoothed, or ema (the stereo converters' baseline, nunif's iw3: g's range over the next --ema-window frames, smoothed, mapped linearly)"},
+    {.name = "--ema-decay", .kind = VG_OPT_FLOAT, .dest = &o.ema_decay, .metavar = "D", .help = "with --operator ema: the moving average's decay per frame (default 0.9, iw3's WindowEMAScaler)", .min = 0.0001, .max = 0.9999},
+    {.name = "--ema-window", .kind = VG_OPT_INT, .dest = &o.ema_window, .metavar = "N", .help = "with --operator ema: frames of look-ahead whose range is taken (default 30)", .min = 1, .max = 100000},
     {.name = "--preset", .kind = VG_OPT_CHOICE, .dest = &o.preset, .metavar = "NAME", .help = "operator strength: comfort (+-60 arcmin) or study (+-30)", .choices = g_presets},
     {.name = "--depth", .kind = VG_OPT_STRING, .dest = &o.depth, .metavar = "PATTERN", .help = "linear depth per frame, PFM metres or 16-bit grey PNG (0 = unknown) with --depth-scale; without --g, g is the display's vergence of it through --rig (default: depth from g)"},
     {.name = "--depth-video", .kind = VG_OPT_STRING, .dest = &o.depth_video, .metavar = "FILE", .help = "instead of --depth: a grey video of depth (any file ffmpeg reads), read as 16-bit PNGs with --depth-scale (an 8-bit video's value v as 257 v)"},
@@ -319,11 +322,18 @@ static int run(int argc, char **argv)
         vg_error("optimize: give either --h or --operator, not both");
         return fail(VG_ERR_ARG);
     }
-    d.op = o.op ? disp_operator_kind_parse(o.op) : DISP_OPERATOR_LANG;
+    d.ema = o.op && !strcmp(o.op, "ema");
+    d.op = d.ema ? DISP_OPERATOR_LINEAR : o.op ? disp_operator_kind_parse(o.op) : DISP_OPERATOR_LANG;
     if (o.op && d.op == DISP_OPERATOR_DEFAULT) {
-        vg_error("optimize: --operator '%s' is not one of: none, linear, lang, lang-smoothed", o.op);
+        vg_error("optimize: --operator '%s' is not one of: none, linear, lang, lang-smoothed, ema", o.op);
         return fail(VG_ERR_ARG);
     }
+    if ((o.ema_decay > 0 || o.ema_window > 0) && !d.ema) {
+        vg_error("optimize: --ema-decay and --ema-window go with --operator ema");
+        return fail(VG_ERR_ARG);
+    }
+    d.ema_decay = o.ema_decay;
+    d.ema_window = o.ema_window;
     if (o.weights && !parse_weights(o.weights, &d.weights)) {
         vg_error("optimize: --weights '%s' is not four numbers M,S,T,A >= 0 with M > 0", o.weights);
         return fail(VG_ERR_ARG);

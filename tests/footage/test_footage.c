@@ -167,9 +167,12 @@ static int optimize(const char *args, const char *out)
 
 static char *slurp(const char *path)
 {
-    uint8_t *b;
+    uint8_t *b = NULL;
     size_t n;
-    return vg_file_read(path, &b, &n) == VG_OK ? (char *)b : NULL;
+    char *text = NULL;
+    if (vg_file_read(path, &b, &n) == VG_OK)
+        text = (char *)b;
+    return text;
 }
 
 static int optimize_files(void)
@@ -246,6 +249,49 @@ static int optimize_files(void)
     return 0;
 }
 
+/* --operator ema by hand: frame t's g spans [300, 310 + t] arcmin (its
+ * range grows by 1 a frame); with a 3-frame window and decay 0.5 the range
+ * h maps from is hi_t = 0.5 hi_(t-1) + 0.5 (312 + t) from hi_0 = 312 (the
+ * window's max), lo 300 throughout, clipped at the shot's end. */
+static int optimize_ema(void)
+{
+    CHECK(vg_dir_prepare(g_work) == VG_OK, "%s", g_work);
+    vg_imagef g;
+    CHECK(vg_imagef_alloc(&g, W, H, 1) == VG_OK, "alloc");
+    for (int t = 0; t < FRAMES; t++) {
+        for (int i = 0; i < W * H; i++)
+            g.data[i] = 300.0f + (10.0f + (float)t) * (float)(i % W) / (float)(W - 1);
+        char p[1300];
+        snprintf(p, sizeof p, "%s/g_%04d.pfm", g_work, t);
+        CHECK(vg_pfm_write(p, &g) == VG_OK, "%s", p);
+    }
+    vg_imagef_free(&g);
+    char args[4096], out[1300], path[1400];
+    snprintf(out, sizeof out, "%s/out_ema", g_work);
+    snprintf(args, sizeof args, "--g '%s/g_%%04d.pfm' --operator ema --ema-window 3 --ema-decay 0.5", g_work);
+    CHECK(optimize(args, out) == 0, "optimize --operator ema failed");
+    double hi = 0;
+    for (int t = 0; t < FRAMES; t++) {
+        double window_max = 310.0 + fmin(t + 2, FRAMES - 1);
+        hi = t ? 0.5 * hi + 0.5 * window_max : window_max;
+    }
+    snprintf(path, sizeof path, "%s/metrics.json", out);
+    uint8_t *bytes;
+    size_t size;
+    CHECK(vg_file_read(path, &bytes, &size) == VG_OK, "%s", path);
+    char *m = (char *)bytes;
+    const char *first = strstr(m, "\"ema_range_first\": ["), *last = strstr(m, "\"ema_range_last\": [");
+    double f0 = first ? strtod(first + 20, NULL) : NAN, f1 = first ? strtod(strchr(first + 20, ',') + 1, NULL) : NAN;
+    double l0 = last ? strtod(last + 19, NULL) : NAN, l1 = last ? strtod(strchr(last + 19, ',') + 1, NULL) : NAN;
+    bool named = strstr(m, "\"operator\": \"ema\"") != NULL;
+    free(m);
+    printf("--operator ema: first frame's range [%.4f, %.4f] (want [300, 312]), last [%.4f, %.4f] (want [300, %.4f])\n",
+           f0, f1, l0, l1, hi);
+    CHECK(named && fabs(f0 - 300) < 1e-3 && fabs(f1 - 312) < 1e-3 && fabs(l0 - 300) < 1e-3 && fabs(l1 - hi) < 1e-3,
+          "the EMA's ranges are not iw3's");
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static char work[1024];
@@ -258,6 +304,7 @@ int main(int argc, char **argv)
         g_exe = argv[2];
     if (argc > 3)
         g_work = argv[3];
-    static const vg_test_case cases[] = {{"exr", exr}, {"hdf5", hdf5}, {"optimize_files", optimize_files}};
+    static const vg_test_case cases[] = {{"exr", exr}, {"hdf5", hdf5}, {"optimize_files", optimize_files},
+                                         {"optimize_ema", optimize_ema}};
     return vg_test_main(argc, argv, cases, (int)(sizeof cases / sizeof cases[0]));
 }
