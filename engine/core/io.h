@@ -80,7 +80,10 @@ vg_status vg_png_write(const char *path, int width, int height, int comp, const 
 /* The same into memory (*png freed with free()), with stb's defaults pinned. */
 vg_status vg_png_encode(int width, int height, int comp, const uint8_t *pixels, uint8_t **png, size_t *size);
 vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels);
-/* A 16-bit grey PNG (depth as monocular estimators and depth cameras write it), through libpng. */
+/* A 16-bit grey PNG (depth as monocular estimators and depth cameras write
+ * it) as its values 0..65535; any other PNG is refused with one line. */
+vg_status vg_grey16_png_read(const char *path, vg_imagef *out);
+/* The same written, through libpng. */
 vg_status vg_png_write_grey16(const char *path, int width, int height, const uint16_t *grey);
 
 /* A PNG decoded from memory by libpng. Set comp (1 to 4 channels) and bits (8

@@ -327,6 +327,40 @@ vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t si
     return VG_OK;
 }
 
+vg_status vg_grey16_png_read(const char *path, vg_imagef *out)
+{
+    uint8_t *buf;
+    size_t size;
+    *out = (vg_imagef){0};
+    vg_status st = vg_file_read(path, &buf, &size);
+    if (st != VG_OK)
+        return st;
+    char why[200];
+    vg_png_image img = {.comp = 0};
+    bool ok = vg_png_decode(buf, size, &img, why, sizeof why);
+    if (ok && (img.file_comp != 1 || img.file_bits != 16)) {
+        vg_error("%s: a 16-bit grey PNG is needed; this one is %d-bit with %d channel(s)", path, img.file_bits,
+                 img.file_comp);
+        free(buf);
+        return VG_ERR_FORMAT;
+    }
+    img.comp = 1;
+    img.bits = 16;
+    ok = ok && vg_png_decode(buf, size, &img, why, sizeof why);
+    free(buf);
+    if (!ok) {
+        vg_error("%s: cannot decode PNG: %s", path, why);
+        return VG_ERR_FORMAT;
+    }
+    if ((st = vg_imagef_alloc(out, img.width, img.height, 1)) == VG_OK) {
+        const uint16_t *v = img.pixels;
+        for (size_t i = 0; i < (size_t)img.width * img.height; i++)
+            out->data[i] = (float)v[i];
+    }
+    free(img.pixels);
+    return st;
+}
+
 vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8_t **pixels)
 {
     uint8_t *buf;

@@ -175,35 +175,10 @@ static vg_status read_depth(offline_seq *s, const char *path, vg_imagef *img)
         return VG_ERR_ARG;
     }
     if (png) {
-        uint8_t *buf;
-        size_t size;
-        if ((st = vg_file_read(path, &buf, &size)) != VG_OK)
+        if ((st = vg_grey16_png_read(path, img)) != VG_OK)
             return st;
-        char why[200];
-        vg_png_image png_img = {.comp = 0};
-        bool ok = vg_png_decode(buf, size, &png_img, why, sizeof why);
-        if (ok && (png_img.file_comp != 1 || png_img.file_bits != 16)) {
-            vg_error("%s: depth PNGs are 16-bit grey; this one is %d-bit with %d channel(s)", path,
-                     png_img.file_bits, png_img.file_comp);
-            free(buf);
-            return VG_ERR_FORMAT;
-        }
-        png_img.comp = 1;
-        png_img.bits = 16;
-        ok = ok && vg_png_decode(buf, size, &png_img, why, sizeof why);
-        free(buf);
-        if (!ok) {
-            vg_error("%s: cannot decode PNG: %s", path, why);
-            return VG_ERR_FORMAT;
-        }
-        if ((st = vg_imagef_alloc(img, png_img.width, png_img.height, 1)) != VG_OK) {
-            free(png_img.pixels);
-            return st;
-        }
-        const uint16_t *v = png_img.pixels;
         for (int i = 0; i < img->width * img->height; i++)
-            img->data[i] = v[i] ? (float)v[i] : INFINITY;
-        free(png_img.pixels);
+            img->data[i] = img->data[i] > 0 ? img->data[i] : INFINITY; /* 0: unknown */
     } else if ((st = read_float_plane(path, img)) != VG_OK)
         return st;
     for (int i = 0; img->channels == 1 && i < img->width * img->height; i++) {
