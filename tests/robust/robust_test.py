@@ -562,6 +562,31 @@ def catalogue_cases(box):
     add("bench_frames_zero", ["bench", "--frames", "0"], ARG, "--frames", outs=())
     add("bench_scene_missing", ["bench", "--scene", "in/missing.gltf", "--frames", "1"], IO, "missing.gltf",
         outs=())
+    # Footage (issue 43): a video ffmpeg cannot read, a range past its end,
+    # a depth PNG without its scale, broken OpenEXR and HDF5 frames.
+    w("in/garbage.mp4", "not a video at all\n" * 8)
+    add("optimize_video_garbage", ["optimize", "--depth", "fx/seq/frame_%04d_depth.pfm", "--video", "in/garbage.mp4",
+                                   "--frames", "0:10", "--out", "out"], FORMAT, "garbage.mp4")
+    add("optimize_video_missing", ["optimize", "--depth", "fx/seq/frame_%04d_depth.pfm", "--video", "in/none.mp4",
+                                   "--frames", "0:10", "--out", "out"], IO, "none.mp4")
+    add("optimize_rig_bad", ["optimize", "--depth", "fx/seq/frame_%04d_depth.pfm", "--rig", "0.1,x,60",
+                             "--frames", "0:10", "--out", "out"], ARG, "--rig")
+    add("optimize_scene_cuts_bad", offline_args("out", ["--scene-cuts", "3,2"]), ARG, "--scene-cuts")
+    os.makedirs(box.p("in/d16"), exist_ok=True)
+    for i in range(11):
+        shutil.copy(box.p("fx/seq/frame_0000_color.png"), box.p(f"in/d16/d_{i:04d}.png"))
+    add("optimize_depth_png_8bit", ["optimize", "--depth", "in/d16/d_%04d.png", "--depth-scale", "0.001",
+                                    "--frames", "0:10", "--out", "out"], FORMAT, "d_0000.png")
+    add("optimize_depth_png_no_scale", ["optimize", "--depth", "in/d16/d_%04d.png", "--frames", "0:10",
+                                        "--out", "out"], ARG, "--depth-scale")
+    os.makedirs(box.p("in/exr"), exist_ok=True)
+    for i in range(11):
+        w(f"in/exr/g_{i:04d}.exr", "v/1\x01" + "garbage" * 20)
+        w(f"in/exr/g_{i:04d}.h5", "\x89HDF\r\n\x1a\n" + "garbage" * 20)
+    add("optimize_exr_garbage", offline_args("out")[:1] + ["--g", "in/exr/g_%04d.exr"] + offline_args("out")[3:],
+        FORMAT, "g_0000.exr")
+    add("optimize_hdf5_garbage", offline_args("out")[:1] + ["--g", "in/exr/g_%04d.h5"] + offline_args("out")[3:],
+        FORMAT, "g_0000.h5")
     issue_44_cases(box, add, bad_scene)
     return c
 
