@@ -506,7 +506,8 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
         vg_json_str(&j, "method", "DIS optical flow (OpenCV); pixels failing the forward-backward check "
                                   "take their row's nearest consistent flow");
         vg_json_str(&j, "preset", flow_preset_name(d->flow_preset));
-        vg_json_str(&j, "from", "--image");
+        vg_json_str(&j, "from", d->video_in ? "--video" : "--image");
+        vg_json_str(&j, "to", s->flow_direct ? "keyframes" : "frames");
         vg_json_int(&j, "pairs_computed", (int)s->flow_computed);
         vg_json_num(&j, "inconsistent_fraction",
                     s->flow_computed ? s->flow_occluded / (2.0 * s->flow_computed * s->width * s->height) : 0.0);
