@@ -107,7 +107,6 @@ vg_status offline_run(const offline_desc *d)
     vg_status st = run(&s);
     offline_video_remove(&s);
     offline_cuts_free(&s);
-    free(s.ema_lo);
-    free(s.ema_hi);
+    free(s.ema);
     return st;
 }

@@ -31,17 +31,13 @@ static vg_status cut_add(offline_seq *s, int t, float dist)
 {
     if (s->cuts == s->cut_cap) {
         int cap = s->cut_cap ? 2 * s->cut_cap : 8;
-        int *f = realloc(s->cut_frames, (size_t)cap * sizeof *f);
-        if (f)
-            s->cut_frames = f;
-        float *dd = f ? realloc(s->cut_distance, (size_t)cap * sizeof *dd) : NULL;
-        if (!dd)
+        struct offline_cut *c = realloc(s->cut, (size_t)cap * sizeof *c);
+        if (!c)
             return VG_ERR_NOMEM;
-        s->cut_distance = dd;
+        s->cut = c;
         s->cut_cap = cap;
     }
-    s->cut_frames[s->cuts] = t;
-    s->cut_distance[s->cuts++] = dist;
+    s->cut[s->cuts++] = (struct offline_cut){t, dist};
     return VG_OK;
 }
 
@@ -117,7 +113,7 @@ void offline_cuts_end(offline_seq *s)
 bool offline_is_cut(const offline_seq *s, int t)
 {
     for (int i = 0; i < s->cuts; i++)
-        if (s->cut_frames[i] == t)
+        if (s->cut[i].frame == t)
             return true;
     return false;
 }
@@ -142,11 +138,9 @@ int offline_keyframes(const offline_seq *s, int *numbers)
 
 void offline_cuts_free(offline_seq *s)
 {
-    free(s->cut_frames);
-    free(s->cut_distance);
+    free(s->cut);
     free(s->cut_hist);
-    s->cut_frames = NULL;
-    s->cut_distance = NULL;
+    s->cut = NULL;
     s->cut_hist = NULL;
     s->cuts = s->cut_cap = 0;
 }

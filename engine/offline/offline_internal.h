@@ -90,11 +90,13 @@ typedef struct offline_seq {
     double flow_ms;          /* spent computing */
     /* desc.ema: each frame's range of known g (pass A), then smoothed
      * (offline_ema_ranges) into the range h maps from. */
-    float *ema_lo, *ema_hi;
+    struct offline_range { float lo, hi; } *ema;
     int ema_cap;
     /* Scene cuts (offline_cuts.c): the first frame of each new shot. */
-    int *cut_frames;
-    float *cut_distance;     /* each one's histogram distance (NaN: named, not found) */
+    struct offline_cut {
+        int frame;
+        float distance;      /* the histogram distance (NaN: named, not found) */
+    } *cut;
     int cuts, cut_cap;
     double *cut_hist;        /* pass A: the last two frames' colour histograms */
     double cut_within_max;   /* the largest distance of frames left in one shot */

@@ -88,7 +88,7 @@ static vg_status frame_h(offline_seq *s, int t, const float *g, float *h)
     }
     if (s->desc->ema) { /* the converters' baseline: g's smoothed range onto the target range */
         int k = t - s->desc->first;
-        float lo = s->ema_lo[k], span = s->ema_hi[k] - lo, out_lo = (float)s->range_lo;
+        float lo = s->ema[k].lo, span = s->ema[k].hi - lo, out_lo = (float)s->range_lo;
         float out_span = (float)(s->range_hi - s->range_lo);
         for (int i = 0; i < s->width * s->height; i++) {
             float u = span > 0 ? (g[i] - lo) / span : 0.5f;
@@ -105,18 +105,14 @@ vg_status offline_ema_record(offline_seq *s, int t, double lo, double hi)
     int k = t - s->desc->first;
     if (k >= s->ema_cap) {
         int cap = s->ema_cap ? 2 * s->ema_cap : 256;
-        float *a = realloc(s->ema_lo, (size_t)cap * sizeof *a);
-        if (a)
-            s->ema_lo = a;
-        float *b = a ? realloc(s->ema_hi, (size_t)cap * sizeof *b) : NULL;
-        if (!b)
+        struct offline_range *r = realloc(s->ema, (size_t)cap * sizeof *r);
+        if (!r)
             return VG_ERR_NOMEM;
-        s->ema_hi = b;
+        s->ema = r;
         s->ema_cap = cap;
     }
     /* A frame without known g keeps its neighbour's range (set when smoothed). */
-    s->ema_lo[k] = isfinite(lo) ? (float)lo : NAN;
-    s->ema_hi[k] = isfinite(hi) ? (float)hi : NAN;
+    s->ema[k] = (struct offline_range){isfinite(lo) ? (float)lo : NAN, isfinite(hi) ? (float)hi : NAN};
     return VG_OK;
 }
 
@@ -136,23 +132,23 @@ void offline_ema_ranges(offline_seq *s)
         return;
     }
     for (int k = 0; k < n; k++) { /* unknown frames: the nearest known before */
-        if (isnan(s->ema_lo[k]))
-            s->ema_lo[k] = k ? s->ema_lo[k - 1] : (float)s->g_min;
-        if (isnan(s->ema_hi[k]))
-            s->ema_hi[k] = k ? s->ema_hi[k - 1] : (float)s->g_max;
+        if (isnan(s->ema[k].lo))
+            s->ema[k].lo = k ? s->ema[k - 1].lo : (float)s->g_min;
+        if (isnan(s->ema[k].hi))
+            s->ema[k].hi = k ? s->ema[k - 1].hi : (float)s->g_max;
     }
     int shot_end = n; /* exclusive, of the shot frame k is in */
     for (int k = n - 1; k >= 0; k--) {
         if (k + 1 < n && offline_is_cut(s, d->first + k + 1))
             shot_end = k + 1;
-        lo[k] = s->ema_lo[k], hi[k] = s->ema_hi[k];
+        lo[k] = s->ema[k].lo, hi[k] = s->ema[k].hi;
         for (int j = k + 1; j < k + window && j < shot_end; j++)
-            lo[k] = fminf(lo[k], s->ema_lo[j]), hi[k] = fmaxf(hi[k], s->ema_hi[j]);
+            lo[k] = fminf(lo[k], s->ema[j].lo), hi[k] = fmaxf(hi[k], s->ema[j].hi);
     }
     for (int k = 0; k < n; k++) {
         bool start = k == 0 || offline_is_cut(s, d->first + k);
-        s->ema_lo[k] = start ? lo[k] : (float)(decay * s->ema_lo[k - 1] + (1 - decay) * lo[k]);
-        s->ema_hi[k] = start ? hi[k] : (float)(decay * s->ema_hi[k - 1] + (1 - decay) * hi[k]);
+        s->ema[k].lo = start ? lo[k] : (float)(decay * s->ema[k - 1].lo + (1 - decay) * lo[k]);
+        s->ema[k].hi = start ? hi[k] : (float)(decay * s->ema[k - 1].hi + (1 - decay) * hi[k]);
     }
     free(lo);
     free(hi);

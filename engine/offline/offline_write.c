@@ -485,8 +485,9 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     if (!s->has_h && d->ema) {
         vg_json_num(&j, "ema_decay", d->ema_decay > 0 ? d->ema_decay : 0.9);
         vg_json_int(&j, "ema_window", d->ema_window > 0 ? d->ema_window : 30);
-        vg_json_nums(&j, "ema_range_first", (const float[2]){s->ema_lo[0], s->ema_hi[0]}, 2);
-        vg_json_nums(&j, "ema_range_last", (const float[2]){s->ema_lo[s->frames - 1], s->ema_hi[s->frames - 1]}, 2);
+        const struct offline_range *e0 = &s->ema[0], *e1 = &s->ema[s->frames - 1];
+        vg_json_nums(&j, "ema_range_first", (const float[2]){e0->lo, e0->hi}, 2);
+        vg_json_nums(&j, "ema_range_last", (const float[2]){e1->lo, e1->hi}, 2);
     }
     vg_json_str(&j, "saliency", s->has_saliency ? "file" : s->compute_saliency ? "computed" : "uniform");
     vg_json_str(&j, "flow", offline_flow_name(s->flow));
@@ -524,9 +525,12 @@ vg_status offline_write_results(offline_seq *s, const mid_window *w, const float
     }
     vg_json_array_begin(&j, "frames");
     for (int i = 0; i < s->cuts; i++)
-        vg_json_int(&j, NULL, s->cut_frames[i]);
+        vg_json_int(&j, NULL, s->cut[i].frame);
     vg_json_array_end(&j);
-    vg_json_nums(&j, "distances", s->cut_distance, s->cuts);
+    vg_json_array_begin(&j, "distances");
+    for (int i = 0; i < s->cuts; i++)
+        vg_json_num(&j, NULL, s->cut[i].distance);
+    vg_json_array_end(&j);
     vg_json_object_end(&j);
     if (s->has_image) {
         vg_json_object_begin(&j, "stereo_pair");
