@@ -157,9 +157,11 @@ void offline_video_remove(offline_seq *s);
 
 /* offline_solve.c: the method. */
 vg_status offline_operator_create(offline_seq *s);
-/* desc.ema: record frame t's range of g (pass A, in order); smooth them all. */
+/* offline_ema.c, desc.ema: record frame t's range of g (pass A, in order);
+ * smooth them all; h of frame t from them. */
 vg_status offline_ema_record(offline_seq *s, int t, double lo, double hi);
 void offline_ema_ranges(offline_seq *s);
+void offline_ema_apply(const offline_seq *s, int t, const float *g, float *h);
 vg_status offline_window_build(offline_seq *s, mid_window **w);
 vg_status offline_solve(offline_seq *s, mid_window *w, float *f_sol, mid_solve_stats *ss);
 vg_status offline_upsample(offline_seq *s, const mid_window *w, const float *f_sol, offline_outputs *o);
