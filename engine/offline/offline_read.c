@@ -663,8 +663,8 @@ vg_status offline_read_flow(offline_seq *s, int t, bool next, float *out)
  * small against the image width and may be 0 or negative. */
 static void warn_units(const offline_seq *s)
 {
-    if (s->g_raw_min > s->g_raw_max)
-        return; /* nothing known */
+    if (s->g_raw_min > s->g_raw_max || s->g_from_depth)
+        return; /* nothing known, or g made here from depth */
     double screen = s->display.screen_vergence;
     if (!offline_g_in_px(s) && (s->g_raw_min <= 0 || s->g_raw_median < 0.25 * screen))
         vg_warn("optimize: g runs from %.4g to %.4g: that looks like pixel disparity, not vergence in arcmin "

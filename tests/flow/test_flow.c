@@ -550,6 +550,14 @@ static int footage_runs(void)
             snprintf(extra, sizeof extra, "--flow none --no-video");
         snprintf(cmd, sizeof cmd, "'%s' optimize %s %s --out '%s'", g_exe, common, extra, outs[r]);
         CHECK(run(cmd) == 0, "optimize (%s) failed", names[r]);
+        char log_path[1200];
+        snprintf(log_path, sizeof log_path, "%s/log.txt", g_work);
+        uint8_t *log;
+        size_t log_size;
+        CHECK(vg_file_read(log_path, &log, &log_size) == VG_OK, "%s", log_path);
+        bool units_warning = strstr((char *)log, "looks like") != NULL;
+        free(log);
+        CHECK(!units_warning, "g made from depth drew a units warning (g is vergence, made here)");
         mid[r] = mid_on_exact(dir, common, outs[r], names[r]);
         CHECK(isfinite(mid[r]), "%s: no MID distortion", names[r]);
     }
