@@ -37,6 +37,11 @@ usage: arch_test.py BUILD_DIR CASE
   names      every vkCreate* / vkAllocate* call in engine/ names the object
              it made (its last argument; GPU_NAME within a dozen lines; the
              instance excepted)
+  docs       docs/ describe the present (issue 41): PERFORMANCE.md and
+             method.md under 500 lines each; no doc or source names a stop or
+             session ("since stop 33"); and every `vergence CMD [MODE] --flag`
+             a doc or the README quotes is a command (and mode) the binary has,
+             each flag in that command's --help
   formats    one Python module reads the tests' and tools' PFM, .flo and PNG
              files and writes their PFM and .flo (issue 41): tools/vgformats.py
              defines the readers and writers, and no other Python file under
@@ -536,6 +541,59 @@ FORMAT_CODE = [
 ]
 
 
+DOC_LIMITS = {"docs/PERFORMANCE.md": 500, "docs/method.md": 500}
+DIARY = re.compile(r"\b(?:[Ss]ince |[Ii]n |[Aa]t |[Oo]f )?(?:stop|session) \d{1,3}\b")
+
+
+def case_docs(vergence):
+    for path, limit in DOC_LIMITS.items():
+        n = open(os.path.join(ROOT, path), encoding="utf-8").read().count("\n")
+        if n >= limit:
+            fail(f"{path} has {n} lines; it describes the present in under {limit} (history goes to git)")
+    docs = ["README.md"] + sorted(os.path.join("docs", n) for n in os.listdir(os.path.join(ROOT, "docs"))
+                                  if n.endswith(".md"))
+    diary = []
+    texts = [(p, open(os.path.join(ROOT, p), encoding="utf-8").read()) for p in docs]
+    for path, text in texts + list(source_texts()):
+        for m in DIARY.finditer(text):
+            diary.append(f"{path}:{text[:m.start()].count(chr(10)) + 1}: {m.group(0)}")
+    if diary:
+        fail("docs and comments say what is true now, not when it became so:\n  " + "\n  ".join(diary))
+    helps, quoted, wrong = {}, 0, []
+
+    def help_of(words):
+        key = " ".join(words)
+        if key not in helps:
+            p = subprocess.run([vergence] + words + ["--help"], capture_output=True, text=True, timeout=60, cwd=ROOT)
+            helps[key] = p.stdout if p.returncode == 0 else None
+        return helps[key]
+
+    commands = re.findall(r"^  (\S+) {2,}", help_of([]) or "", re.M)
+    for path in docs:
+        text = open(os.path.join(ROOT, path), encoding="utf-8").read()
+        for m in re.finditer(r"`vergence ([a-z-]+)((?: [^`]*)?)`", text):
+            where = f"{path}:{text[:m.start()].count(chr(10)) + 1}"
+            cmd, rest = m.group(1), m.group(2).split()
+            if cmd not in commands:
+                wrong.append(f"{where}: `vergence {cmd}` is no command (the binary has {', '.join(commands)})")
+                continue
+            words = [cmd]
+            if rest:  # a mode, or alternatives of it ("hit\|preference" in a table): the first
+                rest[0] = rest[0].replace("\\|", "|").split("|")[0].strip("[]")
+            if rest and re.fullmatch(r"[a-z][a-z-]*", rest[0]) and help_of([cmd, rest[0]]) is not None \
+                    and help_of([cmd, rest[0]]) != help_of([cmd]):
+                words.append(rest[0])
+            text_help = help_of(words) or ""
+            quoted += 1
+            for flag in re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", " ".join(rest)):
+                if not re.search(r"(?<![\w-])" + re.escape(flag) + r"(?![\w-])", text_help):
+                    wrong.append(f"{where}: `vergence {' '.join(words)}` has no {flag} (its --help lacks it)")
+    if wrong:
+        fail("the docs quote commands the binary does not have:\n  " + "\n  ".join(wrong))
+    print(f"{len(docs)} docs: PERFORMANCE.md and method.md under their limits, no diary, "
+          f"{quoted} quoted commands each the binary's, with their flags")
+
+
 def case_formats():
     home = open(os.path.join(ROOT, FORMATS_HOME)).read()
     for name in ("read_pfm", "write_pfm", "read_flo", "write_flo", "read_png"):
@@ -565,5 +623,6 @@ if __name__ == "__main__":
     build, case = os.path.abspath(sys.argv[1]), sys.argv[2]
     {"layers": case_layers, "circles": lambda: case_circles(build), "prefixes": lambda: case_prefixes(build),
      "libraries": case_libraries, "graph": lambda: case_graph(os.path.join(build, "game", "vergence")),
-     "constants": case_constants, "barriers": case_barriers, "sdk": lambda: case_sdk(build), "names": case_names, "formats": case_formats}[case]()
+     "constants": case_constants, "barriers": case_barriers, "sdk": lambda: case_sdk(build), "names": case_names, "formats": case_formats,
+     "docs": lambda: case_docs(os.path.join(build, "game", "vergence"))}[case]()
     print("ok")
