@@ -180,30 +180,41 @@ bool scene_accessor_check(const scene_accessor_desc *d, char *why, size_t cap)
     return check_layout(d, &elem, &stride, why, cap);
 }
 
-bool scene_accessor_floats(const scene_accessor_desc *d, float *out, char *why, size_t cap)
+/* One element's components at p to out's element k: floats (normalised as
+ * the accessor says) or unsigned integers. */
+static void put(const scene_accessor_desc *d, bool floats, const uint8_t *p, size_t cs, void *out, size_t k)
+{
+    size_t n = (size_t)d->components;
+    for (size_t c = 0; c < n; c++) {
+        if (floats)
+            ((float *)out)[k * n + c] = read_component(p + c * cs, d->component_type, d->normalized);
+        else
+            ((uint32_t *)out)[k * n + c] = read_uint(p + c * cs, d->component_type);
+    }
+}
+
+/* Decodes every element (zeros without a bufferView), then the sparse
+ * values, which replace whole elements (spec 3.6.2.3). */
+static bool decode(const scene_accessor_desc *d, bool floats, void *out, char *why, size_t cap)
 {
     size_t elem, stride;
     if (!check_layout(d, &elem, &stride, why, cap))
         return false;
     size_t n = (size_t)d->components, cs = elem / n;
-    if (!d->has_view) {
-        memset(out, 0, d->count * n * sizeof *out);
-    } else {
-        for (size_t i = 0; i < d->count; i++) {
-            const uint8_t *p = d->view + d->offset + i * stride;
-            for (size_t c = 0; c < n; c++)
-                out[i * n + c] = read_component(p + c * cs, d->component_type, d->normalized);
-        }
-    }
-    /* Sparse values replace whole elements (spec 3.6.2.3). */
+    if (!d->has_view)
+        memset(out, 0, d->count * n * (floats ? sizeof(float) : sizeof(uint32_t)));
+    else
+        for (size_t i = 0; i < d->count; i++)
+            put(d, floats, d->view + d->offset + i * stride, cs, out, i);
     size_t is = component_size(d->sparse_index_type);
-    for (size_t i = 0; i < d->sparse_count; i++) {
-        uint32_t k = read_uint(d->sparse_indices + i * is, d->sparse_index_type);
-        const uint8_t *p = d->sparse_values + i * elem;
-        for (size_t c = 0; c < n; c++)
-            out[(size_t)k * n + c] = read_component(p + c * cs, d->component_type, d->normalized);
-    }
+    for (size_t i = 0; i < d->sparse_count; i++)
+        put(d, floats, d->sparse_values + i * elem, cs, out, read_uint(d->sparse_indices + i * is, d->sparse_index_type));
     return true;
+}
+
+bool scene_accessor_floats(const scene_accessor_desc *d, float *out, char *why, size_t cap)
+{
+    return decode(d, true, out, why, cap);
 }
 
 bool scene_accessor_uints(const scene_accessor_desc *d, uint32_t *out, char *why, size_t cap)
@@ -213,25 +224,5 @@ bool scene_accessor_uints(const scene_accessor_desc *d, uint32_t *out, char *why
         snprintf(why, cap, "componentType %d is not an unsigned integer type", d->component_type);
         return false;
     }
-    size_t elem, stride;
-    if (!check_layout(d, &elem, &stride, why, cap))
-        return false;
-    size_t n = (size_t)d->components, cs = elem / n;
-    if (!d->has_view) {
-        memset(out, 0, d->count * n * sizeof *out);
-    } else {
-        for (size_t i = 0; i < d->count; i++) {
-            const uint8_t *p = d->view + d->offset + i * stride;
-            for (size_t c = 0; c < n; c++)
-                out[i * n + c] = read_uint(p + c * cs, d->component_type);
-        }
-    }
-    size_t is = component_size(d->sparse_index_type);
-    for (size_t i = 0; i < d->sparse_count; i++) {
-        uint32_t k = read_uint(d->sparse_indices + i * is, d->sparse_index_type);
-        const uint8_t *p = d->sparse_values + i * elem;
-        for (size_t c = 0; c < n; c++)
-            out[(size_t)k * n + c] = read_uint(p + c * cs, d->component_type);
-    }
-    return true;
+    return decode(d, false, out, why, cap);
 }

@@ -40,32 +40,22 @@ static void *zalloc(size_t count, size_t size)
     return calloc(count ? count : 1, size);
 }
 
-/* Replaces a per-vertex array by its values gathered through idx. */
-static bool remap_f(float **arr, size_t comps, const uint32_t *idx, size_t n)
+/* Replaces a per-vertex array (elements of `bytes` bytes; NULL: none) by
+ * its elements gathered through idx. `field` is the address of the array's
+ * pointer, of any element type: it is read and written through memcpy. */
+static bool remap(void *field, size_t bytes, const uint32_t *idx, size_t n)
 {
-    if (!*arr)
+    const uint8_t *in;
+    memcpy(&in, field, sizeof in);
+    if (!in)
         return true;
-    float *out = zalloc(n * comps, sizeof *out);
+    uint8_t *out = zalloc(n, bytes);
     if (!out)
         return false;
     for (size_t i = 0; i < n; i++)
-        memcpy(out + i * comps, *arr + (size_t)idx[i] * comps, comps * sizeof *out);
-    free(*arr);
-    *arr = out;
-    return true;
-}
-
-static bool remap_u16(uint16_t **arr, size_t comps, const uint32_t *idx, size_t n)
-{
-    if (!*arr)
-        return true;
-    uint16_t *out = zalloc(n * comps, sizeof *out);
-    if (!out)
-        return false;
-    for (size_t i = 0; i < n; i++)
-        memcpy(out + i * comps, *arr + (size_t)idx[i] * comps, comps * sizeof *out);
-    free(*arr);
-    *arr = out;
+        memcpy(out + i * bytes, in + (size_t)idx[i] * bytes, bytes);
+    free((void *)in);
+    memcpy(field, &out, sizeof out);
     return true;
 }
 
@@ -99,9 +89,10 @@ static bool unweld_flat(scene_primitive *p)
     uint32_t n = p->index_count;
     uint32_t *idx = p->indices;
     size_t vc = p->vertex_count;
-    bool ok = remap_f(&p->positions, 3, idx, n) && remap_f(&p->texcoords, 2, idx, n) &&
-              remap_f(&p->colors, 4, idx, n) && remap_u16(&p->joints, 4, idx, n) &&
-              remap_f(&p->weights, 4, idx, n);
+    bool ok = remap(&p->positions, 3 * sizeof *p->positions, idx, n) &&
+              remap(&p->texcoords, 2 * sizeof *p->texcoords, idx, n) &&
+              remap(&p->colors, 4 * sizeof *p->colors, idx, n) && remap(&p->joints, 4 * sizeof *p->joints, idx, n) &&
+              remap(&p->weights, 4 * sizeof *p->weights, idx, n);
     /* Targets are stored back to back, target_count slices of vc vertices. */
     if (ok && p->target_count > 0 && p->target_positions) {
         float *tp = zalloc((size_t)p->target_count * n * 3, sizeof *tp);
