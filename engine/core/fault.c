@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <signal.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -11,7 +12,13 @@
 #include "log.h"
 
 static const char *const k_faults[] = {"device-lost", "enospc", "kill", "present-ms", NULL};
-static const char *const k_features[] = {"tessellation", "multiview", "timestamps", "indirect", NULL};
+/* The engine's optional features, then the required ones as
+ * gpu_missing_features names them (a test of the requirements query takes
+ * several away at once). */
+static const char *const k_features[] = {"tessellation", "multiview", "timestamps", "indirect", "dynamicRendering",
+                                         "synchronization2", "maintenance4", "hostQueryReset", "scalarBlockLayout",
+                                         "shaderStorageImageWriteWithoutFormat", "drawIndirectFirstInstance",
+                                         "VK_KHR_push_descriptor", "VK_KHR_swapchain", NULL};
 
 static bool listed(const char *const *names, const char *s, size_t n)
 {
@@ -48,8 +55,10 @@ vg_status vg_fault_check(void)
         const char *end = strchr(p, ',');
         size_t len = end ? (size_t)(end - p) : strlen(p);
         if (!listed(k_features, p, len)) {
-            vg_error("VERGENCE_DISABLE=%s: '%.*s' is not one of tessellation, multiview, timestamps, indirect", d,
-                     (int)len, p);
+            char all[512] = "";
+            for (int i = 0; k_features[i]; i++)
+                snprintf(all + strlen(all), sizeof all - strlen(all), "%s%s", i ? ", " : "", k_features[i]);
+            vg_error("VERGENCE_DISABLE=%s: '%.*s' is not one of %s", d, (int)len, p, all);
             return VG_ERR_ARG;
         }
         p = end ? end + 1 : NULL;

@@ -11,6 +11,10 @@
  *     present-ms:N   each frame of a hit-study flight is presented N ms late
  *                    (a display that cannot hold 60 Hz: game/play/flight.h)
  *   VERGENCE_DISABLE=tessellation,multiview,timestamps,indirect
+ *     and any requirement the requirements query names: dynamicRendering,
+ *     synchronization2, maintenance4, hostQueryReset, scalarBlockLayout,
+ *     shaderStorageImageWriteWithoutFormat, drawIndirectFirstInstance,
+ *     VK_KHR_push_descriptor, VK_KHR_swapchain (gpu_missing_features)
  *
  * A name these lists do not hold is an error (vg_fault_check), not a fault
  * silently not injected. */

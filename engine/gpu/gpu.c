@@ -282,7 +282,8 @@ static int find_queue_family(VkPhysicalDevice p)
     return -1;
 }
 
-/* Names the first required feature the device lacks, or NULL when it has all. */
+/* Counts every requirement the device lacks (or VERGENCE_DISABLE takes
+ * away) and names the first `cap` of them. */
 uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need_tessellation, const char **names,
                               uint32_t cap)
 {
@@ -292,6 +293,12 @@ uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need
         if (n < cap)                                                                                                   \
             names[n] = (name);                                                                                         \
         n++;                                                                                                           \
+    } while (0)
+/* A requirement the device lacks, or VERGENCE_DISABLE takes away (core/fault.h). */
+#define REQUIRE(has, name)                                                                                             \
+    do {                                                                                                               \
+        if (!(has) || vg_fault_disabled(name))                                                                         \
+            LACKS(name);                                                                                               \
     } while (0)
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(p, &props);
@@ -303,13 +310,13 @@ uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need
                                                 .pNext = &f13};
         VkPhysicalDeviceFeatures2 f = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, .pNext = &f12};
         vkGetPhysicalDeviceFeatures2(p, &f);
-        if (!f13.dynamicRendering) LACKS("dynamicRendering");
-        if (!f13.synchronization2) LACKS("synchronization2");
-        if (!f13.maintenance4) LACKS("maintenance4");
-        if (!f12.hostQueryReset) LACKS("hostQueryReset");
-        if (!f12.scalarBlockLayout) LACKS("scalarBlockLayout");
-        if (!f.features.shaderStorageImageWriteWithoutFormat) LACKS("shaderStorageImageWriteWithoutFormat");
-        if (!f.features.drawIndirectFirstInstance) LACKS("drawIndirectFirstInstance");
+        REQUIRE(f13.dynamicRendering, "dynamicRendering");
+        REQUIRE(f13.synchronization2, "synchronization2");
+        REQUIRE(f13.maintenance4, "maintenance4");
+        REQUIRE(f12.hostQueryReset, "hostQueryReset");
+        REQUIRE(f12.scalarBlockLayout, "scalarBlockLayout");
+        REQUIRE(f.features.shaderStorageImageWriteWithoutFormat, "shaderStorageImageWriteWithoutFormat");
+        REQUIRE(f.features.drawIndirectFirstInstance, "drawIndirectFirstInstance");
     }
     if (need_tessellation) {
         VkPhysicalDeviceFeatures f10;
@@ -317,9 +324,11 @@ uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need
         if (!f10.tessellationShader || vg_fault_disabled("tessellation"))
             LACKS("tessellationShader");
     }
-    if (!device_has_extension(p, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) LACKS(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
-    if (need_swapchain && !device_has_extension(p, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) LACKS(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    REQUIRE(device_has_extension(p, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME), VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    if (need_swapchain)
+        REQUIRE(device_has_extension(p, VK_KHR_SWAPCHAIN_EXTENSION_NAME), VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     if (find_queue_family(p) < 0) LACKS("a graphics+compute queue");
+#undef REQUIRE
 #undef LACKS
     return n;
 }

@@ -227,9 +227,23 @@ static int requirements(void)
           "%u missing, first %s", n, n ? names[0] : "-");
     CHECK(vgx_get_missing_requirements(g->phys, VGX_CONTEXT_WARP, NULL, 0, &n) == VGX_ERROR_DEVICE && n == 1,
           "counted without names: %u", n);
+    /* Several missing at once, of each kind (a Vulkan 1.3 feature, a
+     * Vulkan 1.0 feature, an extension): every one listed, in one call. */
+    setenv("VERGENCE_DISABLE", "tessellation,synchronization2,scalarBlockLayout,VK_KHR_push_descriptor", 1);
+    static const char *const want[] = {"synchronization2", "scalarBlockLayout", "tessellationShader",
+                                       "VK_KHR_push_descriptor"};
+    memset(names, 0, sizeof names);
+    CHECK(vgx_get_missing_requirements(g->phys, VGX_CONTEXT_WARP, names, 8, &n) == VGX_ERROR_DEVICE && n == 4,
+          "%u missing, want 4", n);
+    for (int i = 0; i < 4; i++)
+        CHECK(names[i] && strcmp(names[i], want[i]) == 0, "missing item %d is %s, want %s", i, names[i], want[i]);
+    CHECK(vgx_get_missing_requirements(g->phys, 0, names, 2, &n) == VGX_ERROR_DEVICE && n == 3 &&
+              strcmp(names[1], "scalarBlockLayout") == 0,
+          "a plain context: %u missing (want 3: all but tessellation), two named", n);
     unsetenv("VERGENCE_DISABLE");
-    printf("requirements: lavapipe has everything; VERGENCE_DISABLE=tessellation: a warp context lacks %s\n",
-           names[0]);
+    printf("requirements: lavapipe has everything; VERGENCE_DISABLE=tessellation: a warp context lacks "
+           "tessellationShader; with three more taken away it lists %s, %s, %s and %s at once\n",
+           want[0], want[1], want[2], want[3]);
     gpu_destroy(g);
     return 0;
 }
