@@ -874,6 +874,13 @@ static int memory(void)
           "footprint said %u, %llu", pool.live, (unsigned long long)pool.bytes, fp.blocks,
           (unsigned long long)fp.bytes);
     CHECK(bands_h(g, c, &img, W, H, h_host) == 0, "h, the host's memory");
+    /* A configuration allocates at creation and on its first frame, then
+     * never within a dispatch (docs/sdk.md "Memory"). */
+    int calls = pool.calls;
+    for (int k = 0; k < 3; k++)
+        CHECK(bands_h(g, c, &img, W, H, h_host) == 0, "h, frame %d", k + 2);
+    CHECK(pool.calls == calls, "three more dispatches of the same configuration allocated %d blocks",
+          pool.calls - calls);
     vgx_context_destroy(c);
     CHECK(pool.live == 0 && pool.bytes == 0, "%d blocks (%llu bytes) not given back", pool.live,
           (unsigned long long)pool.bytes);
@@ -1045,7 +1052,39 @@ static int names(void)
                VGX_CONTEXT_KEYFRAMES;
     vgx_context *c = NULL;
     CHECK(vgx_context_create(&d, &c) == VGX_SUCCESS, "create: %s", m.last);
-    /* The context is left as it is: the device goes first. */
+    /* A second context with the eyes, two frames, the second with another
+     * warp map: the objects a dispatch makes for a configuration (the frame
+     * graph's images and buffers, alike with every flag), and those of the
+     * one it replaced (retired, not yet freed), are reported too. */
+    vgx_context_desc d2 = context_desc(g, 64, 48, &m);
+    d2.flags |= VGX_CONTEXT_WARP | VGX_CONTEXT_EYES;
+    vgx_context *c2 = NULL;
+    CHECK(vgx_context_create(&d2, &c2) == VGX_SUCCESS, "create the eyes' context: %s", m.last);
+    enum { W = 64, H = 48 };
+    static uint8_t color[W * H * 4];
+    gpu_image dimg, cimg;
+    CHECK(depth_image(g, W, H, NULL, &dimg) == 0, "depth");
+    CHECK(gpu_image_create(g, &(gpu_image_desc){.name = "test colour", .format = VK_FORMAT_R8G8B8A8_UNORM, .width = W,
+                                                .height = H, .usage = VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT},
+                           &cimg) == VG_OK &&
+              gpu_image_upload(g, &cimg, color, sizeof color) == VG_OK,
+          "colour image");
+    for (int k = 0; k < 2; k++) {
+        VkCommandBuffer cmd;
+        CHECK(gpu_oneshot_begin(g, &cmd) == VG_OK, "begin");
+        vgx_dispatch_desc dd = depth_dispatch(cmd, &dimg, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        dd.warp_map = k ? VGX_WARP_MAP_H : VGX_WARP_MAP_G;
+        for (int i = 0; i < 16; i++)
+            dd.view_proj[i] = i % 5 == 0 ? 1.0f : 0.0f;
+        dd.background_depth_m = 40.0f;
+        dd.color = (vgx_image){cimg.image, cimg.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        CHECK(vgx_dispatch(c2, &dd) == VGX_SUCCESS, "dispatch %d: %s", k, m.last);
+        CHECK(gpu_oneshot_submit(g, cmd) == VG_OK, "submit %d", k);
+    }
+    gpu_image_destroy(g, &dimg);
+    gpu_image_destroy(g, &cimg);
+    /* The contexts are left as they are: the device goes first. */
     leak_log log = {0};
     vg_log_sink was = vg_log_set_sink((vg_log_sink){on_leak, &log});
     gpu_destroy(g);
