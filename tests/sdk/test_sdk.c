@@ -901,14 +901,25 @@ static int memory(void)
 
     d.flags |= VGX_CONTEXT_WARP;
     CHECK(vgx_get_memory_footprint(&d, &fp_warp) == VGX_SUCCESS && fp_warp.bytes > fp.bytes, "warp footprint");
+    /* The eyes' graph has scratch of its own (the eyes' depth and work
+     * lists): a configuration change makes that much again. */
+    vgx_memory_footprint fp_eyes;
+    d.flags |= VGX_CONTEXT_EYES;
+    CHECK(vgx_get_memory_footprint(&d, &fp_eyes) == VGX_SUCCESS && fp_eyes.configuration_bytes > 0 &&
+              fp_eyes.configuration_bytes < fp_eyes.bytes,
+          "the eyes' footprint: %llu bytes, %llu per configuration", (unsigned long long)fp_eyes.bytes,
+          (unsigned long long)fp_eyes.configuration_bytes);
+    d.flags &= ~(uint32_t)VGX_CONTEXT_EYES;
     setenv("VERGENCE_DISABLE", "tessellation", 1);
     CHECK(vgx_get_memory_footprint(&d, &fp_notess) == VGX_SUCCESS && fp_notess.bytes == fp_warp.bytes,
           "warp footprint without tessellation: %s", m.last);
     unsetenv("VERGENCE_DISABLE");
     printf("footprint at %ux%u: %llu bytes in %u blocks (%llu host-visible, %llu per configuration); with the "
-           "warp %llu, also without tessellation; the host's allocator gave the same and got all back\n", W, H,
+           "warp %llu, also without tessellation; with the eyes %llu (%llu per configuration); the host's allocator "
+           "gave the same and got all back\n", W, H,
            (unsigned long long)fp.bytes, fp.blocks, (unsigned long long)fp.host_visible_bytes,
-           (unsigned long long)fp.configuration_bytes, (unsigned long long)fp_warp.bytes);
+           (unsigned long long)fp.configuration_bytes, (unsigned long long)fp_warp.bytes,
+           (unsigned long long)fp_eyes.bytes, (unsigned long long)fp_eyes.configuration_bytes);
     pool_destroy(&pool);
     gpu_image_destroy(g, &img);
     gpu_destroy(g);
