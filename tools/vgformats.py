@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The file formats the Python tests and tools read and write (issue 41), in
-one place: PFM and Middlebury .flo (read and write) and 8-bit PNG (read; the
-few tests that make PNG inputs encode them themselves).
+one place: PFM and Middlebury .flo (read and write), 8-bit PNG (read; the
+few tests that make PNG inputs encode them themselves) and vergence's curve
+files (read).
 
 Row order: every array these functions take or return is TOP-DOWN, row 0 the
 top row of the image, as vergence holds images in memory (docs/formats.md:
@@ -21,6 +22,7 @@ that way (optimize's "at pixel (5, 0)" is a[0, 5], on the top row), and a
     encode_flo(flow)               -> the bytes write_flo writes
     read_png(path, channels=None)  -> uint8 (H, W, C), C = 1 grey, 3 RGB, 4 RGBA (8-bit PNGs only)
     read_ppm(path)                 -> uint8 (H, W, 3) (binary 8-bit PPM, as the example host writes)
+    read_curve(path)               -> (1/near, 1/far, inv_depth, vergence): a curve file's nodes
 
 A malformed file raises ValueError with the file's path in the message. The
 formats (docs/formats.md):
@@ -208,6 +210,30 @@ def read_ppm(path):
 
 
 # ---------------------------------------------------------------------------
+# Curve files (vergence bake-curve, capture's frame_NNNN_curve.bin)
+# ---------------------------------------------------------------------------
+
+CURVE_MAGIC = b"VGCV"
+
+
+def read_curve(path):
+    """A curve file: 'VGCV', uint32 version 1, uint32 bins, then the
+    vgx_curve_data struct of include/vergence/warp_shared.h (float 1/near,
+    float 1/far, uint32 valid, uint32 pad, then `bins` floats of inverse depth
+    and `bins` of vergence, arcmin), little-endian. Returns (1/near, 1/far,
+    inv_depth, vergence), the nodes as float64 arrays of `bins`."""
+    d = _read(path)
+    if len(d) < 12 or d[:4] != CURVE_MAGIC:
+        raise ValueError(f"{path}: not a curve file (no VGCV header)")
+    version, bins = struct.unpack_from("<II", d, 4)
+    if version != 1 or not 2 <= bins <= 1 << 16 or len(d) != 12 + 16 + 8 * bins:
+        raise ValueError(f"{path}: curve version {version} with {bins} bins in {len(d)} bytes")
+    near, far = struct.unpack_from("<ff", d, 12)
+    nodes = np.frombuffer(d, "<f4", 2 * bins, 28).astype(np.float64)
+    return near, far, nodes[:bins], nodes[bins:]
+
+
+# ---------------------------------------------------------------------------
 # Self-check (CTest formats.python)
 # ---------------------------------------------------------------------------
 
@@ -302,6 +328,17 @@ def _self_check():
         pg = os.path.join(tmp, "grey.png")
         Image.fromarray(grey).save(pg)
         check(np.array_equal(read_png(pg)[:, :, 0], grey) and read_png(pg).shape == (2, 3, 1), "PNG grey as (H, W, 1)")
+        # A curve file of 4 bins, its nodes distinct, read back in place.
+        pc = os.path.join(tmp, "curve.bin")
+        nodes = np.arange(8, dtype="<f4") + 0.5
+        with open(pc, "wb") as f:
+            f.write(CURVE_MAGIC + struct.pack("<IIffII", 1, 4, 2.0, 0.25, 1, 0) + nodes.tobytes())
+        near, far, q, v = read_curve(pc)
+        check((near, far) == (2.0, 0.25) and list(q) == [0.5, 1.5, 2.5, 3.5] and list(v) == [4.5, 5.5, 6.5, 7.5],
+              "curve file: 1/near, 1/far and the two node arrays in place")
+        with open(pc, "r+b") as f:
+            f.truncate(40)
+        refused(read_curve, pc, "a cut curve file refused")
         try:
             read_png(pg, 3)
             check(False, "a grey PNG refused where RGB is asked")

@@ -142,7 +142,7 @@ static double ball_size_arcmin(const observer *o, double u, double v, double z)
     double x = (2.0 * u - 1.0) * tx, y = (1.0 - 2.0 * v) * ty;
     double dist = z * sqrt(1.0 + x * x + y * y), r = observer_view_radius(o->view);
     double alpha = 2.0 * asin(fmin(1.0, r / fmax(dist, r)));
-    return alpha * (0.5 * d->width_m / (d->distance_m * tx)) * (180.0 * 60.0 / M_PI);
+    return alpha * (0.5 * d->width_m / (d->distance_m * tx)) * STEREO_ARCMIN_PER_RAD;
 }
 
 /* What the stage's signal (ball size + calibrated vergence) means: the

@@ -25,7 +25,8 @@ usage: arch_test.py BUILD_DIR CASE
              compiled by C and GLSL); the shared subset's markers in
              include/vergence/lang.h alone, and every shared header's structs
              through VGX_STRUCT; arcmin per radian, spelt again in the SDK's
-             display.glsl for hosts, read on both sides and equal
+             display.glsl for hosts, read on both sides and equal, and
+             written inline (180 * 60 / pi) nowhere
   barriers   the frame graph records every barrier: no vkCmdPipelineBarrier*
              in the sources outside engine/graph and engine/gpu (a pass of
              dependent dispatches is several steps of the graph; the example
@@ -364,6 +365,16 @@ def case_constants():
         fail(f"{what}: {fa} {na} = {a}, {fb} {nb} = {b}")
     print(f"{what}: {na} = {nb} = {a:g}")
     texts = dict(source_texts())
+    # Nor is it spelt inline: 180 * 60 / pi (or 60 * 180, or 10800 / pi).
+    inline = re.compile(r"(?:180(?:\.0*)?f?\s*\*\s*60|60(?:\.0*)?f?\s*\*\s*180|10800(?:\.0*)?f?)(?:\.0*)?f?\s*\)?\s*/\s*"
+                        r"(?:M_PI|3\.14159|PI\b)")
+    for path, text in texts.items():
+        if path in (fa, fb):
+            continue
+        m = inline.search(text)
+        if m:
+            fail(f"{path}:{text[:m.start()].count(chr(10)) + 1} spells arcmin per radian ({m.group(0)}): "
+                 f"use {na} ({fa})")
     # The warp's share (stage ids, curve bins and reach, the curve's layout)
     # is defined once, in include/vergence/warp_shared.h; the names of the
     # copies it replaced are defined nowhere.

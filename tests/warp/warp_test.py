@@ -10,7 +10,6 @@ images live in tests/golden/; VG_UPDATE_GOLDENS=1 rewrites them.
 """
 import json
 import os
-import struct
 import subprocess
 import sys
 import tempfile
@@ -216,13 +215,10 @@ def case_tessellation(scene):
 
 
 def read_curve(path):
-    d = open(path, "rb").read()
-    if d[:4] != b"VGCV":
-        sys.exit(f"FAIL: {path} is not a curve file")
-    near, far = struct.unpack_from("<ff", d, 12)
-    q = struct.unpack_from("<256f", d, 28)
-    v = struct.unpack_from("<256f", d, 28 + 1024)
-    return near, far, q, v
+    try:
+        return vgformats.read_curve(path)
+    except ValueError as e:
+        sys.exit(f"FAIL: {e}")
 
 
 def case_bake_curve():
