@@ -1,50 +1,33 @@
-/* scene_probe FILE [--time T] [--bench N]: loads a glTF, evaluates it at T
+/* scene_probe FILE [--time T]: loads a glTF, evaluates it at T
  * and prints counts and a few evaluated values as JSON on stdout.
  *
  * The exit code is the load status (vg_status_exit_code), so scripts can
  * tell I/O (3), format (4) and unsupported (10) failures apart; the one
- * error line is the loader's own. --bench N times N evaluations. */
+ * error line is the loader's own. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/json.h"
 #include "core/log.h"
 #include "scene/scene.h"
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 int main(int argc, char **argv)
 {
     const char *path = NULL;
     double t = 0.0;
-    int bench = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--time") && i + 1 < argc)
             t = atof(argv[++i]);
-        else if (!strcmp(argv[i], "--bench") && i + 1 < argc)
-            bench = atoi(argv[++i]);
         else if (!path && argv[i][0] != '-')
             path = argv[i];
         else {
-            fprintf(stderr, "usage: scene_probe FILE [--time T] [--bench N]\n");
+            fprintf(stderr, "usage: scene_probe FILE [--time T]\n");
             return 2;
         }
     }
     if (!path) {
-        fprintf(stderr, "usage: scene_probe FILE [--time T] [--bench N]\n");
+        fprintf(stderr, "usage: scene_probe FILE [--time T]\n");
         return 2;
     }
     scene *s = NULL;
@@ -104,20 +87,6 @@ int main(int argc, char **argv)
     vg_json_num(&j, "znear", cam.znear);
     vg_json_num(&j, "zfar", cam.zfar);
     vg_json_object_end(&j);
-    if (bench > 0) {
-        double *ms = malloc((size_t)bench * sizeof *ms);
-        for (int i = 0; ms && i < bench; i++) {
-            double t0 = now_ms();
-            scene_evaluate(s, (float)(s->duration * i / bench), &ev);
-            ms[i] = now_ms() - t0;
-        }
-        if (ms) {
-            qsort(ms, (size_t)bench, sizeof *ms, cmp_double);
-            vg_json_num(&j, "evaluate_ms_median", ms[bench / 2]);
-            vg_json_num(&j, "evaluate_ms_max", ms[bench - 1]);
-        }
-        free(ms);
-    }
     vg_json_object_end(&j);
     if (j.buf)
         fwrite(j.buf, 1, j.len, stdout);
