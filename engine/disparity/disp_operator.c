@@ -60,7 +60,7 @@ disp_operator_desc disp_operator_desc_defaults(const disp_operator_desc *desc)
     if (!(d.smooth_seconds > 0))
         d.smooth_seconds = DISP_OP_SMOOTH_SECONDS;
     if (!(d.frame_seconds > 0))
-        d.frame_seconds = 1.0 / 60.0;
+        d.frame_seconds = 1.0 / MID_FPS;
     return d;
 }
 

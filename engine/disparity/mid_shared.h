@@ -66,9 +66,12 @@
 #define MID_TILE 8u
 #define MID_SUM_CHUNK 64u
 
-/* Keyframe window defaults (paper 4.4): a keyframe every 10 frames, a coarse
- * sample every 5 pixels. */
+/* Keyframe window defaults (paper 4.4): a keyframe every 10 frames of a
+ * 60 Hz sequence, a coarse sample every 5 pixels. Every "0 = default" of a
+ * frame rate or keyframe interval resolves to these. */
+#define MID_FPS 60
 #define MID_KEYFRAME_STRIDE 10
+#define MID_KEYFRAME_SECONDS ((double)MID_KEYFRAME_STRIDE / MID_FPS)
 #define MID_COARSE_STRIDE 5
 /* Gauss-Newton control (mid_solver.c and mid_control.comp): Armijo constant
  * and halvings of the backtracking line search, relative CG residual that

@@ -74,7 +74,7 @@ vg_status mid_window_create(const mid_window_desc *desc, mid_window **out)
         mid_window_destroy(w);
         return VG_ERR_NOMEM;
     }
-    float dt = desc->keyframe_seconds > 0 ? desc->keyframe_seconds : 10.0f / 60.0f;
+    float dt = desc->keyframe_seconds > 0 ? desc->keyframe_seconds : (float)MID_KEYFRAME_SECONDS;
     for (int k = 0; k + 1 < w->nt; k++)
         w->dt[k] = dt;
     for (int i = 0; i < w->n; i++)

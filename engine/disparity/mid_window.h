@@ -18,7 +18,7 @@ typedef struct mid_window_desc {
     float range_lo, range_hi;       /* target vergence range, arcmin (required) */
     float occlusion_tolerance;      /* relative depth difference, 0 = MID_OCCLUSION_TOLERANCE */
     float flow_tolerance;           /* round-trip flow error, coarse px, 0 = MID_FLOW_TOLERANCE */
-    float keyframe_seconds;         /* initial dt of every interval, 0 = 10 / 60 */
+    float keyframe_seconds;         /* initial dt of every interval, 0 = MID_KEYFRAME_SECONDS */
     /* Choices the paper leaves open, kept selectable for the sensitivity
      * study (docs/method.md section 16); zero = the defaults. */
     float edge_scale;               /* a = exp(-10 |dh| edge_scale): 0 = 1 / the target range's width (h

@@ -23,6 +23,7 @@
 #include "output/present_gpu.h"
 #include "probe_gpu.h"
 #include "warp/gpu/warp_gpu.h"
+#include "warp/warp_settings.h"
 
 /* One image (or buffer: height 0, width = bytes) copied to the host after
  * the frame, and the frame_outputs field that points at its copy. */
@@ -443,19 +444,10 @@ static frame_desc resolve_defaults(const frame_desc *desc)
         d.mode = FRAME_MODE_OPTIMIZED; /* f: motion in depth restored (issue 4) */
     if (d.compose == FRAME_COMPOSE_DEFAULT)
         d.compose = FRAME_COMPOSE_SBS;
-    if (d.tess_px <= 0 && d.tess_error <= 0)
-        d.tess_error = 0.025;
-    /* 1-pixel tessellation needs the hardware's full range. Error-driven
-     * levels seldom pass 4, but long edges across the near ground need
-     * more (cubes at 240x135: p99 0.093 px at cap 16, 0.057 at 32, 0.031 at
-     * 64, against 0.025 at 1 px); a lower cap packs more patches into each
-     * of lavapipe's bounded draws. */
-    if (!d.max_tess_level)
-        d.max_tess_level = d.tess_px > 0 ? 64 : 32;
-    if (d.depth_epsilon <= 0)
-        d.depth_epsilon = 0.01;
-    if (d.halton_radius <= 0)
-        d.halton_radius = 24;
+    warp_settings w = warp_settings_defaults((warp_settings){d.tess_px, d.tess_error, d.max_tess_level,
+                                                             d.depth_epsilon, d.halton_radius});
+    d.tess_error = w.tess_error_px, d.max_tess_level = w.max_level;
+    d.depth_epsilon = w.depth_epsilon, d.halton_radius = w.halton_radius_px;
     if (d.rig.interaxial_m <= 0)
         d.rig.interaxial_m = FRAME_DEFAULT_INTERAXIAL;
     if (d.rig.convergence_m <= 0)

@@ -54,9 +54,10 @@ typedef struct frame_desc {
     bool swap_eyes;
     double tess_px;              /* edge length target in pixels (paper: 1); 0 = use tess_error */
     double tess_error;           /* disparity error tolerance in pixels; 0 with tess_px 0 = 0.025 */
-    uint32_t max_tess_level;     /* 0 = 64 (clamped to the device) */
+    uint32_t max_tess_level;     /* 0 = 32, 64 with tess_px (clamped to the device) */
     double depth_epsilon;        /* cascade: relative depth difference of one surface, 0 = 0.01 */
     double halton_radius;        /* cascade: Halton search radius in pixels, 0 = 24 */
+    /* (the defaults: warp/warp_settings.h, shared with the SDK) */
     bool diffuse;                /* no specular: eyes shade identically from any viewpoint */
     bool reference;              /* also render the two-camera reference (holes, PSNR) */
     bool measure;                /* eyes compute their disparity error per pixel (aux.z) */

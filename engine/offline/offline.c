@@ -46,11 +46,11 @@ static vg_status run(offline_seq *s)
     if (st != VG_OK || (st = offline_check_out_dir(s)) != VG_OK)
         return st;
     s->frames = d->last - d->first + 1;
-    s->keyframe_stride = d->keyframe_stride > 0 ? d->keyframe_stride : 10;
+    s->keyframe_stride = d->keyframe_stride > 0 ? d->keyframe_stride : MID_KEYFRAME_STRIDE;
     if ((st = offline_check_flows(s)) != VG_OK ||
         ((d->video_in || d->depth_video) && (st = offline_video_decode(s)) != VG_OK))
         return st;
-    s->fps = d->fps > 0 ? d->fps : 60.0;
+    s->fps = d->fps > 0 ? d->fps : MID_FPS;
     stereo_display_init(&s->display, &d->display);
     stereo_camera_init(&s->rig, &d->rig, &s->display);
     /* A: every input read once. */

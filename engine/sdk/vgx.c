@@ -17,6 +17,7 @@
 #include "graph/graph.h"
 #include "warp/gpu/curve_gpu.h"
 #include "warp/gpu/eyes_gpu.h"
+#include "warp/warp_settings.h"
 
 #include "vgx_depth_comp.h"
 #include "shared.h"
@@ -878,15 +879,16 @@ static void fill_warp(vgx_context *c, const vgx_dispatch_desc *d)
     memcpy(w->viewport, c->constants.viewport.v, 16);
     memcpy(w->rig, c->constants.rig.v, 16);
     memcpy(w->display, c->constants.display.v, 16);
-    /* The engine's defaults (frame.c resolve_defaults). */
-    double tess_error = s->tess_px <= 0 && s->tess_error_px <= 0 ? 0.025 : s->tess_error_px;
-    uint32_t level = s->max_tess_level ? s->max_tess_level : s->tess_px > 0 ? 64 : 32;
+    /* The engine's defaults (warp/warp_settings.h), as its frame resolves them. */
+    warp_settings ws = warp_settings_defaults((warp_settings){s->tess_px, s->tess_error_px, s->max_tess_level,
+                                                              s->depth_epsilon, s->halton_radius_px});
+    uint32_t level = ws.max_level;
     if (level > c->gpu->props.limits.maxTessellationGenerationLevel)
         level = c->gpu->props.limits.maxTessellationGenerationLevel;
-    w->warp[0] = (float)s->tess_px;
-    w->warp[1] = (float)tess_error;
-    w->warp[2] = (float)(s->depth_epsilon > 0 ? s->depth_epsilon : 0.01);
-    w->warp[3] = (float)(s->halton_radius_px > 0 ? s->halton_radius_px : 24);
+    w->warp[0] = (float)ws.tess_px;
+    w->warp[1] = (float)ws.tess_error_px;
+    w->warp[2] = (float)ws.depth_epsilon;
+    w->warp[3] = (float)ws.halton_radius_px;
     w->warp2[0] = (float)level;
     curve_gpu_set_background(c->curve, d->background_depth_m);
 }

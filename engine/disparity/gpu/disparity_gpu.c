@@ -451,7 +451,7 @@ disparity_gpu_desc disparity_gpu_desc_defaults(const disparity_gpu_desc *desc)
 {
     disparity_gpu_desc d = *desc;
     if (!(d.fps > 0))
-        d.fps = 60;
+        d.fps = MID_FPS;
     if (d.keyframe_stride <= 0)
         d.keyframe_stride = MID_KEYFRAME_STRIDE;
     if (d.coarse_stride <= 0)

@@ -49,7 +49,7 @@ vg_status operator_gpu_create(gpu *g, const operator_gpu_desc *desc, operator_gp
     disp_operator_destroy(ref);
     const disp_operator_desc op = disp_operator_desc_defaults(&desc->op), *d = &op;
     double range = d->range, frame_s = d->frame_seconds, tau = d->smooth_seconds;
-    double key_s = desc->keyframe_seconds > 0 ? desc->keyframe_seconds : MID_KEYFRAME_STRIDE / 60.0;
+    double key_s = desc->keyframe_seconds > 0 ? desc->keyframe_seconds : MID_KEYFRAME_SECONDS;
     int bins = d->bins;
     if (bins > DISP_OP_MAX_BINS) {
         vg_error("GPU operator: %d bins (at most %d)", bins, DISP_OP_MAX_BINS);

@@ -18,7 +18,7 @@
 
 typedef struct operator_gpu_desc {
     disp_operator_desc op;      /* kind, preset, screen vergence, range, domain, ... (CPU meaning) */
-    double keyframe_seconds;    /* lang-smoothed at the keyframe rate, 0 = 10 / 60 s */
+    double keyframe_seconds;    /* lang-smoothed at the keyframe rate, 0 = MID_KEYFRAME_SECONDS */
     uint32_t stride;            /* statistics of a frame from every stride-th pixel, 0 = 1 */
     uint32_t max_tiles;         /* keyframes fitted at once, 0 = none */
     uint32_t ring;              /* keyframe mappings kept (the store's ring slots), 0 = none */

@@ -570,7 +570,7 @@ void solve_gpu_begin(solve_gpu *m, const solve_gpu_params *s)
         .grad_scale = 2.0f / (float)n, .log_tol = logf(1.0f + occ),
         .flow_tol = s->flow_tolerance > 0 ? s->flow_tolerance : MID_FLOW_TOLERANCE,
         .range_lo = s->range_lo, .range_hi = s->range_hi,
-        .dt = s->keyframe_seconds > 0 ? s->keyframe_seconds : (float)MID_KEYFRAME_STRIDE / 60.0f,
+        .dt = s->keyframe_seconds > 0 ? s->keyframe_seconds : (float)MID_KEYFRAME_SECONDS,
         .nt_prev = (uint32_t)(s->prev_keyframes > 0 ? s->prev_keyframes : 0),
         .range_hull = s->range_hull, .jacobi = s->precond == MID_PRECOND_JACOBI,
         .store_first = s->store_first, .store_cap = s->store_cap ? s->store_cap : 1,
