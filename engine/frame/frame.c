@@ -780,20 +780,11 @@ static vg_status frame_record(frame *f, VkCommandBuffer *out)
 /* One command buffer; the window's semaphores where `first` / `last` (none
  * headless). The acquire semaphore is waited on where the graph expects the
  * image (import_track in graph.c: colour attachment output). */
-static VkSubmitInfo submit_info(const VkCommandBuffer *cmd, const frame_target *t, bool first, bool last,
-                                const VkPipelineStageFlags *wait_stage)
+static VkResult submit_one(gpu *g, VkCommandBuffer cmd, const frame_target *t, bool first, bool last, VkFence fence)
 {
-    bool wait = t && t->wait && first, signal = t && t->signal && last;
-    return (VkSubmitInfo){
-        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .waitSemaphoreCount = wait ? 1 : 0,
-        .pWaitSemaphores = wait ? &t->wait : NULL,
-        .pWaitDstStageMask = wait ? wait_stage : NULL,
-        .commandBufferCount = 1,
-        .pCommandBuffers = cmd,
-        .signalSemaphoreCount = signal ? 1 : 0,
-        .pSignalSemaphores = signal ? &t->signal : NULL,
-    };
+    return gpu_queue_submit(g, cmd, t && first ? t->wait : VK_NULL_HANDLE,
+                            VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, t && last ? t->signal : VK_NULL_HANDLE,
+                            fence);
 }
 
 /* The pass clock on a CPU device: each ordered pass recorded, submitted and
@@ -806,7 +797,6 @@ static vg_status submit_timed(frame *f, const frame_target *target)
     gpu *g = f->fc.gpu;
     int slot = f->fc.slot;
     VkCommandBuffer cmd = f->cmd[slot];
-    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     uint32_t n = rg_order_count(f->graph);
     f->host_done_ms = vg_now_ms() - f->host_t0; /* each pass's recording is in that pass's ms */
     for (uint32_t o = 0; o < n && o < RG_MAX_PASSES; o++) {
@@ -817,8 +807,7 @@ static vg_status submit_timed(frame *f, const frame_target *target)
             .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT}));
         rg_execute_pass(f->graph, cmd, o);
         VK_TRY(vkEndCommandBuffer(cmd));
-        VkSubmitInfo submit = submit_info(&cmd, target, o == 0, o + 1 == n, &wait_stage);
-        VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
+        VK_TRY(submit_one(g, cmd, target, o == 0, o + 1 == n, f->fence[slot]));
         VK_TRY(vkWaitForFences(g->device, 1, &f->fence[slot], VK_TRUE, UINT64_MAX));
         VK_TRY(vkResetFences(g->device, 1, &f->fence[slot]));
         f->pass_ms[o] = vg_now_ms() - t0;
@@ -840,9 +829,7 @@ static vg_status submit_frame(frame *f, const frame_target *target, bool wait_do
         return st;
     gpu *g = f->fc.gpu;
     int slot = f->fc.slot;
-    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    VkSubmitInfo submit = submit_info(&cmd, target, true, true, &wait_stage);
-    VK_TRY(gpu_queue_submit(g, 1, &submit, f->fence[slot]));
+    VK_TRY(submit_one(g, cmd, target, true, true, f->fence[slot]));
     f->host_ms[slot] = vg_now_ms() - f->host_t0;
     f->submitted[slot] = true;
     if (!wait_done)

@@ -66,7 +66,7 @@ void frame_time_passes(frame *f, bool on);
  * number of passes, 0 when none were timed. The last entry is the host's
  * part, FRAME_PASS_HOST: the CPU's ms from the frame's start (its slot free)
  * to its submission (the scene's evaluation, the constants, the SDK's plan,
- * recording, vkQueueSubmit; on a CPU device with the clock on, each pass's
+ * recording, vkQueueSubmit2; on a CPU device with the clock on, each pass's
  * recording is in that pass's ms instead). The GPU works after it, so the
  * passes and the host part add up to a headless frame's wall time. */
 #define FRAME_PASS_HOST "host"

@@ -49,11 +49,26 @@ void gpu_report_failure(const char *file, int line, const char *call, VkResult r
         vg_error("%s:%d: %s failed: %s", file, line, call, gpu_result_text(r));
 }
 
-VkResult gpu_queue_submit(gpu *g, uint32_t count, const VkSubmitInfo *submits, VkFence fence)
+VkResult gpu_queue_submit(gpu *g, VkCommandBuffer cmd, VkSemaphore wait, VkPipelineStageFlags2 wait_stage,
+                          VkSemaphore signal, VkFence fence)
 {
     if (g->lost_at > 0 && ++g->submits >= g->lost_at)
         return VK_ERROR_DEVICE_LOST;
-    return vkQueueSubmit(g->queue, count, submits, fence);
+    VkSemaphoreSubmitInfo w = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO, .semaphore = wait,
+                               .stageMask = wait_stage},
+                          s = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO, .semaphore = signal,
+                               .stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT};
+    VkCommandBufferSubmitInfo c = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO, .commandBuffer = cmd};
+    VkSubmitInfo2 submit = {
+        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2,
+        .waitSemaphoreInfoCount = wait ? 1 : 0,
+        .pWaitSemaphoreInfos = wait ? &w : NULL,
+        .commandBufferInfoCount = 1,
+        .pCommandBufferInfos = &c,
+        .signalSemaphoreInfoCount = signal ? 1 : 0,
+        .pSignalSemaphoreInfos = signal ? &s : NULL,
+    };
+    return vkQueueSubmit2(g->queue, 1, &submit, fence);
 }
 
 void gpu_set_name(const gpu *g, VkObjectType type, uint64_t handle, const char *fmt, ...)

@@ -113,9 +113,12 @@ uint32_t gpu_missing_features(VkPhysicalDevice p, bool need_swapchain, bool need
 /* The first of them, or NULL when it has them all. */
 const char *gpu_missing_feature(VkPhysicalDevice p, bool need_swapchain);
 
-/* vkQueueSubmit on the context's queue; every submission goes through here
- * so tests can make the device fail (lost_at). */
-VkResult gpu_queue_submit(gpu *g, uint32_t count, const VkSubmitInfo *submits, VkFence fence);
+/* One command buffer on the context's queue (vkQueueSubmit2): waiting on
+ * `wait` at `wait_stage` and signalling `signal` (each VK_NULL_HANDLE for
+ * none), then `fence`. Every submission goes through here so tests can make
+ * the device fail (lost_at). */
+VkResult gpu_queue_submit(gpu *g, VkCommandBuffer cmd, VkSemaphore wait, VkPipelineStageFlags2 wait_stage,
+                          VkSemaphore signal, VkFence fence);
 
 /* Validation WARNING/ERROR messages so far in this process, including those
  * raised while a context was destroyed (leaked objects). */

@@ -284,12 +284,7 @@ vg_status gpu_oneshot_submit(gpu *g, VkCommandBuffer cmd)
     VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VK_TRY(vkCreateFence(g->device, &fi, g->alloc, &fence));
     GPU_NAME(g, VK_OBJECT_TYPE_FENCE, fence, "one-shot fence");
-    VkSubmitInfo submit = {
-        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .commandBufferCount = 1,
-        .pCommandBuffers = &cmd,
-    };
-    VkResult r = gpu_queue_submit(g, 1, &submit, fence);
+    VkResult r = gpu_queue_submit(g, cmd, VK_NULL_HANDLE, 0, VK_NULL_HANDLE, fence);
     if (r == VK_SUCCESS)
         r = vkWaitForFences(g->device, 1, &fence, VK_TRUE, UINT64_MAX);
     vkDestroyFence(g->device, fence, g->alloc);

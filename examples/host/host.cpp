@@ -1326,10 +1326,12 @@ int main(int argc, char **argv)
         hd.pMemoryBarriers = &host;
         vkCmdPipelineBarrier2(cmd, &hd);
         CHECK(vkEndCommandBuffer(cmd));
-        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        si.commandBufferCount = 1;
-        si.pCommandBuffers = &cmd;
-        CHECK(vkQueueSubmit(vk.queue, 1, &si, VK_NULL_HANDLE));
+        VkCommandBufferSubmitInfo ci{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+        ci.commandBuffer = cmd;
+        VkSubmitInfo2 si{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+        si.commandBufferInfoCount = 1;
+        si.pCommandBufferInfos = &ci;
+        CHECK(vkQueueSubmit2(vk.queue, 1, &si, VK_NULL_HANDLE));
         CHECK(vkQueueWaitIdle(vk.queue)); // an example: one frame at a time
 
         const float *maps = (const float *)readback.mapped;

@@ -127,14 +127,8 @@ vg_status picture_present(picture *p, const frame_target *t)
     rg_execute(p->graph, p->cmd, 0);
     VK_TRY(vkEndCommandBuffer(p->cmd));
     /* The acquire is waited on where the graph expects the image (colour output). */
-    VkPipelineStageFlags stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    VkSubmitInfo submit = {
-        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .waitSemaphoreCount = 1, .pWaitSemaphores = &t->wait, .pWaitDstStageMask = &stage,
-        .commandBufferCount = 1, .pCommandBuffers = &p->cmd,
-        .signalSemaphoreCount = 1, .pSignalSemaphores = &t->signal,
-    };
-    VK_TRY(gpu_queue_submit(p->gpu, 1, &submit, p->fence));
+    VK_TRY(gpu_queue_submit(p->gpu, p->cmd, t->wait, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, t->signal,
+                            p->fence));
     p->submitted = true;
     return VG_OK;
 }

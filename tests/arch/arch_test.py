@@ -31,7 +31,9 @@ usage: arch_test.py BUILD_DIR CASE
              in the sources outside engine/graph and engine/gpu (a pass of
              dependent dispatches is several steps of the graph; the example
              host records its own), and the pre-synchronization2
-             vkCmdPipelineBarrier nowhere, tests included
+             vkCmdPipelineBarrier nowhere, tests included; nor the older
+             submission, events, timestamps or stage masks (vkQueueSubmit,
+             vkCmdWaitEvents, VkPipelineStageFlags, ...)
   sdk        libvergence.so needs the Vulkan loader and libc / libm only
              (readelf -d) and links no scene module, glTF loader, keyframe
              renderer, stb or C++ symbol (nm)
@@ -451,9 +453,20 @@ def case_barriers():
                              f"split it into steps)")
             else:
                 homes += 1
+    # Synchronization2 everywhere: no submission, event, timestamp or stage
+    # mask of the older API, tests and the example host included (the
+    # released 0.1 header under sdk/abi is history and is not read here).
+    older = re.compile(r"\b(vkQueueSubmit|vkCmdWaitEvents|vkCmdSetEvent|vkCmdResetEvent|vkCmdWriteTimestamp)\s*\(|"
+                       r"\b(VkSubmitInfo|VkPipelineStageFlags|VkPipelineStageFlagBits)\b")
+    for path, text in tests + list(source_texts()):
+        for m in older.finditer(text):
+            found.append(f"{path}:{text[:m.start()].count(chr(10)) + 1}: {m.group(1) or m.group(2)} "
+                         f"(synchronization2: its 2 form)")
     if found:
-        fail("barriers recorded outside engine/graph and engine/gpu:\n  " + "\n  ".join(found))
-    print(f"{checked} source files: {homes} barrier calls, all in {' and '.join(BARRIER_HOMES)}")
+        fail("barriers outside engine/graph and engine/gpu, or synchronization of the older API:\n  " +
+             "\n  ".join(found))
+    print(f"{checked} source files: {homes} barrier calls, all in {' and '.join(BARRIER_HOMES)}; "
+          f"synchronization2 everywhere")
 
 
 VK_CREATE = re.compile(r"\bvk(?:Create|Allocate)(\w+)\(")

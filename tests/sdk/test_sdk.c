@@ -626,8 +626,10 @@ static void host_reads(VkCommandBuffer cmd, const vgx_warp *w, VkBuffer to, uint
 
 static VkResult submit(gpu *g, VkCommandBuffer cmd, VkFence fence)
 {
-    VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO, .commandBufferCount = 1, .pCommandBuffers = &cmd};
-    return vkQueueSubmit(g->queue, 1, &si, fence);
+    VkCommandBufferSubmitInfo c = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO, .commandBuffer = cmd};
+    VkSubmitInfo2 si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO_2, .commandBufferInfoCount = 1,
+                        .pCommandBufferInfos = &c};
+    return vkQueueSubmit2(g->queue, 1, &si, fence);
 }
 
 static int in_flight(void)
@@ -724,9 +726,12 @@ static int in_flight(void)
     for (int k = 0; k <= FLIGHT; k++) {
         VkCommandBuffer cmd = cmds[k];
         CHECK(vkBeginCommandBuffer(cmd, &bi) == VK_SUCCESS, "begin");
-        if (k == 0)
-            vkCmdWaitEvents(cmd, 1, &gate, VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, NULL, 0,
-                            NULL, 0, NULL);
+        if (k == 0) /* set by the host: only host operations in the first scope */
+            vkCmdWaitEvents2(cmd, 1, &gate, &(VkDependencyInfo){
+                .sType = VK_STRUCTURE_TYPE_DEPENDENCY_INFO, .memoryBarrierCount = 1,
+                .pMemoryBarriers = &(VkMemoryBarrier2){.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                                                       .srcStageMask = VK_PIPELINE_STAGE_2_HOST_BIT,
+                                                       .dstStageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT}});
         vgx_dispatch_desc dd = depth_dispatch(cmd, &img, VK_IMAGE_LAYOUT_GENERAL);
         for (int i = 0; i < 16; i++)
             dd.view_proj[i] = i % 5 == 0 ? 1.0f : 0.0f;
