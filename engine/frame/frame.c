@@ -1,5 +1,6 @@
 /* vergence — the frame: per-frame state, the graph, submission, readback. */
 #include "frame.h"
+#include "render/scene_gpu.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -13,7 +14,7 @@
 #include "disparity/gpu/disparity_gpu.h"
 #include "keyframe_gpu.h"
 #include "disparity/mid_window.h"
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
 #include "render/shadow_gpu.h"
 #include "sdk/vgx_engine.h"
@@ -52,6 +53,7 @@ const char *const frame_saliency_names[] = {"auto", "authored", "computed", NULL
 struct frame {
     frame_desc desc;             /* as asked, defaults resolved (frame_get_desc) */
     frame_ctx fc;                /* what the pass modules share */
+    scene_gpu sg;                /* the scene on the GPU (fc.sg) */
     shadow_gpu *shadow;
     gbuffer_gpu *gbuffer;
     vgx_context *vgx;            /* the disparity passes, through the public API (include/vergence) */
@@ -217,9 +219,9 @@ static vg_status build_graph(frame *f)
     rg_import_desc ready_vertex = {.initial = RG_VERTEX}, ready_index = {.initial = RG_INDEX},
                    ready_uniform = {.initial = RG_UNIFORM};
     res->ubo = rg_import_buffer(g, &(rg_buffer_desc){"frame.ubo", sizeof(vg_frame_ubo)}, &ready_uniform);
-    res->vertices = rg_import_buffer(g, &(rg_buffer_desc){"scene.vertices", fc->sg.dynamic[0].size}, &ready_vertex);
-    res->statics = rg_import_buffer(g, &(rg_buffer_desc){"scene.statics", fc->sg.statics.size}, &ready_vertex);
-    res->indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", fc->sg.indices.size}, &ready_index);
+    res->vertices = rg_import_buffer(g, &(rg_buffer_desc){"scene.vertices", fc->sg->dynamic[0].size}, &ready_vertex);
+    res->statics = rg_import_buffer(g, &(rg_buffer_desc){"scene.statics", fc->sg->statics.size}, &ready_vertex);
+    res->indices = rg_import_buffer(g, &(rg_buffer_desc){"scene.indices", fc->sg->indices.size}, &ready_index);
 
     shadow_gpu_add(f->shadow, g, res);
     gbuffer_gpu_add(f->gbuffer, g, res);
@@ -344,7 +346,7 @@ static vg_status create_layouts(frame_ctx *fc)
     };
     VK_TRY(vkCreateDescriptorSetLayout(g->device, &set0, g->alloc, &fc->push_layout));
     GPU_NAME(g, VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, fc->push_layout, "scene push layout");
-    VkDescriptorSetLayout sets[2] = {fc->push_layout, fc->sg.texture_layout};
+    VkDescriptorSetLayout sets[2] = {fc->push_layout, fc->sg->texture_layout};
     VkPushConstantRange push = {VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof(vg_draw_push)};
     VkPipelineLayoutCreateInfo layout = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
@@ -520,6 +522,7 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
         return VG_ERR_NOMEM;
     frame_ctx *fc = &f->fc;
     fc->gpu = g;
+    fc->sg = &f->sg;
     fc->scene = s;
     f->desc = resolve_defaults(desc);
     if (f->desc.max_tess_level > g->props.limits.maxTessellationGenerationLevel)
@@ -532,11 +535,11 @@ vg_status frame_create(gpu *g, const scene *s, const frame_desc *desc, frame **o
     fc->slot = -1;
     stereo_display_init(&fc->display, &f->desc.display);
 
-    vg_status st = scene_gpu_create(g, s, &fc->sg);
+    vg_status st = scene_gpu_create(g, s, fc->sg);
     if (f->desc.look_ahead == FRAME_LOOK_AHEAD_CAUSAL)
-        fc->sg.causal_step = (float)(1.0 / f->desc.fps); /* the last frame and one time step before it */
-    fc->sg.computed_saliency = f->desc.saliency == FRAME_SALIENCY_COMPUTED ||
-                               (f->desc.saliency == FRAME_SALIENCY_AUTO && !scene_has_saliency(s));
+        fc->sg->causal_step = (float)(1.0 / f->desc.fps); /* the last frame and one time step before it */
+    fc->sg->computed_saliency = f->desc.saliency == FRAME_SALIENCY_COMPUTED ||
+                                (f->desc.saliency == FRAME_SALIENCY_AUTO && !scene_has_saliency(s));
     if (st == VG_OK)
         st = create_layouts(fc);
     if (st == VG_OK)
@@ -616,7 +619,7 @@ void frame_destroy(frame *f)
         vkDestroyPipelineLayout(g->device, fc->scene_layout, g->alloc);
     if (fc->push_layout)
         vkDestroyDescriptorSetLayout(g->device, fc->push_layout, g->alloc);
-    scene_gpu_destroy(g, &fc->sg);
+    scene_gpu_destroy(g, fc->sg);
     free(f);
 }
 
@@ -673,10 +676,10 @@ static void fill_ubo(frame *f, vg_frame_ubo *u)
     stereo_setup(f, u);
     /* Computed saliency: the contrast's reference colour and the depth
      * scale, the camera's distance to the scene's centre. */
-    const float *lo = fc->sg.now.bounds_min, *hi = fc->sg.now.bounds_max;
+    const float *lo = fc->sg->now.bounds_min, *hi = fc->sg->now.bounds_max;
     float dc[3] = {0.5f * (lo[0] + hi[0]) - fc->cam.position[0], 0.5f * (lo[1] + hi[1]) - fc->cam.position[1],
                    0.5f * (lo[2] + hi[2]) - fc->cam.position[2]};
-    memcpy(u->saliency.v, (float[4]){fc->sg.mean_base[0], fc->sg.mean_base[1], fc->sg.mean_base[2],
+    memcpy(u->saliency.v, (float[4]){fc->sg->mean_base[0], fc->sg->mean_base[1], fc->sg->mean_base[2],
                                      sqrtf(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]) + 1e-3f}, 16);
 }
 
@@ -712,11 +715,11 @@ static vg_status frame_begin(frame *f, long index)
     f->host_t0 = vg_now_ms(); /* the host part starts once the slot is free */
     fc->times = frame_times_at(index, f->desc.fps, f->desc.keyframe_stride);
     f->slot_index[slot] = index;
-    scene_gpu_update(&fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
+    scene_gpu_update(fc->sg, slot, (float)fc->times.t, (float)fc->times.t_prev, (float)fc->times.t_next);
     float aspect = (float)fc->width / (float)fc->height;
-    scene_camera_resolve(fc->scene, &fc->sg.now, fc->camera, aspect, &fc->cam);
-    scene_camera_resolve(fc->scene, &fc->sg.prev, fc->camera, aspect, &fc->cam_prev);
-    scene_camera_resolve(fc->scene, &fc->sg.next, fc->camera, aspect, &fc->cam_next);
+    scene_camera_resolve(fc->scene, &fc->sg->now, fc->camera, aspect, &fc->cam);
+    scene_camera_resolve(fc->scene, &fc->sg->prev, fc->camera, aspect, &fc->cam_prev);
+    scene_camera_resolve(fc->scene, &fc->sg->next, fc->camera, aspect, &fc->cam_next);
     vg_frame_ubo *u = fc->ubo[slot].mapped;
     fill_ubo(f, u);
     f->outputs.shadow_texel_m[0] = u->shadow.v[1];
@@ -747,9 +750,9 @@ static void frame_bind(frame *f)
     frame_ctx *fc = &f->fc;
     int slot = fc->slot;
     rg_bind_buffer(f->graph, f->res.ubo, fc->ubo[slot].buffer);
-    rg_bind_buffer(f->graph, f->res.vertices, fc->sg.dynamic[slot].buffer);
-    rg_bind_buffer(f->graph, f->res.statics, fc->sg.statics.buffer);
-    rg_bind_buffer(f->graph, f->res.indices, fc->sg.indices.buffer);
+    rg_bind_buffer(f->graph, f->res.vertices, fc->sg->dynamic[slot].buffer);
+    rg_bind_buffer(f->graph, f->res.statics, fc->sg->statics.buffer);
+    rg_bind_buffer(f->graph, f->res.indices, fc->sg->indices.buffer);
     const rg_res maps[3] = {f->res.g, f->res.h, f->res.f};
     for (int i = 0; i < 3; i++)
         if (f->vgx && f->maps[i].image)
@@ -932,7 +935,7 @@ double frame_original_vergence(const frame *f, double z_m)
 
 void frame_get_info(const frame *f, frame_info *out)
 {
-    *out = (frame_info){.disparity = f->disparity != NULL, .saliency_computed = f->fc.sg.computed_saliency};
+    *out = (frame_info){.disparity = f->disparity != NULL, .saliency_computed = f->fc.sg->computed_saliency};
     if (!f->disparity)
         return;
     disparity_gpu_info i;

@@ -9,7 +9,7 @@
 
 #include "disparity/disp_operator.h"
 #include "disparity/mid_solver.h"
-#include "render/frame_types.h"
+#include "pass/frame_types.h"
 
 /* Where the keyframe window's future comes from (paper 4.5: "a prediction
  * of future frames"). */

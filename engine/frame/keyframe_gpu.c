@@ -1,5 +1,6 @@
 /* vergence — mid.keyframes: coarse renders of the window's keyframes. */
 #include "keyframe_gpu.h"
+#include "render/scene_gpu.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -116,7 +117,7 @@ void keyframe_gpu_prepare(keyframe_gpu *k, const keyframe_gpu_tile *tiles, int c
     float aspect = (float)fc->width / (float)fc->height;
     for (int m = 0; m < k->tiles; m++) {
         const keyframe_gpu_tile *tile = &tiles[m];
-        const scene_past *known = scene_gpu_known(&fc->sg);
+        const scene_past *known = scene_gpu_known(fc->sg);
         scene_evaluate_known(s, known, (float)tile->t, &k->now);
         scene_evaluate_known(s, known, (float)tile->t_prev, &k->prev);
         scene_evaluate_known(s, known, (float)tile->t_next, &k->next);
@@ -153,7 +154,7 @@ static void keyframes_execute(const rg_context *ctx, void *user)
     VkBuffer ubo = rg_ctx_buffer(ctx, k->r_ubo), verts = rg_ctx_buffer(ctx, k->r_vertices);
     VkDeviceSize nv = s->vertex_count;
     /* The scene's textures: computed saliency reads the base colour. */
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg.texture_set, 0, NULL);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg->texture_set, 0, NULL);
     for (int m = 0; m < k->tiles; m++) {
         vkCmdSetScissor(cmd, 0, 1, &(VkRect2D){{0, (int32_t)(m * k->d.ny)}, {k->d.nx, k->d.ny}});
         VkDescriptorBufferInfo info = {ubo, UBO_STRIDE * (VkDeviceSize)m, sizeof(vg_frame_ubo)};
@@ -167,13 +168,13 @@ static void keyframes_execute(const rg_context *ctx, void *user)
             continue;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, k->scene);
         VkDeviceSize base = k->tile_bytes * (VkDeviceSize)m;
-        VkBuffer buffers[4] = {verts, verts, verts, fc->sg.statics.buffer};
+        VkBuffer buffers[4] = {verts, verts, verts, fc->sg->statics.buffer};
         VkDeviceSize offsets[4] = {base, base + nv * 6 * sizeof(float), base + nv * 9 * sizeof(float), 0};
         vkCmdBindVertexBuffers(cmd, 0, 4, buffers, offsets);
-        vkCmdBindIndexBuffer(cmd, fc->sg.indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        vkCmdBindIndexBuffer(cmd, fc->sg->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
         for (int i = 0; i < s->instance_count; i++) {
             const scene_instance *in = &s->instances[i];
-            scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, 0);
+            scene_gpu_push_instance(fc->sg, cmd, fc->scene_layout, i, 0);
             vkCmdDrawIndexed(cmd, s->primitives[in->primitive].index_count, 1, in->first_index,
                              (int32_t)in->first_vertex, 0);
         }

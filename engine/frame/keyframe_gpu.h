@@ -12,7 +12,7 @@
 #include <stdint.h>
 
 #include "disparity/gpu/disparity_gpu.h"
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct keyframe_gpu keyframe_gpu;
 

@@ -6,7 +6,7 @@
  * lands in this slot's host-visible buffer; the host adds them once the
  * slot's frame has completed. */
 #pragma once
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct probe_gpu probe_gpu;
 

@@ -35,7 +35,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "render/frame_types.h"
+#include "pass/frame_types.h"
 
 /* Two depths within this fraction belong to one surface. */
 #define WARP_SAME_SURFACE 0.02f

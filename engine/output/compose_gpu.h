@@ -1,6 +1,6 @@
 /* vergence — compose: the two eyes into one output image (DESIGN.md step 10). */
 #pragma once
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct compose_gpu compose_gpu;
 

@@ -8,7 +8,7 @@
  * The eye images the frame reads back (captures) then hold the overlay too:
  * a headless frame draws one only when asked (frame_desc.overlay). */
 #pragma once
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct overlay_gpu overlay_gpu;
 

@@ -8,7 +8,7 @@
  * The swapchain image is imported: the frame finds it just acquired and
  * leaves it ready to present. */
 #pragma once
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct present_gpu present_gpu;
 

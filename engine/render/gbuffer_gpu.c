@@ -1,5 +1,6 @@
 /* vergence — the sky and G-buffer passes. */
 #include "gbuffer_gpu.h"
+#include "scene_gpu.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,9 +38,9 @@ static void gbuffer_execute(const rg_context *ctx, void *user)
     VkCommandBuffer cmd = rg_ctx_cmd(ctx);
     frame_ctx_push_scene(p->fc, ctx, p->shadow_map);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->fc->scene_layout, 1, 1,
-                            &p->fc->sg.texture_set, 0, NULL);
+                            &p->fc->sg->texture_set, 0, NULL);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->gbuffer);
-    scene_gpu_draw(&p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_MOTION, 0);
+    scene_gpu_draw(p->fc->sg, cmd, p->fc->slot, p->fc->scene_layout, SCENE_INPUT_MOTION, 0);
     /* The sky last, behind the depth test: only what no surface covers. */
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p->sky);
     vkCmdDraw(cmd, 3, 1, 0, 0);
@@ -138,7 +139,7 @@ vg_status gbuffer_gpu_pipelines_create(frame_ctx *fc, const char *name, bool lit
     scene_gpu_vertex_input(SCENE_INPUT_MOTION, vb, &nb, va, &na);
     /* No culling: single-sided glTF surfaces seen from behind flip their
      * normal in the shader instead of leaving holes in depth and ids. */
-    uint32_t computed = fc->sg.computed_saliency; /* gbuffer.glsl's SALIENCY_COMPUTED */
+    uint32_t computed = fc->sg->computed_saliency; /* gbuffer.glsl's SALIENCY_COMPUTED */
     VkSpecializationMapEntry entry = {0, 0, sizeof computed};
     if (st == VG_OK)
         st = gpu_graphics_pipeline_create(g, &(gpu_graphics_desc){

@@ -2,7 +2,7 @@
  * step 2), shaded with the sun's shadow map (res->shadow, shadow_gpu.h).
  * Adds `gbuffer`; fills res->color, depth, ids, motion, zbuffer. */
 #pragma once
-#include "frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct gbuffer_gpu gbuffer_gpu;
 

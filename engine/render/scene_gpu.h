@@ -3,9 +3,8 @@
  * keyframe times (for motion vectors and the keyframes' look-ahead). */
 #pragma once
 #include "gpu/gpu.h"
+#include "pass/frame_types.h" /* VG_FRAMES_IN_FLIGHT */
 #include "scene/scene.h"
-
-#define VG_FRAMES_IN_FLIGHT 2
 
 /* Vertex bindings of the scene pipelines. */
 enum {

@@ -1,6 +1,7 @@
 /* vergence — the sun and its shadow: the cascades set up on the CPU and the
  * passes that draw them (render/shadow_gpu.h). */
 #include "shadow_gpu.h"
+#include "scene_gpu.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -69,7 +70,7 @@ void shadow_gpu_setup(shadow_gpu *p, vg_frame_ubo *u)
     frame_ctx *fc = p->fc;
     vec3 sun = {-0.42f, 0.74f, 0.52f};
     glm_vec3_normalize(sun);
-    const scene_state *st = &fc->sg.now;
+    const scene_state *st = &fc->sg->now;
     const vg_camera *cam = &fc->cam;
     float size = (float)p->size, keep = size / (size - 2.0f * SHADOW_MARGIN_TEXELS);
     vec3 lo, hi, centre, up = {0, 1, 0}, origin = {0, 0, 0};
@@ -140,7 +141,7 @@ static void shadow_draw(const shadow_gpu *p, VkCommandBuffer cmd, int c, bool ca
                               1, &(VkClearRect){rect, 0, 1});
     vkCmdPushConstants(cmd, fc->scene_layout, VK_SHADER_STAGE_ALL_GRAPHICS, 0, sizeof(vg_draw_push),
                        &(vg_draw_push){.flags = (uint32_t)c});
-    scene_gpu_draw_where(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_POSITIONS, 0, p->in_cache, cached);
+    scene_gpu_draw_where(fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_POSITIONS, 0, p->in_cache, cached);
 }
 
 static void shadow_begin(const shadow_gpu *p, const rg_context *ctx, VkCommandBuffer cmd)
@@ -169,7 +170,7 @@ static void static_execute(const rg_context *ctx, void *user)
     shadow_gpu *p = user;
     const frame_ctx *fc = p->fc;
     const scene *s = fc->scene;
-    const scene_state *st = &fc->sg.now;
+    const scene_state *st = &fc->sg->now;
     const vg_frame_ubo *u = fc->ubo[fc->slot].mapped;
     size_t mat = 16 * sizeof(float);
     bool keep = p->cache_set;

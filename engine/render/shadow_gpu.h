@@ -4,7 +4,7 @@
  * `shadow.static`, `shadow.copy` and `shadow` that draw them into
  * res->shadow. */
 #pragma once
-#include "frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 struct vg_frame_ubo;
 typedef struct shadow_gpu shadow_gpu;

@@ -19,6 +19,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "core/camera.h"
 #include "core/status.h"
 
 #define SCENE_NAME_MAX 64
@@ -248,18 +249,6 @@ int scene_node_instance_ids(const scene *s, int node, uint32_t *ids, int cap);
 /* Cameras                                                                   */
 /* ------------------------------------------------------------------------- */
 
-/* A resolved view at one time: Vulkan clip space (y down, depth 0..1). */
-typedef struct vg_camera {
-    float view[16];          /* world -> view (right-handed, looking down -Z) */
-    float proj[16];          /* view -> clip */
-    float view_proj[16];
-    float position[3];       /* eye in world space */
-    float forward[3], right[3], up[3]; /* unit axes in world space */
-    float yfov, aspect, znear, zfar; /* zfar is always finite here */
-    int source_node;         /* camera node, -1 for the automatic framing */
-    bool orthographic;       /* added by the scene module: proj is orthographic (yfov 0) */
-    float ymag;              /* orthographic half height in world units (0 for perspective) */
-} vg_camera;
 
 /* The view for an evaluated state: the scene's camera node number `index`
  * (in node order, clamped to the cameras there are) when it has cameras,

@@ -15,8 +15,8 @@
 #include "disparity/mid_shared.h"
 #include "disparity/mid_window.h"
 #include "graph/graph.h"
-#include "warp/gpu/curve_gpu.h"
-#include "warp/gpu/eyes_gpu.h"
+#include "warp/screen/curve_gpu.h"
+#include "warp/screen/eyes_gpu.h"
 #include "warp/warp_settings.h"
 
 #include "vgx_depth_comp.h"

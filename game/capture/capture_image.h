@@ -5,7 +5,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "render/frame_types.h"
+#include "pass/frame_types.h"
 
 /* Stage colours (index VGX_STAGE_*), also the report's legend. */
 extern const float capture_cascade_tint[5][3];

@@ -3,7 +3,7 @@
 #include <stdint.h>
 
 #include "core/status.h"
-#include "render/frame_types.h"
+#include "pass/frame_types.h"
 
 /* RGBA8 -> RGB8 PNG at DIR/NAME. */
 vg_status demo_png_rgba(const char *dir, const char *name, const uint8_t *rgba, uint32_t w, uint32_t h);

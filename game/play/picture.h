@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #include "gpu/gpu.h"
-#include "render/frame_types.h"
+#include "pass/frame_types.h"
 
 typedef struct picture picture;
 

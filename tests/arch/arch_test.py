@@ -6,7 +6,9 @@ usage: arch_test.py BUILD_DIR CASE
   layers     every folder of engine/ and game/ listed in its CMakeLists
              (VG_MODULES, VG_WINGS: bottom-up) holds exactly one library; no
              file includes a header of a folder listed after its own, and
-             render/ (the pass kit) includes nothing of disparity/
+             render/ (the scene's passes) includes nothing of disparity/, and
+             the pass kit (pass/), the disparity passes and the screen-space
+             warp passes (the SDK's) nothing of scene/ or render/
   circles    no two source files of the project (engine, game, the content
              tool) use each other's functions, directly or around a longer
              circle (nm on BUILD_DIR's objects)
@@ -35,8 +37,10 @@ usage: arch_test.py BUILD_DIR CASE
              submission, events, timestamps or stage masks (vkQueueSubmit,
              vkCmdWaitEvents, VkPipelineStageFlags, ...)
   sdk        libvergence.so needs the Vulkan loader and libc / libm only
-             (readelf -d) and links no scene module, glTF loader, keyframe
-             renderer, stb or C++ symbol (nm)
+             (readelf -d), links no scene module, glTF loader, keyframe
+             renderer, stb or C++ symbol (nm), and its link closure (the
+             libraries build.ninja links it with) holds no library that
+             draws the scene, no glTF loader and no C++ runtime
   names      every vkCreate* / vkAllocate* call in engine/ names the object
              it made (its last argument; GPU_NAME within a dozen lines; the
              instance excepted)
@@ -103,10 +107,16 @@ def folder_of(path, folders):
     return best
 
 
-# Folders kept apart though the lower may be below: the pass kit renders and
-# knows nothing of the science core (the frame hands each pass module its desc).
-APART = {("engine/render", "engine/disparity"): "the pass kit does not depend on the science core",
-         ("engine/render", "engine/disparity/gpu"): "the pass kit does not depend on the disparity passes"}
+# Folders kept apart though the lower may be below: the scene's passes know
+# nothing of the science core (the frame hands each pass module its desc),
+# and what the SDK links draws no scene.
+APART = {("engine/render", "engine/disparity"): "the scene's passes do not depend on the science core",
+         ("engine/render", "engine/disparity/gpu"): "the scene's passes do not depend on the disparity passes",
+         ("engine/pass", "engine/scene"): "the pass kit names the scene but draws none (no scene in the SDK)",
+         ("engine/disparity/gpu", "engine/scene"): "the disparity passes draw no scene (they are the SDK's)",
+         ("engine/disparity/gpu", "engine/render"): "the disparity passes draw no scene (they are the SDK's)",
+         ("engine/warp/screen", "engine/scene"): "the screen-space warp passes draw no scene (they are the SDK's)",
+         ("engine/warp/screen", "engine/render"): "the screen-space warp passes draw no scene (they are the SDK's)"}
 
 
 def case_layers():
@@ -266,10 +276,10 @@ def case_prefixes(build):
                     not args[1].startswith("const uint32_t"):
                 bad.append(f"{src}: {m.group(1)}_create takes {args[1]}, not its own {m.group(1)}_desc")
             descs += len(args) > 2
-    frame_ctx = open(os.path.join(ROOT, "engine/render/frame_ctx.h")).read()
+    frame_ctx = open(os.path.join(ROOT, "engine/pass/frame_ctx.h")).read()
     body = frame_ctx[frame_ctx.index("typedef struct frame_ctx {"):frame_ctx.index("} frame_ctx;")]
     if re.search(r"\b\w+_desc\s+\w+;", body):
-        bad.append("engine/render/frame_ctx.h: frame_ctx holds a settings desc the passes would share")
+        bad.append("engine/pass/frame_ctx.h: frame_ctx holds a settings desc the passes would share")
     for b in bad:
         print(b)
     if bad:
@@ -550,8 +560,22 @@ def case_sdk(build):
     foreign = sorted({m.group(1) for m in SDK_FOREIGN.finditer(syms)})
     if foreign:
         fail(f"libvergence.so links {len(foreign)} symbols of modules a host does not need: {foreign[:8]}")
+    # Its link closure, as the build links it (build.ninja): C, and no
+    # library that draws the scene, no glTF loader, no C++ runtime.
+    ninja = os.path.join(build, "build.ninja")
+    if not os.path.exists(ninja):
+        fail(f"{ninja} is missing: the link closure is read from a Ninja build")
+    rule = re.search(r"^build sdk/libvergence\.so\S*: (\w+)_LINKER\S* (.*?)(?=^build |\Z)",
+                     open(ninja).read(), re.M | re.S)
+    if not rule:
+        fail(f"{ninja} links no sdk/libvergence.so")
+    libs = re.search(r"LINK_LIBRARIES = (.*)", rule.group(2))
+    closure = sorted({os.path.basename(w) for w in (libs.group(1).split() if libs else []) if not w.startswith("-")})
+    drawn = [n for n in closure if re.match(r"lib(vg_(scene|render|warp_gpu|frame|output|content)|tinygltf|stdc\+\+)", n)]
+    if rule.group(1) != "C_SHARED_LIBRARY" or drawn:
+        fail(f"libvergence.so is linked by {rule.group(1)} with {drawn} in its link closure {closure}")
     print(f"libvergence.so needs {', '.join(needed)}; no scene, glTF, keyframe, stb or C++ symbol in its "
-          f"{len(syms.splitlines())} symbols")
+          f"{len(syms.splitlines())} symbols; linked as C over {len(closure)} libraries, none of them the scene's")
 
 
 FORMATS_HOME = "tools/vgformats.py"

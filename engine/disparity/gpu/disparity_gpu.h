@@ -20,7 +20,7 @@
 #pragma once
 #include "disparity/disp_operator.h"
 #include "disparity/mid_solver.h"
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct disparity_gpu disparity_gpu;
 

@@ -1,7 +1,8 @@
 /* vergence — stereo pair passes: curve, warp, two cameras, image warping. */
 #include "warp_gpu.h"
+#include "render/scene_gpu.h"
 
-#include "curve_gpu.h"
+#include "warp/screen/curve_gpu.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -211,22 +212,22 @@ static void draw_warped(warp_gpu *w, const rg_context *ctx, uint32_t flags)
     VkBuffer args = rg_ctx_buffer(ctx, w->args);
     const VkDeviceSize stride = sizeof(VkDrawIndexedIndirectCommand);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp_flat);
-    scene_gpu_bind(&fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->flat_indices));
+    scene_gpu_bind(fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->flat_indices));
     for (int i = 0; i < s->instance_count; i++) {
         /* An instance without a whole triangle has no chunk, so warp.classify
          * never writes its draw: drawing it would read arguments nobody wrote
          * (lavapipe then spins on garbage counts). */
         if (table[i].index_count < 3)
             continue;
-        scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
+        scene_gpu_push_instance(fc->sg, cmd, fc->scene_layout, i, flags);
         vkCmdDrawIndexedIndirect(cmd, args, (VkDeviceSize)i * stride, 1, (uint32_t)stride);
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->warp);
-    scene_gpu_bind(&fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->tess_indices));
+    scene_gpu_bind(fc->sg, cmd, fc->slot, SCENE_INPUT_SHADE, rg_ctx_buffer(ctx, w->tess_indices));
     for (int i = 0; i < s->instance_count; i++) {
         if (!table[i].tess_chunks)
             continue;
-        scene_gpu_push_instance(&fc->sg, cmd, fc->scene_layout, i, flags);
+        scene_gpu_push_instance(fc->sg, cmd, fc->scene_layout, i, flags);
         VkDeviceSize first = (VkDeviceSize)(s->instance_count + (int)table[i].tess_args) * stride;
         VkDeviceSize count = (VkDeviceSize)(s->instance_count + (int)w->tess_slots) * stride + 4 * (VkDeviceSize)i;
         /* lavapipe (Mesa 22.3) loses the draws of vkCmdDrawIndexedIndirectCount
@@ -323,12 +324,12 @@ static void eye_execute(const rg_context *ctx, void *user)
         vkCmdDraw(cmd, fc->width * fc->height, 1, 0, 0);
         return;
     }
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg.texture_set, 0, NULL);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg->texture_set, 0, NULL);
     if (e->kind == EYE_WARP) {
         draw_warped(w, ctx, flags);
     } else {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, w->cameras);
-        scene_gpu_draw(&fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags);
+        scene_gpu_draw(fc->sg, cmd, fc->slot, fc->scene_layout, SCENE_INPUT_SHADE, flags);
     }
     /* The sky last, at the far plane behind the depth test: only the pixels
      * no surface covers pay for it. */

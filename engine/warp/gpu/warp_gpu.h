@@ -9,7 +9,7 @@
  * Reads the G-buffer and the target map selected by the mode; fills
  * res->curve, left, right, left_aux, right_aux (and ref_left/right). */
 #pragma once
-#include "render/frame_ctx.h"
+#include "pass/frame_ctx.h"
 
 typedef struct warp_gpu warp_gpu;
 

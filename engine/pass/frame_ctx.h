@@ -8,18 +8,24 @@
  * state (slot, times, cameras) from the frame_ctx, which lives as long as
  * the frame. */
 #pragma once
+#include "core/camera.h"
 #include "frame_types.h"
 #include "gpu/gpu.h"
 #include "graph/graph.h"
-#include "scene_gpu.h"
 #include "stereo/stereo_display.h"
+
+/* The scene and its GPU copy belong to the modules that draw it (render/,
+ * the frame): the kit names them only, so a module of the kit that draws no
+ * scene (the disparity and screen-space passes, the SDK) links none. */
+struct scene;
+struct scene_gpu;
 
 typedef struct frame_ctx {
     gpu *gpu;
-    const scene *scene;
+    const struct scene *scene;
     uint32_t width, height;      /* the centre image and each eye, pixels */
     int camera;                  /* the scene camera it renders (node order) */
-    scene_gpu sg;
+    struct scene_gpu *sg;        /* the frame's (render/scene_gpu.h) */
     gpu_buffer ubo[VG_FRAMES_IN_FLIGHT];    /* vg_frame_ubo per slot */
     VkDescriptorSetLayout push_layout;      /* set 0: frame UBO (0), shadow map (1), pass images (2..) */
     VkPipelineLayout scene_layout;          /* set 0 push + set 1 textures + vg_draw_push */

@@ -1,5 +1,5 @@
 /* vergence — the frame's types, shared by the frame (frame/frame.h) and
- * every pass module (the pass kit, render/frame_ctx.h): the enums of how a
+ * every pass module (the pass kit, pass/frame_ctx.h): the enums of how a
  * stereo frame is made and shown (each pass module's desc takes the ones it
  * renders), the frame's times, what it hands back (frame_outputs) and the
  * HUD a windowed frame draws. Pure data, and pure functions over it
@@ -11,6 +11,10 @@
 
 #include "gpu/gpu.h"
 #include "stereo/stereo_display.h"
+
+/* Frames the engine records ahead of the GPU: per-frame buffers have a copy
+ * each (the frame's constants, the scene's moving vertices). */
+#define VG_FRAMES_IN_FLIGHT 2
 
 /* How the stereo pair is made (issue 5, paper 4.6). */
 typedef enum frame_stereo {
