@@ -1,6 +1,5 @@
 /* vergence — the frame: per-frame state, the graph, submission, readback. */
 #include "frame.h"
-#include "render/scene_gpu.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -16,6 +15,7 @@
 #include "disparity/mid_window.h"
 #include "pass/frame_ctx.h"
 #include "render/gbuffer_gpu.h"
+#include "render/scene_gpu.h"
 #include "render/shadow_gpu.h"
 #include "sdk/vgx_engine.h"
 #include "shared.h"

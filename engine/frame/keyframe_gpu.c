@@ -1,6 +1,5 @@
 /* vergence — mid.keyframes: coarse renders of the window's keyframes. */
 #include "keyframe_gpu.h"
-#include "render/scene_gpu.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -12,6 +11,7 @@
 
 #include "gpu/pipeline.h"
 #include "render/gbuffer_gpu.h"
+#include "render/scene_gpu.h"
 #include "shared.h"
 
 

@@ -1,12 +1,12 @@
 /* vergence — the sky and G-buffer passes. */
 #include "gbuffer_gpu.h"
-#include "scene_gpu.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "gpu/pipeline.h"
+#include "scene_gpu.h"
 #include "shared.h"
 
 #include "gbuffer_frag.h"

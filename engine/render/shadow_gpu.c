@@ -1,7 +1,6 @@
 /* vergence — the sun and its shadow: the cascades set up on the CPU and the
  * passes that draw them (render/shadow_gpu.h). */
 #include "shadow_gpu.h"
-#include "scene_gpu.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -12,6 +11,7 @@
 
 #include "gbuffer_gpu.h"
 #include "gpu/pipeline.h"
+#include "scene_gpu.h"
 #include "shared.h"
 
 #include "shadow_vert.h"

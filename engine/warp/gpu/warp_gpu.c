@@ -1,8 +1,5 @@
-/* vergence — stereo pair passes: curve, warp, two cameras, image warping. */
+/* vergence — stereo pair passes: the tessellated warp, two cameras, image warping (the curve they follow: warp/screen). */
 #include "warp_gpu.h"
-#include "render/scene_gpu.h"
-
-#include "warp/screen/curve_gpu.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,7 +9,9 @@
 
 #include "gpu/pipeline.h"
 #include "render/gbuffer_gpu.h"
+#include "render/scene_gpu.h"
 #include "shared.h"
+#include "warp/screen/curve_gpu.h"
 
 #include "cameras_vert.h"
 #include "eye_frag.h"
