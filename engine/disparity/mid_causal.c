@@ -196,7 +196,9 @@ vg_status mid_causal_solve(const mid_window *all, const mid_causal_desc *d, floa
                                &w);
         if (st != VG_OK)
             break;
-        float dt_pred = d->keyframe_seconds > 0 ? d->keyframe_seconds : nt > 1 ? all->dt[nt - 2] : (float)MID_KEYFRAME_SECONDS;
+        float dt_pred = d->keyframe_seconds > 0 ? d->keyframe_seconds
+                        : nt > 1                ? all->dt[nt - 2]
+                                                : (float)MID_KEYFRAME_SECONDS;
         for (int j = first; j <= k + future; j++) {
             int m = j - first;
             if (j <= k)

@@ -154,7 +154,8 @@ static void keyframes_execute(const rg_context *ctx, void *user)
     VkBuffer ubo = rg_ctx_buffer(ctx, k->r_ubo), verts = rg_ctx_buffer(ctx, k->r_vertices);
     VkDeviceSize nv = s->vertex_count;
     /* The scene's textures: computed saliency reads the base colour. */
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg->texture_set, 0, NULL);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg->texture_set, 0,
+                            NULL);
     for (int m = 0; m < k->tiles; m++) {
         vkCmdSetScissor(cmd, 0, 1, &(VkRect2D){{0, (int32_t)(m * k->d.ny)}, {k->d.nx, k->d.ny}});
         VkDescriptorBufferInfo info = {ubo, UBO_STRIDE * (VkDeviceSize)m, sizeof(vg_frame_ubo)};

@@ -208,7 +208,8 @@ static bool decode(const scene_accessor_desc *d, bool floats, void *out, char *w
             put(d, floats, d->view + d->offset + i * stride, cs, out, i);
     size_t is = component_size(d->sparse_index_type);
     for (size_t i = 0; i < d->sparse_count; i++)
-        put(d, floats, d->sparse_values + i * elem, cs, out, read_uint(d->sparse_indices + i * is, d->sparse_index_type));
+        put(d, floats, d->sparse_values + i * elem, cs, out,
+            read_uint(d->sparse_indices + i * is, d->sparse_index_type));
     return true;
 }
 

@@ -1,4 +1,5 @@
-/* vergence — stereo pair passes: the tessellated warp, two cameras, image warping (the curve they follow: warp/screen). */
+/* vergence — stereo pair passes: the tessellated warp, two cameras, image
+ * warping (the curve they follow: warp/screen). */
 #include "warp_gpu.h"
 
 #include <stdio.h>
@@ -323,7 +324,8 @@ static void eye_execute(const rg_context *ctx, void *user)
         vkCmdDraw(cmd, fc->width * fc->height, 1, 0, 0);
         return;
     }
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg->texture_set, 0, NULL);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, fc->scene_layout, 1, 1, &fc->sg->texture_set, 0,
+                            NULL);
     if (e->kind == EYE_WARP) {
         draw_warped(w, ctx, flags);
     } else {
