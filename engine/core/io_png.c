@@ -257,6 +257,16 @@ bool vg_png_decode(const uint8_t *data, size_t size, vg_png_image *img, char *wh
     return true;
 }
 
+/* vg_png_decode with its failure said in one line naming the file. */
+static bool decode_named(const char *path, const uint8_t *buf, size_t size, vg_png_image *img)
+{
+    char why[200];
+    if (vg_png_decode(buf, size, img, why, sizeof why))
+        return true;
+    vg_error("%s: cannot decode PNG: %s", path, why);
+    return false;
+}
+
 vg_status vg_disparity_png_read(const char *path, vg_imagef *out, const char **encoding)
 {
     uint8_t *buf;
@@ -275,12 +285,9 @@ vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t si
 {
     vg_status st;
     *out = (vg_imagef){0};
-    char why[200];
     vg_png_image img = {0};
-    if (!vg_png_decode(buf, size, &img, why, sizeof why)) {
-        vg_error("%s: cannot decode PNG: %s", path, why);
+    if (!decode_named(path, buf, size, &img))
         return VG_ERR_FORMAT;
-    }
     bool deep = img.file_bits == 16;
     if (!(deep && img.file_comp == 1) && !(!deep && img.file_comp >= 3)) {
         vg_error("%s: a disparity PNG is KITTI's 16-bit grey or Sintel's 8-bit RGB; this one is %d-bit with %d "
@@ -289,10 +296,8 @@ vg_status vg_disparity_png_parse(const char *path, const uint8_t *buf, size_t si
     }
     img.comp = deep ? 1 : 3;
     img.bits = deep ? 16 : 8;
-    if (!vg_png_decode(buf, size, &img, why, sizeof why)) {
-        vg_error("%s: cannot decode PNG: %s", path, why);
+    if (!decode_named(path, buf, size, &img))
         return VG_ERR_FORMAT;
-    }
     int w = img.width, h = img.height;
     void *px = img.pixels;
     if ((st = vg_imagef_alloc(out, w, h, 1)) != VG_OK) {
@@ -335,23 +340,19 @@ vg_status vg_grey16_png_read(const char *path, vg_imagef *out)
     vg_status st = vg_file_read(path, &buf, &size);
     if (st != VG_OK)
         return st;
-    char why[200];
-    vg_png_image img = {.comp = 0};
-    bool ok = vg_png_decode(buf, size, &img, why, sizeof why);
+    vg_png_image img = {0}; /* the header first: the file must be 16-bit grey */
+    bool ok = decode_named(path, buf, size, &img);
     if (ok && (img.file_comp != 1 || img.file_bits != 16)) {
         vg_error("%s: a 16-bit grey PNG is needed; this one is %d-bit with %d channel(s)", path, img.file_bits,
                  img.file_comp);
-        free(buf);
-        return VG_ERR_FORMAT;
+        ok = false;
     }
     img.comp = 1;
     img.bits = 16;
-    ok = ok && vg_png_decode(buf, size, &img, why, sizeof why);
+    ok = ok && decode_named(path, buf, size, &img);
     free(buf);
-    if (!ok) {
-        vg_error("%s: cannot decode PNG: %s", path, why);
+    if (!ok)
         return VG_ERR_FORMAT;
-    }
     if ((st = vg_imagef_alloc(out, img.width, img.height, 1)) == VG_OK) {
         const uint16_t *v = img.pixels;
         for (size_t i = 0; i < (size_t)img.width * img.height; i++)
@@ -369,14 +370,11 @@ vg_status vg_png_read(const char *path, int *width, int *height, int comp, uint8
     vg_status st = vg_file_read(path, &buf, &size);
     if (st != VG_OK)
         return st;
-    char why[200];
     vg_png_image img = {.comp = comp, .bits = 8};
-    bool ok = vg_png_decode(buf, size, &img, why, sizeof why);
+    bool ok = decode_named(path, buf, size, &img);
     free(buf);
-    if (!ok) {
-        vg_error("%s: cannot decode PNG: %s", path, why);
+    if (!ok)
         return VG_ERR_FORMAT;
-    }
     *width = img.width;
     *height = img.height;
     *pixels = img.pixels;
