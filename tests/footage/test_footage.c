@@ -75,6 +75,28 @@ static int truncated(const char *from, const char *to, double keep)
     return 0;
 }
 
+/* A reader's refusals, each with nothing read: the file `good` cut at
+ * `keep` of its length (a format error), text, a missing file (I/O). */
+typedef vg_status (*footage_reader)(const char *path, const char *name, vg_imagef *out);
+static int refusals(footage_reader read, const char *good, const char *kind, double keep)
+{
+    char q[1200], name[64];
+    vg_imagef b = {0};
+    snprintf(name, sizeof name, "cut.%s", kind);
+    path_in(q, sizeof q, name);
+    if (truncated(good, q, keep))
+        return 1;
+    CHECK(read(q, NULL, &b) == VG_ERR_FORMAT && !b.data, "a truncated %s file was read", kind);
+    snprintf(name, sizeof name, "text.%s", kind);
+    path_in(q, sizeof q, name);
+    CHECK(vg_file_write_atomic(q, "not an image\n", 13) == VG_OK, "%s", q);
+    CHECK(read(q, NULL, &b) == VG_ERR_FORMAT && !b.data, "text read as %s", kind);
+    snprintf(name, sizeof name, "missing.%s", kind);
+    path_in(q, sizeof q, name);
+    CHECK(read(q, NULL, &b) == VG_ERR_IO, "a missing %s file is not an I/O error", kind);
+    return 0;
+}
+
 static int exr(void)
 {
     CHECK(vg_dir_prepare(g_work) == VG_OK, "%s", g_work);
@@ -93,19 +115,12 @@ static int exr(void)
     printf("OpenEXR: a 37x21 float channel read back exactly under each name (NaN, inf, 0 kept)\n");
     /* Refused, one line each: another channel asked for, a cut file, not EXR, missing. */
     CHECK(footage_exr_read(p, "Z", &b) == VG_ERR_FORMAT && !b.data, "a missing channel was read");
-    path_in(q, sizeof q, "cut.exr");
-    if (truncated(p, q, 0.6))
-        return 1;
-    CHECK(footage_exr_read(q, NULL, &b) == VG_ERR_FORMAT && !b.data, "a truncated EXR was read");
     path_in(q, sizeof q, "header.exr");
     if (truncated(p, q, 0.05))
         return 1;
     CHECK(footage_exr_read(q, NULL, &b) != VG_OK && !b.data, "an EXR cut in its header was read");
-    path_in(q, sizeof q, "text.exr");
-    CHECK(vg_file_write_atomic(q, "not an image\n", 13) == VG_OK, "%s", q);
-    CHECK(footage_exr_read(q, NULL, &b) == VG_ERR_FORMAT, "text read as EXR");
-    path_in(q, sizeof q, "missing.exr");
-    CHECK(footage_exr_read(q, NULL, &b) == VG_ERR_IO, "a missing file is not an I/O error");
+    if (refusals(footage_exr_read, p, "exr", 0.6))
+        return 1;
     vg_imagef_free(&a);
     return 0;
 }
@@ -134,15 +149,8 @@ static int hdf5(void)
     if (write_h5(q, two, 2, &a))
         return 1;
     CHECK(footage_hdf5_read(q, NULL, &b) == VG_ERR_FORMAT && !b.data, "two datasets: one was guessed");
-    path_in(q, sizeof q, "cut.h5");
-    if (truncated(p, q, 0.5))
+    if (refusals(footage_hdf5_read, p, "h5", 0.5))
         return 1;
-    CHECK(footage_hdf5_read(q, NULL, &b) == VG_ERR_FORMAT && !b.data, "a truncated HDF5 file was read");
-    path_in(q, sizeof q, "text.h5");
-    CHECK(vg_file_write_atomic(q, "not hdf5\n", 9) == VG_OK, "%s", q);
-    CHECK(footage_hdf5_read(q, NULL, &b) == VG_ERR_FORMAT, "text read as HDF5");
-    path_in(q, sizeof q, "missing.h5");
-    CHECK(footage_hdf5_read(q, NULL, &b) == VG_ERR_IO, "a missing file is not an I/O error");
     vg_imagef_free(&a);
     return 0;
 }
