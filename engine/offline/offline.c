@@ -68,8 +68,8 @@ static vg_status run(offline_seq *s)
         st = VG_ERR_ARG;
         goto done;
     }
-    if (d->ema && !s->has_h)
-        offline_ema_ranges(s);
+    if (d->ema && !s->has_h && (st = offline_ema_ranges(s)) != VG_OK)
+        goto done;
     /* B: h, the keyframe samples and flows, the window; then the solve. */
     if ((st = offline_operator_create(s)) != VG_OK || (st = offline_window_build(s, &w)) != VG_OK)
         goto done;

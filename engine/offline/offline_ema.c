@@ -11,14 +11,8 @@
 vg_status offline_ema_record(offline_seq *s, int t, double lo, double hi)
 {
     int k = t - s->desc->first;
-    if (k >= s->ema_cap) {
-        int cap = s->ema_cap ? 2 * s->ema_cap : 256;
-        struct offline_range *r = realloc(s->ema, (size_t)cap * sizeof *r);
-        if (!r)
-            return VG_ERR_NOMEM;
-        s->ema = r;
-        s->ema_cap = cap;
-    }
+    if (!s->ema && !(s->ema = malloc((size_t)s->frames * sizeof *s->ema)))
+        return VG_ERR_NOMEM;
     /* A frame without known g keeps its neighbour's range (set when smoothed). */
     s->ema[k] = (struct offline_range){isfinite(lo) ? (float)lo : NAN, isfinite(hi) ? (float)hi : NAN};
     return VG_OK;
@@ -28,16 +22,16 @@ vg_status offline_ema_record(offline_seq *s, int t, double lo, double hi)
  * min and max over frames t .. t + window - 1 (its look-ahead queue; here
  * within the shot), then v_t = decay v_(t-1) + (1 - decay) window_t, from
  * the first frame's window at each shot's start (iw3 resets at scene cuts). */
-void offline_ema_ranges(offline_seq *s)
+vg_status offline_ema_ranges(offline_seq *s)
 {
     const offline_desc *d = s->desc;
     int n = s->frames, window = d->ema_window > 0 ? d->ema_window : 30;
     double decay = d->ema_decay > 0 ? d->ema_decay : 0.9;
     float *lo = malloc((size_t)n * sizeof *lo), *hi = malloc((size_t)n * sizeof *hi);
-    if (!lo || !hi) { /* keep the per-frame ranges: a baseline without smoothing */
+    if (!lo || !hi) {
         free(lo);
         free(hi);
-        return;
+        return VG_ERR_NOMEM;
     }
     for (int k = 0; k < n; k++) { /* unknown frames: the nearest known before */
         if (isnan(s->ema[k].lo))
@@ -60,6 +54,7 @@ void offline_ema_ranges(offline_seq *s)
     }
     free(lo);
     free(hi);
+    return VG_OK;
 }
 
 /* h of frame t: g from its smoothed range onto the target range, clamped. */

@@ -90,8 +90,7 @@ typedef struct offline_seq {
     double flow_ms;          /* spent computing */
     /* desc.ema: each frame's range of known g (pass A), then smoothed
      * (offline_ema_ranges) into the range h maps from. */
-    struct offline_range { float lo, hi; } *ema;
-    int ema_cap;
+    struct offline_range { float lo, hi; } *ema; /* one per frame */
     /* Scene cuts (offline_cuts.c): the first frame of each new shot. */
     struct offline_cut {
         int frame;
@@ -160,7 +159,7 @@ vg_status offline_operator_create(offline_seq *s);
 /* offline_ema.c, desc.ema: record frame t's range of g (pass A, in order);
  * smooth them all; h of frame t from them. */
 vg_status offline_ema_record(offline_seq *s, int t, double lo, double hi);
-void offline_ema_ranges(offline_seq *s);
+vg_status offline_ema_ranges(offline_seq *s);
 void offline_ema_apply(const offline_seq *s, int t, const float *g, float *h);
 vg_status offline_window_build(offline_seq *s, mid_window **w);
 vg_status offline_solve(offline_seq *s, mid_window *w, float *f_sol, mid_solve_stats *ss);
